@@ -1,0 +1,11 @@
+"""impactdyn: impact dynamics for flexible mechanisms and hypervelocity shields.
+
+Subpackages are imported on demand (``import impactdyn.beam``) so that the CLI
+and light users do not pay for numba compilation or plotting they do not use.
+"""
+
+from impactdyn._errors import InputError
+
+__version__ = "0.1.0"
+
+__all__ = ["InputError", "__version__"]

@@ -1,0 +1,108 @@
+"""TOML case files -> validated pydantic models.
+
+Every case model derives from :class:`Section`: unknown keys are errors, NaN and
+infinities are rejected, numbers are not silently converted from strings. A
+failure becomes one :class:`~impactdyn._errors.InputError` naming the file and the
+dotted key, e.g. ``case.toml: beam.EI_N_m2: must be > 0``.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from pathlib import Path
+from typing import Any, TypeVar
+
+import tomli_w
+from pydantic import BaseModel, ConfigDict, ValidationError
+
+from impactdyn._errors import InputError
+
+M = TypeVar("M", bound=BaseModel)
+
+
+class Section(BaseModel):
+    """Base of every config table: strict keys, finite numbers, frozen."""
+
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False, frozen=True, strict=False)
+
+
+def _format_error(source: str, err: ValidationError) -> str:
+    lines = []
+    for e in err.errors():
+        key = ".".join(str(p) for p in e["loc"]) or "(top level)"
+        msg = e["msg"]
+        if e["type"] == "extra_forbidden":
+            msg = "unknown key"
+        elif e["type"] == "missing":
+            msg = "missing key"
+        msg = msg.replace("Input should be", "must be").replace("Value error, ", "")
+        lines.append(f"{source}: {key}: {msg}")
+    return "\n".join(lines)
+
+
+def validate(model: type[M], data: dict[str, Any], source: str = "<case>") -> M:
+    """Build ``model`` from a plain dict, raising :class:`InputError` on failure."""
+    try:
+        return model.model_validate(data)
+    except ValidationError as err:
+        raise InputError(_format_error(source, err)) from None
+
+
+def load_toml(path: str | Path) -> dict[str, Any]:
+    """Read a TOML file; unreadable or malformed files raise :class:`InputError`."""
+    p = Path(path)
+    try:
+        with p.open("rb") as fh:
+            return tomllib.load(fh)
+    except FileNotFoundError:
+        raise InputError(f"{p}: no such file") from None
+    except IsADirectoryError:
+        raise InputError(f"{p}: is a folder, not a case file") from None
+    except PermissionError:
+        raise InputError(f"{p}: cannot be read (permission denied)") from None
+    except UnicodeDecodeError:
+        raise InputError(f"{p}: not a UTF-8 text file") from None
+    except tomllib.TOMLDecodeError as err:
+        raise InputError(f"{p}: invalid TOML: {err}") from None
+
+
+def load_case(model: type[M], path: str | Path) -> M:
+    """Load and validate a TOML case file."""
+    return validate(model, load_toml(path), source=str(path))
+
+
+def set_dotted(data: dict[str, Any], key: str, value: Any) -> dict[str, Any]:
+    """Return a copy of ``data`` with ``a.b.c = value`` (tables created as needed)."""
+    out = _deepcopy(data)
+    parts = key.split(".")
+    node = out
+    for p in parts[:-1]:
+        node = node.setdefault(p, {})
+        if not isinstance(node, dict):
+            raise InputError(f"{key}: '{p}' is not a table")
+    node[parts[-1]] = value
+    return out
+
+
+def _deepcopy(d: Any) -> Any:
+    if isinstance(d, dict):
+        return {k: _deepcopy(v) for k, v in d.items()}
+    if isinstance(d, list):
+        return [_deepcopy(v) for v in d]
+    return d
+
+
+def dump_toml(model: BaseModel) -> str:
+    """Every parameter actually used, defaults included, as TOML."""
+    return tomli_w.dumps(_drop_none(model.model_dump(mode="json")))
+
+
+def _drop_none(d: Any) -> Any:
+    if isinstance(d, dict):
+        return {k: _drop_none(v) for k, v in d.items() if v is not None}
+    if isinstance(d, list):
+        return [_drop_none(v) for v in d]
+    if isinstance(d, float) and not math.isfinite(d):
+        raise ValueError("non-finite value in resolved config")
+    return d

@@ -1,0 +1,92 @@
+"""Run folders written atomically.
+
+A run is assembled in a hidden staging folder beside the target and renamed into
+place only when every file is written, so an interrupted run never leaves a folder
+that looks complete. An existing run folder is replaced only with ``force=True``.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+import shutil
+import tempfile
+from collections.abc import Iterable, Sequence
+from pathlib import Path
+from typing import Any
+
+from impactdyn._errors import InputError
+
+
+def check_target(path: Path, force: bool) -> None:
+    """Refuse to run into an existing folder unless ``force`` (before any work)."""
+    if path.exists() and not force:
+        raise InputError(f"{path}: run folder exists; pass --force to overwrite it")
+    if path.exists() and not path.is_dir():
+        raise InputError(f"{path}: exists and is not a folder")
+
+
+class RunFolder:
+    """Staging area for one run; use as a context manager.
+
+    On normal exit the staging folder replaces ``target``; on an exception it is
+    removed and ``target`` is left as it was.
+    """
+
+    def __init__(self, target: str | os.PathLike, force: bool = False):
+        self.target = Path(target)
+        check_target(self.target, force)
+        self.target.parent.mkdir(parents=True, exist_ok=True)
+        self.path = Path(tempfile.mkdtemp(prefix=f".{self.target.name}.", dir=self.target.parent))
+
+    def __enter__(self) -> "RunFolder":
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        if exc_type is not None:
+            shutil.rmtree(self.path, ignore_errors=True)
+            return
+        if self.target.exists():
+            old = self.target.with_name(f".{self.target.name}.old")
+            shutil.rmtree(old, ignore_errors=True)
+            self.target.rename(old)
+            self.path.rename(self.target)
+            shutil.rmtree(old, ignore_errors=True)
+        else:
+            self.path.rename(self.target)
+        self.path = self.target
+
+    def file(self, name: str) -> Path:
+        """Path of ``name`` inside the staging folder (parents created)."""
+        p = self.path / name
+        p.parent.mkdir(parents=True, exist_ok=True)
+        return p
+
+    def write_text(self, name: str, text: str) -> Path:
+        p = self.file(name)
+        p.write_text(text)
+        return p
+
+    def write_json(self, name: str, obj: Any) -> Path:
+        return self.write_text(name, json.dumps(obj, indent=2, default=_json_default) + "\n")
+
+    def write_csv(self, name: str, header: Sequence[str], rows: Iterable[Sequence[Any]]) -> Path:
+        p = self.file(name)
+        with p.open("w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(header)
+            w.writerows(rows)
+        return p
+
+
+def _json_default(obj: Any) -> Any:
+    import numpy as np
+
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, Path):
+        return str(obj)
+    raise TypeError(f"not JSON serialisable: {type(obj).__name__}")

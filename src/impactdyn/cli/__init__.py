@@ -1,0 +1,50 @@
+"""Console script ``impactdyn``: one module per command group.
+
+Heavy imports (numba kernels, matplotlib) happen inside the commands, so
+``impactdyn --help`` is instant. :class:`~impactdyn.InputError` anywhere becomes a
+clear message on stderr and exit code 2, with no traceback.
+"""
+
+from __future__ import annotations
+
+import sys
+
+import typer
+
+from impactdyn._errors import InputError
+from impactdyn.cli import beam
+
+app = typer.Typer(
+    name="impactdyn",
+    help="Impact dynamics: rotating beam with impact, Whipple-shield debris clouds.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+app.add_typer(beam.app, name="beam")
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point; returns the exit code (0 ok, 2 bad input)."""
+    try:
+        app(args=argv, standalone_mode=False)
+    except InputError as err:
+        print(f"error: {err}", file=sys.stderr)
+        return 2
+    except typer.Exit as e:  # pragma: no cover - click passes exit codes this way
+        return e.exit_code
+    except typer.Abort:
+        print("aborted", file=sys.stderr)
+        return 130
+    except Exception as err:  # click usage errors carry their own exit code
+        import click
+
+        if isinstance(err, click.ClickException):
+            err.show()
+            return err.exit_code
+        raise
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
