@@ -24,20 +24,32 @@ M = TypeVar("M", bound=BaseModel)
 class Section(BaseModel):
     """Base of every config table: strict keys, finite numbers, frozen."""
 
-    model_config = ConfigDict(extra="forbid", allow_inf_nan=False, frozen=True, strict=False)
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False, frozen=True, strict=True)
 
 
-def _format_error(source: str, err: ValidationError) -> str:
+def _key_path(loc: tuple, data: Any) -> str:
+    """Dotted key of an error location, without the tags pydantic inserts for unions."""
+    parts, node = [], data
+    for p in loc:
+        if isinstance(node, dict) and p not in node and not isinstance(p, int) and parts:
+            continue  # a union member's name, not a key of the file
+        parts.append(f"[{p}]" if isinstance(p, int) else str(p))
+        node = node.get(p) if isinstance(node, dict) else (
+            node[p] if isinstance(node, list) and isinstance(p, int) and p < len(node) else None)
+    return ".".join(parts).replace(".[", "[")
+
+
+def _format_error(source: str, err: ValidationError, data: Any) -> str:
     lines = []
     for e in err.errors():
-        key = ".".join(str(p) for p in e["loc"]) or "(top level)"
+        key = _key_path(e["loc"], data)
         msg = e["msg"]
         if e["type"] == "extra_forbidden":
             msg = "unknown key"
         elif e["type"] == "missing":
             msg = "missing key"
         msg = msg.replace("Input should be", "must be").replace("Value error, ", "")
-        lines.append(f"{source}: {key}: {msg}")
+        lines.append(f"{source}: {key}: {msg}" if key else f"{source}: {msg}")
     return "\n".join(lines)
 
 
@@ -46,7 +58,7 @@ def validate(model: type[M], data: dict[str, Any], source: str = "<case>") -> M:
     try:
         return model.model_validate(data)
     except ValidationError as err:
-        raise InputError(_format_error(source, err)) from None
+        raise InputError(_format_error(source, err, data)) from None
 
 
 def load_toml(path: str | Path) -> dict[str, Any]:

@@ -1,0 +1,28 @@
+"""Rotating flexible beam with impact (seed 001: IMPACTC, IMPACTB, ROOTM, INTEG).
+
+>>> from impactdyn.beam import load_case, simulate
+>>> result = simulate(load_case("examples/beam/impactb_sample.toml"))  # doctest: +SKIP
+"""
+
+from pathlib import Path
+
+from impactdyn.beam._case import BeamCase
+from impactdyn.beam._contact import CONTACT_LAWS, listing_restitution, register_contact
+from impactdyn.beam._model import BeamModel
+from impactdyn.beam._modes import ModalIntegrals, eigenvalues, modal_integrals, shapes, sigma
+from impactdyn.beam._report import write_run
+from impactdyn.beam._simulate import Impact, Result, SimulationError, simulate
+
+
+def load_case(path: str | Path) -> BeamCase:
+    """Read and validate a beam case file (raises :class:`impactdyn.InputError`)."""
+    from impactdyn._config import load_case as _load
+
+    return _load(BeamCase, path)
+
+
+__all__ = [
+    "BeamCase", "BeamModel", "CONTACT_LAWS", "Impact", "ModalIntegrals", "Result", "SimulationError",
+    "eigenvalues", "listing_restitution", "load_case", "modal_integrals", "register_contact", "shapes",
+    "sigma", "simulate", "write_run",
+]

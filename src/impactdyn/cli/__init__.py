@@ -31,6 +31,13 @@ def main(argv: list[str] | None = None) -> int:
     except InputError as err:
         print(f"error: {err}", file=sys.stderr)
         return 2
+    except RuntimeError as err:
+        from impactdyn.beam._simulate import SimulationError
+
+        if not isinstance(err, SimulationError):
+            raise
+        print(f"simulation failed: {err}", file=sys.stderr)
+        return 1
     except typer.Exit as e:  # pragma: no cover - click passes exit codes this way
         return e.exit_code
     except typer.Abort:

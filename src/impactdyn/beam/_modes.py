@@ -1,0 +1,163 @@
+"""Clamped–free cantilever modes and modal integrals (the 1988 ROOTM and INTEG).
+
+Eigenvalues βᵢ are the roots of ``cos β cosh β + 1 = 0`` (seed 001, ROOTM),
+found by Newton's method on the scaled, well-conditioned form
+``f(β) = cos β + 1/cosh β`` started from the listing's seeds and
+``(2i − 1)π/2`` beyond the fifth.
+
+Mode shapes, ξ = x/L ∈ [0, 1] (DESIGN §4)::
+
+    φᵢ(ξ) = cosh βξ − cos βξ − σᵢ (sinh βξ − sin βξ),
+    σᵢ = (cosh β + cos β)/(sinh β + sin β),      ∫₀¹ φᵢ² dξ = 1,  φᵢ(1) = ±2.
+
+The textbook form cancels catastrophically for large β (cosh βξ − σ sinh βξ is
+a difference of two numbers ~e^{βξ}). Writing 1 − σ exactly,
+
+    cosh βξ − σ sinh βξ = E₊ + E₋,   sinh βξ − σ cosh βξ = E₊ − E₋,
+    E₊ = ½ e^{β(ξ−1)} r,   E₋ = ½ e^{−βξ}(1 + σ),
+    r = e^{β}(1 − σ) = (sin β − cos β − e^{−β}) / (½(1 − e^{−2β}) + e^{−β} sin β),
+
+every term is O(1) and the shapes are exact to rounding for any β (the listing
+factors out e^{βξ} for the same reason).
+
+Modal integrals (INTEG; primes are d/dξ)::
+
+    bᵢ = ∫ φᵢ dξ = 2σᵢ/βᵢ,      aᵢ = ∫ ξ φᵢ dξ = 2/βᵢ²,
+    kᵢⱼ = ∫ ½(1 − ξ²) φᵢ' φⱼ' dξ,      hᵢⱼ = ∫ (1 − ξ) φᵢ' φⱼ' dξ.
+
+k and h are computed by composite Gauss–Legendre quadrature (exact to rounding
+for these smooth integrands; INTEG used Romberg), any number of modes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+MAX_MODES = 50
+_LISTING_SEEDS = (1.875, 4.693, 7.855, 10.996, 14.137)
+
+
+def _newton_root(beta0: float, tol: float = 1e-15, maxiter: int = 60) -> float:
+    """Root of cos β + 1/cosh β near ``beta0`` (Newton, ROOTM's DRTNI)."""
+    b = beta0
+    for _ in range(maxiter):
+        sech = 1.0 / np.cosh(b)
+        f = np.cos(b) + sech
+        df = -np.sin(b) - sech * np.tanh(b)
+        step = f / df
+        b -= step
+        if abs(step) <= tol * max(1.0, abs(b)):
+            return float(b)
+    raise RuntimeError(f"cantilever eigenvalue near {beta0} did not converge")
+
+
+@lru_cache(maxsize=None)
+def _eigenvalues_cached(n: int) -> tuple[float, ...]:
+    seeds = list(_LISTING_SEEDS[:n]) + [(2 * i - 1) * np.pi / 2 for i in range(6, n + 1)]
+    return tuple(_newton_root(s) for s in seeds)
+
+
+def eigenvalues(n: int) -> np.ndarray:
+    """The first ``n`` clamped–free eigenvalues βᵢ, shape ``(n,)``."""
+    if not 0 <= n <= MAX_MODES:
+        raise ValueError(f"number of modes must be in 0..{MAX_MODES}, got {n}")
+    return np.array(_eigenvalues_cached(n), dtype=float)
+
+
+def sigma(beta: np.ndarray) -> np.ndarray:
+    """σᵢ = (cosh β + cos β)/(sinh β + sin β), evaluated without overflow."""
+    beta = np.asarray(beta, dtype=float)
+    e = np.exp(-beta)
+    return (1.0 + e * e + 2.0 * e * np.cos(beta)) / (1.0 - e * e + 2.0 * e * np.sin(beta))
+
+
+def shapes(beta: np.ndarray, xi: np.ndarray, derivative: int = 0) -> np.ndarray:
+    """d^k φᵢ/dξ^k at ξ, stable for any β; shape ``(len(beta),) + xi.shape``.
+
+    ``derivative`` k ∈ {0, 1, 2, 3}; ξ is the position over the length, 0 at the root.
+    """
+    beta = np.asarray(beta, dtype=float).reshape((-1,) + (1,) * np.ndim(xi))
+    xi = np.asarray(xi, dtype=float)
+    s = sigma(beta)
+    eb = np.exp(-beta)
+    r = (np.sin(beta) - np.cos(beta) - eb) / (0.5 * (1.0 - eb * eb) + eb * np.sin(beta))
+    bx = beta * xi
+    e_plus = 0.5 * np.exp(beta * (xi - 1.0)) * r
+    e_minus = 0.5 * np.exp(-bx) * (1.0 + s)
+    c, sn = np.cos(bx), np.sin(bx)
+    if derivative == 0:
+        return (e_plus + e_minus) - c + s * sn
+    if derivative == 1:
+        return beta * ((e_plus - e_minus) + sn + s * c)
+    if derivative == 2:
+        return beta**2 * ((e_plus + e_minus) + c - s * sn)
+    if derivative == 3:
+        return beta**3 * ((e_plus - e_minus) - sn - s * c)
+    raise ValueError("derivative must be 0, 1, 2 or 3")
+
+
+def _gauss_legendre(n_panels: int, order: int) -> tuple[np.ndarray, np.ndarray]:
+    """Composite Gauss–Legendre nodes and weights on [0, 1]."""
+    x, w = np.polynomial.legendre.leggauss(order)
+    edges = np.linspace(0.0, 1.0, n_panels + 1)
+    half = 0.5 * np.diff(edges)
+    mid = 0.5 * (edges[1:] + edges[:-1])
+    nodes = (mid[:, None] + half[:, None] * x[None, :]).ravel()
+    weights = (half[:, None] * w[None, :]).ravel()
+    return nodes, weights
+
+
+@dataclass(frozen=True)
+class ModalIntegrals:
+    """Cantilever modal data for ``n`` modes, normalised to L = 1.
+
+    Attributes
+    ----------
+    beta, sigma : (n,)  eigenvalues and shape constants.
+    a : (n,)  ∫ ξ φᵢ dξ.
+    b : (n,)  ∫ φᵢ dξ.
+    k : (n, n)  ∫ ½(1 − ξ²) φᵢ' φⱼ' dξ  (centrifugal stiffening, root at the hub axis).
+    h : (n, n)  ∫ (1 − ξ) φᵢ' φⱼ' dξ  (the additional hub-radius term).
+    """
+
+    beta: np.ndarray
+    sigma: np.ndarray
+    a: np.ndarray
+    b: np.ndarray
+    k: np.ndarray
+    h: np.ndarray
+
+    @property
+    def n(self) -> int:
+        return len(self.beta)
+
+    def as_dict(self) -> dict:
+        return {f: getattr(self, f).tolist() for f in ("beta", "sigma", "a", "b", "k", "h")}
+
+
+@lru_cache(maxsize=16)
+def modal_integrals(n: int) -> ModalIntegrals:
+    """Eigenvalues and modal integrals for ``n`` modes (ROOTM + INTEG, any n ≤ 50).
+
+    The quadrature uses 24-point Gauss–Legendre on panels shorter than a quarter of
+    the shortest mode half-wavelength, so the integrands are resolved for every n.
+    """
+    beta = eigenvalues(n)
+    s = sigma(beta)
+    n_panels = max(8, int(np.ceil(4 * (beta.max() if n else 1.0) / np.pi)))
+    xi, w = _gauss_legendre(n_panels, 24)
+    d1 = shapes(beta, xi, 1)
+    k = (d1 * (w * 0.5 * (1.0 - xi**2))) @ d1.T
+    h = (d1 * (w * (1.0 - xi))) @ d1.T
+    for m in (k, h):
+        m[:] = 0.5 * (m + m.T)
+    for arr in (beta, s, k, h):
+        arr.setflags(write=False)
+    a = 2.0 / beta**2
+    b = 2.0 * s / beta
+    a.setflags(write=False)
+    b.setflags(write=False)
+    return ModalIntegrals(beta=beta, sigma=s, a=a, b=b, k=k, h=h)

@@ -1,0 +1,452 @@
+"""Event-driven integration of the beam with impacts (IMPACTC / IMPACTB, modernised).
+
+The run is a hybrid system with three modes, each integrated by a stiff SciPy
+solver (Radau by default; BDF and LSODA selectable) stepped one step at a time, with
+a compiled right-hand side:
+
+* **free** — no contact force. Event: the gap g crosses zero downward.
+* **contact** (compliant laws) — the law's force acts while δ = −g > 0. Events:
+  g crosses zero upward (leaves the stop), the law's release indicator crosses
+  zero (the force would turn tensile: it is clipped to zero, and the contact's
+  force phase ends there; it may resume while δ > 0, which opens a new contact).
+* **resting** (impulsive law) — the stop point slides along the stop with g = ġ = 0,
+  held by the multiplier λ ≥ 0. Event: λ crosses zero (the stop would pull).
+
+Events are located on the solver's dense output with Brent's method (time to
+~1e-14 s); the solver restarts at every event and at the torque-pulse corners, so
+no step straddles a discontinuity. Each step is sampled at interior points so a
+crossing and recrossing inside one step is not missed, and a restart just after an
+impact brackets the next crossing from the first instant the stop point is clear.
+
+**Chattering (momentum law).** The hub is light (IR = 0.002), so after the first
+strike the hub–beam motion rings against the stop in a rapid sequence of ever
+smaller impacts; with the listing's restitution law e → 1 as v → 0, so the sequence
+would not end by itself. An impact whose approach speed is below
+``rest_velocity_m_s`` (default 5e-3 m/s, the listing's EPSV) is treated as plastic
+(e = 0); if the stop then pushes (λ > 0) the contact becomes *resting* until λ
+changes sign. Every impact, micro or not, is reported, and ``max_impacts`` stops a
+run that would otherwise never end, with a clear error rather than a silent stop.
+"""
+
+from __future__ import annotations
+
+import time as _time
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.integrate import BDF, LSODA, Radau
+from scipy.optimize import brentq
+
+from impactdyn._errors import InputError
+from impactdyn.beam._case import BeamCase, MomentumContact
+from impactdyn.beam._contact import CONTACT_LAWS, CompliantLaw, ContactLaw, Momentum
+from impactdyn.beam._integrator import (
+    EVENT, SAMPLES_PER_STEP, STEP_UNDERFLOW, TOO_MANY_STEPS, hermite, process_step, record_outputs,
+    rosenbrock_segment, track_peak)
+from impactdyn.beam._model import IN_CONTACT, BeamModel, event_kernel, rhs_kernel
+
+_SOLVERS = {"Radau": Radau, "BDF": BDF, "LSODA": LSODA}
+FREE, CONTACT, RESTING = "free", "contact", "resting"
+_MODE_CODES = {FREE: 0.0, CONTACT: 1.0, RESTING: 2.0}
+
+
+@dataclass(frozen=True)
+class Impact:
+    """One contact event (SI).
+
+    For impulsive impacts ``t_start == t_end``, ``peak_force`` is None and
+    ``impulse`` is the momentum-balance impulse P; for compliant contacts
+    ``impulse`` is ∫F dt over the force phase.
+    """
+
+    t_start: float
+    t_end: float
+    v_approach: float
+    v_separation: float
+    restitution: float
+    peak_force: float | None
+    impulse: float
+    kind: str
+
+    def as_dict(self) -> dict:
+        return dict(self.__dict__)
+
+
+@dataclass(frozen=True)
+class Result:
+    """Outcome of :func:`simulate`.
+
+    Attributes
+    ----------
+    t : (m,) output times, s.
+    y : (m, 2n + 7) states at the output times (layout in ``impactdyn.beam._model``).
+    contact_force : (m,) contact force at the output times, N (0 at impulsive impacts).
+    impacts : every contact, in order.
+    resting : (k, 2) start and end times of resting-contact intervals.
+    stats : solver statistics (steps, rhs evaluations, restarts).
+    """
+
+    case: BeamCase
+    model: BeamModel
+    t: np.ndarray
+    y: np.ndarray
+    contact_force: np.ndarray
+    impacts: list[Impact]
+    resting: np.ndarray
+    stats: dict
+    wall_time_s: float
+
+    @property
+    def theta(self) -> np.ndarray:
+        return self.model.split(self.y)[0]
+
+    @property
+    def theta_dot(self) -> np.ndarray:
+        return self.model.split(self.y)[2]
+
+    @property
+    def energy(self) -> np.ndarray:
+        return self.model.energy(self.y)
+
+    def energy_terms(self) -> dict[str, np.ndarray]:
+        """Energy E, torque work, the three losses, and the balance residual, each (m,)."""
+        base = 2 * self.model.n + 2
+        e = self.energy
+        w_tau, d_joint, d_modal, w_contact = (self.y[:, base + i] for i in range(4))
+        return {
+            "energy": e,
+            "work_torque": w_tau,
+            "dissipated_joint": d_joint,
+            "dissipated_modal": d_modal,
+            "work_contact": w_contact,
+            "residual": e - e[0] - (w_tau - d_joint - d_modal + w_contact),
+        }
+
+    def summary(self) -> dict:
+        th, q, thd, qd = self.model.split(self.y[-1])
+        terms = {k: float(v[-1]) for k, v in self.energy_terms().items()}
+        return {
+            "n_impacts": len(self.impacts),
+            "impacts": [i.as_dict() for i in self.impacts],
+            "resting_contact": self.resting.tolist(),
+            "final_state": {
+                "t": float(self.t[-1]),
+                "theta": float(th),
+                "theta_dot": float(thd),
+                "q": q.tolist(),
+                "q_dot": qd.tolist(),
+            },
+            "energy": {
+                "initial": float(self.energy[0]),
+                "final": terms["energy"],
+                "work_torque": terms["work_torque"],
+                "dissipated": terms["dissipated_joint"] + terms["dissipated_modal"] - terms["work_contact"],
+                "dissipated_joint": terms["dissipated_joint"],
+                "dissipated_modal": terms["dissipated_modal"],
+                "dissipated_contact": -terms["work_contact"],
+                "balance_residual": terms["residual"],
+            },
+            "solver": self.stats,
+            "wall_time_s": self.wall_time_s,
+        }
+
+
+def contact_law(case: BeamCase) -> ContactLaw:
+    """The registered contact law object configured by ``case.contact``."""
+    c = case.contact
+    cls = CONTACT_LAWS[c.model]
+    if isinstance(c, MomentumContact):
+        return cls(restitution=c.restitution if c.restitution_law == "constant" else None)
+    if c.model == "hertz":
+        return cls(stiffness=c.stiffness_N_m1_5, damping=c.damping_s_m)
+    return cls(stiffness=c.stiffness_N_m_n, exponent=c.exponent, restitution=c.restitution)
+
+
+def torque_schedule(case: BeamCase) -> tuple[np.ndarray, np.ndarray]:
+    """Corner times (k,) and the torque on each interval (k + 1,) of the pulse (listing EQNS)."""
+    tq = case.torque
+    T, f, tau = tq.pulse_duration_s, tq.zero_fraction, tq.amplitude_N_m
+    corners = np.array([T, (1 + f) * T, (2 + f) * T])
+    return corners, np.array([tau, 0.0, -tau, 0.0])
+
+
+def initial_state(case: BeamCase, model: BeamModel) -> np.ndarray:
+    """y(t₀): θ, θ̇, modal amplitudes (explicit, or IMPACTB's tip values put into mode 1)."""
+    n = model.n
+    y = np.zeros(model.n_state)
+    ic = case.initial
+    y[0], y[n + 1] = ic.theta_rad, ic.theta_dot_rad_s
+    if ic.q_m is not None:
+        y[1 : n + 1] = ic.q_m
+    if ic.q_dot_m_s is not None:
+        y[n + 2 : 2 * n + 2] = ic.q_dot_m_s
+    if n:
+        from impactdyn.beam._modes import modal_integrals, shapes
+
+        tip = float(shapes(modal_integrals(n).beta[:1], np.float64(1.0))[0])
+        y[1] += ic.tip_deflection_m / tip
+        y[n + 2] += ic.tip_velocity_m_s / tip
+    return y
+
+
+class SimulationError(RuntimeError):
+    """A run that cannot continue (e.g. endless chattering past ``max_impacts``)."""
+
+
+@dataclass
+class _Run:
+    """Mutable bookkeeping of one simulation (private to :func:`simulate`)."""
+
+    model: BeamModel
+    law: ContactLaw
+    out_t: np.ndarray
+    out_y: np.ndarray = field(init=False)
+    out_f: np.ndarray = field(init=False)
+    k_out: int = 0
+    impacts: list = field(default_factory=list)
+    resting: list = field(default_factory=list)
+    counts: np.ndarray = field(default_factory=lambda: np.zeros(3))  # steps, rejected, rhs evaluations
+    n_restarts: int = 0
+    h_next: float = 1e-4
+
+    def __post_init__(self):
+        self.out_y = np.full((len(self.out_t), self.model.n_state), np.nan)
+        self.out_f = np.zeros(len(self.out_t))
+
+
+@dataclass
+class _Mode:
+    """The hybrid system's discrete state."""
+
+    kind: str = FREE
+    force_on: bool = False
+    v0: float = 1.0
+    contact: dict | None = None  # the open compliant contact
+    rest_start: float | None = None
+
+    def code(self) -> float:
+        return _MODE_CODES[self.kind]
+
+
+def _event_directions(mode: _Mode) -> np.ndarray:
+    """Crossing directions of the two event slots of ``event_kernel`` in this mode."""
+    if mode.kind == FREE:
+        return np.array([-1, 0])  # strike: g falls through 0
+    if mode.kind == RESTING:
+        return np.array([-1, 0])  # lift-off: λ falls through 0
+    return np.array([+1, -1 if mode.force_on else +1])  # leave; release / re-engage
+
+
+_EVENT_NAMES = {FREE: ("strike", None), RESTING: ("lift_off", None),
+                CONTACT: ("leave", None)}
+
+
+def _event_name(mode: _Mode, e: int) -> str:
+    if e == 0:
+        return _EVENT_NAMES[mode.kind][0]
+    return "release" if mode.force_on else "reengage"
+
+
+def _first_step(model: BeamModel, y: np.ndarray, f: np.ndarray, h: float) -> float:
+    """Limit the first step after a restart on the stop (g ≈ 0) to the flight time of a
+    possible micro-hop, 2|ġ|/|g̈| when ġ and g̈ have opposite signs, so that its
+    interior samples see the hop."""
+    n = model.n
+    gd = model.gap_rate(y)
+    gdd = model.jacobian_row() @ f[n + 1 : 2 * n + 2]
+    if gd * gdd < 0 and abs(model.gap(y)) < 1e-9:
+        return min(h, 2.0 * abs(gd) / abs(gdd))
+    return h
+
+
+class _Segment:
+    """One smooth segment's parameters, bound for the kernels."""
+
+    def __init__(self, run: "_Run", mode: _Mode, sc: np.ndarray):
+        self.run, self.mode, self.sc = run, mode, sc
+        law = run.law
+        self.law_id = law.kernel_id
+        self.lawp = law.params()
+        self.args = (*run.model.kernel_args(sc), self.law_id, self.lawp)
+        self.dirs = _event_directions(mode)
+        self.armed = np.zeros(2, dtype=np.bool_)
+
+    def rhs(self, t, y):
+        return rhs_kernel(t, y, *self.args)
+
+    def event_values(self, y):
+        out = np.empty(2)
+        event_kernel(y, *self.args, out)
+        return out
+
+    def locate(self, step, j, e) -> tuple[float, np.ndarray]:
+        """Root of event e inside sample bracket j of the step (Brent on the interpolant)."""
+        ta, ya, fa, tb, yb, fb = step
+        k = SAMPLES_PER_STEP
+        a, b = ta + (tb - ta) * (j - 1) / k, ta + (tb - ta) * j / k
+        d = self.dirs[e]
+        g = lambda t: self.event_values(hermite(ta, ya, fa, tb, yb, fb, t))[e]
+        ga = g(a)
+        if (ga > 0) if d < 0 else (ga < 0):
+            t_ev = b if g(b) == 0.0 else brentq(g, a, b, xtol=1e-15, rtol=4 * np.finfo(float).eps)
+            vt = g(t_ev)
+            if (vt > 0) if d < 0 else (vt < 0):
+                t_ev = np.nextafter(t_ev, b)  # the first instant on the far side
+        else:
+            t_ev = a
+        return t_ev, hermite(ta, ya, fa, tb, yb, fb, t_ev)
+
+    def finish_partial_step(self, step, t_ev, peak):
+        run = self.run
+        run.k_out = record_outputs(*step, t_ev, *self.args, run.out_t, run.out_y, run.out_f, run.k_out)
+        if self.mode.kind == CONTACT:
+            track_peak(*step, t_ev, *self.args, peak)
+
+
+def _integrate_segment(run: "_Run", case: BeamCase, mode: _Mode, sc, t, t_seg, y):
+    """Integrate one smooth segment until an event or t_seg: (event name or None, t, y)."""
+    seg = _Segment(run, mode, sc)
+    peak = np.array([mode.contact["peak"], 0.0]) if mode.contact is not None else np.zeros(2)
+    f0 = seg.rhs(t, y)
+    h0 = min(_first_step(run.model, y, f0, run.h_next), t_seg - t)
+    if case.solver.method == "rosenbrock":
+        out = rosenbrock_segment(t, y, t_seg, h0, case.solver.rtol, case.solver.atol, 2 * run.model.n + 2,
+                                 case.solver.max_steps, *seg.args, seg.dirs, seg.armed,
+                                 run.out_t, run.out_y, run.out_f, run.k_out, peak, run.counts)
+        status, run.k_out, run.h_next, j, e = out[:5]
+        step = out[5:]
+        if status == STEP_UNDERFLOW:
+            raise SimulationError(f"step size underflow at t = {step[3]:.9g} s")
+        if status == TOO_MANY_STEPS:
+            raise SimulationError(f"more than solver.max_steps = {case.solver.max_steps} steps by t = {step[3]:.9g} s")
+        event = status == EVENT
+    else:
+        solver = _SOLVERS[case.solver.method](seg.rhs, t, y, t_seg, rtol=case.solver.rtol,
+                                              atol=case.solver.atol, first_step=h0)
+        event = False
+        while solver.status == "running" and not event:
+            msg = solver.step()
+            if solver.status == "failed":
+                raise SimulationError(f"integrator failed at t = {solver.t:.9g} s: {msg}")
+            f1 = seg.rhs(solver.t, solver.y)
+            step = (solver.t_old, y, f0, solver.t, solver.y.copy(), f1)
+            j, e, run.k_out = process_step(*step, *seg.args, seg.dirs, seg.armed,
+                                           run.out_t, run.out_y, run.out_f, run.k_out, peak)
+            run.counts[0] += 1
+            event = j >= 0
+            y, f0 = step[4], f1
+        run.counts[2] += solver.nfev
+        run.h_next = solver.h_abs if hasattr(solver, "h_abs") else run.h_next
+    if mode.contact is not None:
+        mode.contact["peak"] = max(mode.contact["peak"], peak[0])
+    if not event:
+        return None, step[3], step[4].copy()
+    t_ev, y_ev = seg.locate(step, j, e)
+    seg.finish_partial_step(step, t_ev, peak)
+    if mode.contact is not None:
+        mode.contact["peak"] = max(mode.contact["peak"], peak[0])
+    return _event_name(mode, e), t_ev, y_ev
+
+
+def _impulse(model: BeamModel, y: np.ndarray) -> float:
+    return float(y[2 * model.n + 6])
+
+
+def _open_contact(model, t, y, v_app):
+    return {"t_start": t, "v_approach": v_app, "peak": 0.0, "impulse_at_start": _impulse(model, y)}
+
+
+def _close_contact(model: BeamModel, contact: dict, t: float, y: np.ndarray) -> Impact:
+    v_sep = float(model.gap_rate(y))
+    v_app = contact["v_approach"]
+    return Impact(t_start=contact["t_start"], t_end=t, v_approach=v_app, v_separation=v_sep,
+                  restitution=v_sep / v_app if v_app > 0 else float("nan"), peak_force=contact["peak"],
+                  impulse=_impulse(model, y) - contact["impulse_at_start"], kind="compliant")
+
+
+def _impulsive_impact(run: _Run, case: BeamCase, mode: _Mode, sc, t, y) -> np.ndarray:
+    """Momentum-balance impact at t; sets the next mode (free or resting)."""
+    model, law = run.model, run.law
+    c = case.contact
+    v_app = float(-model.gap_rate(y))
+    plastic = v_app < c.rest_velocity_m_s
+    e = 0.0 if plastic else law.e(v_app)
+    y_new, P = model.impact(y, e)
+    y_new[2 * model.n + 5] += model.energy(y_new) - model.energy(y)  # the impact's (negative) work
+    y_new[2 * model.n + 6] += P
+    v_sep = float(model.gap_rate(y_new))
+    run.impacts.append(Impact(t_start=t, t_end=t, v_approach=v_app, v_separation=v_sep,
+                              restitution=v_sep / v_app if v_app > 0 else 0.0, peak_force=None,
+                              impulse=P, kind="plastic" if plastic else "impulsive"))
+    if len(run.impacts) > c.max_impacts:
+        raise SimulationError(
+            f"more than contact.max_impacts = {c.max_impacts} impacts by t = {t:.9g} s (endless chattering?); "
+            "raise contact.rest_velocity_m_s or contact.max_impacts")
+    mode.kind = FREE
+    if plastic:
+        sc_rest = sc.copy()
+        sc_rest[IN_CONTACT] = _MODE_CODES[RESTING]
+        if model.contact_force(y_new, sc_rest) > 0.0:
+            mode.kind, mode.rest_start = RESTING, t
+    return y_new
+
+
+def simulate(case: BeamCase) -> Result:
+    """Integrate a beam case from ``time.start_s`` to ``time.end_s`` (the Python API).
+
+    Returns a :class:`Result` with the output-step time series, every impact and
+    the energy balance.
+    """
+    wall0 = _time.perf_counter()
+    model = BeamModel.from_case(case)
+    law = contact_law(case)
+    t0, t_end, dt = case.time.start_s, case.time.end_s, case.time.output_step_s
+    n_out = int(np.floor((t_end - t0) / dt + 1e-9)) + 1
+    run = _Run(model, law, t0 + dt * np.arange(n_out))
+    corners, torques = torque_schedule(case)
+
+    y = initial_state(case, model)
+    if model.gap(y) < 0:
+        raise InputError("initial state penetrates the stop (gap < 0); start the beam clear of it")
+    t = t0
+    mode = _Mode()
+    run.out_y[0] = y
+    run.k_out = 1
+    while t < t_end:
+        k = int(np.searchsorted(corners, t, side="right"))
+        t_seg = min(t_end, corners[k]) if k < len(corners) else t_end
+        sc = model.params(torques[k], v0=mode.v0)
+        sc[IN_CONTACT] = mode.code()
+        event, t, y = _integrate_segment(run, case, mode, sc, t, t_seg, y)
+        run.n_restarts += 1
+        if event == "strike":
+            v_app = float(-model.gap_rate(y))
+            if law.impulsive:
+                y = _impulsive_impact(run, case, mode, sc, t, y)
+            else:
+                mode.kind, mode.force_on, mode.v0 = CONTACT, True, max(v_app, 1e-12)
+                mode.contact = _open_contact(model, t, y, v_app)
+        elif event in ("leave", "release"):
+            if mode.force_on:
+                run.impacts.append(_close_contact(model, mode.contact, t, y))
+            mode.contact, mode.force_on = None, False
+            if event == "leave":
+                mode.kind = FREE
+        elif event == "reengage":
+            mode.force_on = True
+            mode.contact = _open_contact(model, t, y, float(-model.gap_rate(y)))
+        elif event == "lift_off":
+            run.resting.append((mode.rest_start, t))
+            mode.kind, mode.rest_start = FREE, None
+    if mode.rest_start is not None:
+        run.resting.append((mode.rest_start, t))
+    if mode.contact is not None:
+        run.impacts.append(_close_contact(model, mode.contact, t, y))
+
+    wall = _time.perf_counter() - wall0
+    stats = {"method": case.solver.method, "rtol": case.solver.rtol, "atol": case.solver.atol,
+             "steps": int(run.counts[0]), "rejected_steps": int(run.counts[1]),
+             "rhs_evaluations": int(run.counts[2]), "restarts": run.n_restarts}
+    return Result(case=case, model=model, t=run.out_t, y=run.out_y, contact_force=run.out_f,
+                  impacts=run.impacts, resting=np.array(run.resting, dtype=float).reshape(-1, 2),
+                  stats=stats, wall_time_s=wall)

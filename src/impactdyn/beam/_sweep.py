@@ -1,0 +1,118 @@
+"""Parameter sweeps of beam cases, in parallel on local cores or on Dask."""
+
+from __future__ import annotations
+
+import os
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from impactdyn._config import load_toml, set_dotted, validate
+from impactdyn._errors import InputError
+from impactdyn._runfolder import RunFolder
+
+SWEEP_HEADER = ["index", "value", "n_impacts", "first_impact_t_s", "v_approach_m_s", "v_separation_m_s",
+                "restitution", "peak_force_N", "final_theta_rad", "final_theta_dot_rad_s", "wall_time_s"]
+
+
+def parse_vary(spec: str) -> tuple[str, np.ndarray]:
+    """``KEY=START:STOP:N`` → (dotted key, N values from START to STOP inclusive)."""
+    try:
+        key, rng = spec.split("=", 1)
+        start, stop, n = rng.split(":")
+        values = np.linspace(float(start), float(stop), int(n))
+    except ValueError:
+        raise InputError(f"--vary {spec!r}: expected KEY=START:STOP:N, e.g. torque.amplitude_N_m=-0.3:-0.1:5") from None
+    if int(n) < 1:
+        raise InputError(f"--vary {spec!r}: N must be at least 1")
+    return key.strip(), values
+
+
+def sweep_cases(case_path: str | Path, key: str, values: np.ndarray) -> list:
+    """Validate every case of the sweep before any work (the key must exist in the schema)."""
+    from impactdyn.beam._case import BeamCase
+
+    raw = load_toml(case_path)
+    cases = []
+    for v in values:
+        value: Any = int(round(v)) if key.endswith("n_modes") else float(v)
+        cases.append(validate(BeamCase, set_dotted(raw, key, value), source=f"{case_path} [{key} = {value}]"))
+    return cases
+
+
+def _run_one(case) -> dict:
+    from impactdyn.beam._simulate import simulate
+
+    return simulate(case).summary()
+
+
+def _row(index: int, value: float, s: dict) -> list:
+    first = s["impacts"][0] if s["impacts"] else None
+    pick = lambda k: "" if first is None or first[k] is None else first[k]
+    return [index, value, s["n_impacts"], pick("t_start"), pick("v_approach"), pick("v_separation"),
+            pick("restitution"), pick("peak_force"), s["final_state"]["theta"], s["final_state"]["theta_dot"],
+            s["wall_time_s"]]
+
+
+def run_sweep(case_path, vary: str, outdir, force=False, workers: int | None = None,
+              dask_address: str | None = None, progress=None) -> Path:
+    """Run the sweep and write ``sweep.csv``, ``sweep.png`` and ``cases/NNN/summary.json``.
+
+    ``dask_address``: ``"local"`` starts a LocalCluster, any other value connects to
+    an existing scheduler; ``None`` uses a local process pool.
+    """
+    key, values = parse_vary(vary)
+    cases = sweep_cases(case_path, key, values)
+    with RunFolder(outdir, force=force) as rf:
+        summaries: list[dict | None] = [None] * len(cases)
+        for i, s in _execute(cases, workers, dask_address):
+            summaries[i] = s
+            rf.write_json(f"cases/{i:03d}/summary.json", s)
+            if progress:
+                progress()
+        rows = [_row(i, float(v), s) for i, (v, s) in enumerate(zip(values, summaries))]
+        rf.write_csv("sweep.csv", SWEEP_HEADER, rows)
+        _plot(rows, key, rf.path / "sweep.png")
+    return Path(outdir)
+
+
+def _execute(cases, workers, dask_address):
+    if dask_address:
+        from dask.distributed import Client, LocalCluster, as_completed as dask_completed
+
+        cluster = LocalCluster(n_workers=workers or os.cpu_count(), threads_per_worker=1,
+                               processes=True, dashboard_address=None) if dask_address == "local" else None
+        with Client(cluster or dask_address) as client:
+            futures = {client.submit(_run_one, c, pure=False): i for i, c in enumerate(cases)}
+            for fut in dask_completed(futures):
+                yield futures[fut], fut.result()
+        if cluster is not None:
+            cluster.close()
+        return
+    with ProcessPoolExecutor(max_workers=workers or os.cpu_count()) as pool:
+        futures = {pool.submit(_run_one, c): i for i, c in enumerate(cases)}
+        for fut in as_completed(futures):
+            yield futures[fut], fut.result()
+
+
+def _plot(rows, key, path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    x = [r[1] for r in rows]
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
+    v = [np.nan if r[4] == "" else r[4] for r in rows]
+    f = [np.nan if r[7] == "" else r[7] for r in rows]
+    axes[0].plot(x, v, "o-")
+    axes[0].set_ylabel("first-impact approach velocity (m/s)")
+    axes[1].plot(x, f, "o-")
+    axes[1].set_ylabel("first-impact peak force (N)")
+    for ax in axes:
+        ax.set_xlabel(key)
+        ax.grid(alpha=0.3)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)

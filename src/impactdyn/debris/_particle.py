@@ -1,0 +1,406 @@
+"""State equations of one DC3D deformable tetrahedral particle (seed 000, DESIGN §5).
+
+A particle is a tetrahedron of mass m in homogeneous deformation (paper eq. 1)::
+
+    x(t) = F(t) (r − r_c) + c(t),       v = Ḟ (r − r_c) + ċ,
+
+with kinetic co-energy ½ m |ċ|² + ½ tr(Ḟ J Ḟᵀ) (eq. 3c) about the inertia tensor
+J = ∫ρ₀ (r − r_c)⊗(r − r_c) dV₀ (eq. 3d), momenta p = m ċ, H = Ḟ J (eq. 4). The
+material is the isothermal, variable-compressibility, Green–Naghdi
+elastic–viscoplastic specialisation of eqs. 7–13 coded in the listing's FCN:
+
+    C = FᵀF,   E = ½(C − I),   E' = E − ⅓ tr(E) I,   J_F = det F,
+    V₀ = m / ((1 − φ) ρ_ref),   K_b = λ + ⅔μ,
+    U(F, Eₚ) = V₀ [ μ |E' − Eₚ|² + K_b (J_F − 1)² / (2 J_F²) ],
+    S = ∂U/∂E = V₀ [ 2μ (E' − Eₚ) − K_b (1/J_F − 1)(1/J_F) C⁻¹ ],
+    T(p, H) = ½ |p|²/m + ½ tr(H J⁻¹ Hᵀ)                        (eq. 5b)
+
+and the state equations (eq. 13 as specialised in FCN)::
+
+    Ḟ = H J⁻¹                                                   (eq. 13c, 6d)
+    Ḣ = −F S − ζ V₀ J_F ⅓ tr(D) F⁻ᵀ,   D = sym(Ḟ F⁻¹)           (eq. 13b, 2)
+    Ėₚ = (2μ/η) (E' − Eₚ)                                       (eq. 10a, 13d)
+    ṗ = 0,   ċ = p/m                                             (eq. 13a)
+
+−F S = −∂U/∂F, so with η → ∞ and ζ = 0 the system is Hamiltonian in (F, H) and
+the total energy T + U is conserved; the relaxation dissipates
+2μ/η · 2μV₀ |E' − Eₚ|² ≥ 0 and the bulk viscosity ζ V₀ J_F (tr D)²/3 ≥ 0.
+The internal angular momentum skew(H Fᵀ) is conserved for every η and ζ.
+
+State packing (33 numbers per particle, the listing's y(1..33) in 0-based
+order; 3×3 blocks row-major, so ``y[3*i + j]`` is H[i, j])::
+
+    y[ 0: 9]  H   (g cm²/µs)      y[27:30]  p   (g cm/µs)
+    y[ 9:18]  F   (1)             y[30:33]  c   (cm)
+    y[18:27]  Eₚ  (1)
+
+Units cm, g, µs: moduli in Mbar, η and ζ in Mbar·µs, energy g·cm²/µs².
+
+Listing deviations (the default is the model; each is behind an explicit option):
+
+* ``Material.legacy_eta_per_volume`` — FCN's epd = −(1/η)·rkp gives
+  Ėₚ = V₀·(2μ/η)(E' − Eₚ): its η is per unit volume.
+* ``legacy_fdot_scaling`` of :func:`impactdyn.debris._tets.initial_state` —
+  IVCALC multiplies the fitted velocity gradient by (ρ_ref/ρ)/3 before forming
+  H(0) = Ḟ(0) J.
+* ``legacy_inertia_transform`` of :func:`impactdyn.debris._tets.inertia_tensor` —
+  JCALC maps the reference inertia with g⁻ᵀ J_ref g⁻¹ where the model needs
+  g J_ref gᵀ.
+* Left out, not an option: FCN multiplies the bulk-viscosity term by a power of
+  ½|D|² that the OCR text garbles (DESIGN §5); the term here is the linear one.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import partial
+
+import numpy as np
+from numba import njit
+
+STATE_SIZE = 33
+H_SLICE = slice(0, 9)
+F_SLICE = slice(9, 18)
+EP_SLICE = slice(18, 27)
+P_SLICE = slice(27, 30)
+C_SLICE = slice(30, 33)
+
+# Packed material parameters (``Material.packed()``), read by every kernel.
+P_MU, P_KB, P_RELAX, P_RELAX_PER_VOLUME, P_ZETA = range(5)
+N_PARAMS = 5
+
+# Scratch 3×3 matrices a kernel may overwrite: the strain measures use slots
+# 0–2, the stress 3, the rates 4–5, an integrator step 6 and up.
+N_WORK = 8
+
+# error_model="numpy": a degenerate trial state must give inf/NaN (which the
+# integrators detect and report), not raise ZeroDivisionError inside prange.
+kernel = partial(njit, cache=True, error_model="numpy")
+
+
+@dataclass(frozen=True)
+class Material:
+    """Elastic–viscoplastic debris material of DC3D (listing common /props/).
+
+    mu, lam: Lamé constants μ, λ (Mbar); rho_ref: reference density ρ_ref
+    (g/cm³); eta: plastic viscosity η (Mbar·µs; ``inf`` switches plasticity
+    off); zeta: artificial bulk viscosity ζ ≥ 0 (Mbar·µs);
+    legacy_eta_per_volume: use the listing's Ėₚ = V₀(2μ/η)(E' − Eₚ).
+    """
+
+    mu: float
+    lam: float
+    rho_ref: float
+    eta: float = math.inf
+    zeta: float = 0.0
+    legacy_eta_per_volume: bool = False
+
+    def __post_init__(self) -> None:
+        checks = (
+            (self.mu > 0 and math.isfinite(self.mu), "mu must be finite and > 0"),
+            (math.isfinite(self.lam) and self.bulk_modulus > 0,
+             "lam must be finite with lam + 2/3 mu > 0"),
+            (self.rho_ref > 0 and math.isfinite(self.rho_ref), "rho_ref must be finite and > 0"),
+            (self.eta > 0, "eta must be > 0 (inf for no plastic flow)"),
+            (self.zeta >= 0 and math.isfinite(self.zeta), "zeta must be finite and >= 0"),
+        )
+        for ok, message in checks:
+            if not ok:
+                raise ValueError(f"Material: {message}, got {self}")
+
+    @property
+    def bulk_modulus(self) -> float:
+        """K_b = λ + ⅔μ (Mbar)."""
+        return self.lam + 2.0 * self.mu / 3.0
+
+    @property
+    def relaxation_rate(self) -> float:
+        """2μ/η (1/µs; per unit reference volume with ``legacy_eta_per_volume``)."""
+        return 2.0 * self.mu / self.eta
+
+    def packed(self) -> np.ndarray:
+        """Parameters for the kernels, shape ``(N_PARAMS,)``, indexed by ``P_*``."""
+        out = np.empty(N_PARAMS)
+        out[P_MU] = self.mu
+        out[P_KB] = self.bulk_modulus
+        out[P_RELAX] = self.relaxation_rate
+        out[P_RELAX_PER_VOLUME] = 1.0 if self.legacy_eta_per_volume else 0.0
+        out[P_ZETA] = self.zeta
+        return out
+
+    def reference_volume(self, m: np.ndarray, phi: np.ndarray | float = 0.0) -> np.ndarray:
+        """V₀ = m / ((1 − φ) ρ_ref) (cm³), the volume whose stiffness the particle has."""
+        return np.asarray(m, dtype=float) / ((1.0 - np.asarray(phi, dtype=float)) * self.rho_ref)
+
+    def wave_modulus(self) -> float:
+        """Largest eigenvalue of ∂²U/∂F² at F = I per unit V₀: max(2μ, 3K_b) (Mbar)."""
+        return max(2.0 * self.mu, 3.0 * self.bulk_modulus)
+
+
+def pack_state(H, F, Ep, p, c) -> np.ndarray:
+    """Packed states ``(..., 33)`` from H, F, Eₚ ``(..., 3, 3)`` and p, c ``(..., 3)``."""
+    H = np.asarray(H, dtype=float)
+    lead = H.shape[:-2]
+    y = np.empty(lead + (STATE_SIZE,))
+    y[..., H_SLICE] = H.reshape(lead + (9,))
+    y[..., F_SLICE] = np.asarray(F, dtype=float).reshape(lead + (9,))
+    y[..., EP_SLICE] = np.asarray(Ep, dtype=float).reshape(lead + (9,))
+    y[..., P_SLICE] = p
+    y[..., C_SLICE] = c
+    return y
+
+
+def unpack_state(y: np.ndarray):
+    """Views (H, F, Eₚ, p, c) of packed states ``(..., 33)``; shapes ``(..., 3, 3)``, ``(..., 3)``."""
+    y = np.asarray(y)
+    lead = y.shape[:-1]
+    return (y[..., H_SLICE].reshape(lead + (3, 3)), y[..., F_SLICE].reshape(lead + (3, 3)),
+            y[..., EP_SLICE].reshape(lead + (3, 3)), y[..., P_SLICE], y[..., C_SLICE])
+
+
+# --- 3×3 algebra (outputs never alias inputs) ------------------------------------
+
+
+@kernel
+def det3(A):
+    """det A of a 3×3 matrix."""
+    return (A[0, 0] * (A[1, 1] * A[2, 2] - A[1, 2] * A[2, 1])
+            - A[0, 1] * (A[1, 0] * A[2, 2] - A[1, 2] * A[2, 0])
+            + A[0, 2] * (A[1, 0] * A[2, 1] - A[1, 1] * A[2, 0]))
+
+
+@kernel
+def inv3(A, out):
+    """out = A⁻¹ by cofactors; returns det A (inf/NaN entries when A is singular)."""
+    d = det3(A)
+    r = 1.0 / d
+    out[0, 0] = (A[1, 1] * A[2, 2] - A[1, 2] * A[2, 1]) * r
+    out[0, 1] = (A[0, 2] * A[2, 1] - A[0, 1] * A[2, 2]) * r
+    out[0, 2] = (A[0, 1] * A[1, 2] - A[0, 2] * A[1, 1]) * r
+    out[1, 0] = (A[1, 2] * A[2, 0] - A[1, 0] * A[2, 2]) * r
+    out[1, 1] = (A[0, 0] * A[2, 2] - A[0, 2] * A[2, 0]) * r
+    out[1, 2] = (A[0, 2] * A[1, 0] - A[0, 0] * A[1, 2]) * r
+    out[2, 0] = (A[1, 0] * A[2, 1] - A[1, 1] * A[2, 0]) * r
+    out[2, 1] = (A[0, 1] * A[2, 0] - A[0, 0] * A[2, 1]) * r
+    out[2, 2] = (A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]) * r
+    return d
+
+
+@kernel
+def matmul3(A, B, out):
+    """out = A B."""
+    for i in range(3):
+        for j in range(3):
+            out[i, j] = A[i, 0] * B[0, j] + A[i, 1] * B[1, j] + A[i, 2] * B[2, j]
+
+
+@kernel
+def matmul3_tn(A, B, out):
+    """out = Aᵀ B."""
+    for i in range(3):
+        for j in range(3):
+            out[i, j] = A[0, i] * B[0, j] + A[1, i] * B[1, j] + A[2, i] * B[2, j]
+
+
+@kernel
+def trace_of_product(A, B):
+    """tr(A B) = Σᵢⱼ Aᵢⱼ Bⱼᵢ."""
+    s = 0.0
+    for i in range(3):
+        for j in range(3):
+            s += A[i, j] * B[j, i]
+    return s
+
+
+# --- constitutive kernels ----------------------------------------------------------
+
+
+@kernel
+def strain_measures(F, w):
+    """C = FᵀF → w[0], C⁻¹ → w[1], E' = ½(C − ⅓ tr C I) → w[2]; returns J_F = det F.
+
+    (E' = E − ⅓ tr(E) I with E = ½(C − I): the identity has no deviator.)
+    """
+    C, Cinv, Edev = w[0], w[1], w[2]
+    matmul3_tn(F, F, C)
+    inv3(C, Cinv)
+    third_trace = (C[0, 0] + C[1, 1] + C[2, 2]) / 3.0
+    for i in range(3):
+        for j in range(3):
+            Edev[i, j] = 0.5 * C[i, j]
+        Edev[i, i] -= 0.5 * third_trace
+    return det3(F)
+
+
+@kernel
+def stress_from_strain(Edev, Cinv, detF, Ep, V0, params, S):
+    """S = V₀ [2μ (E' − Eₚ) − K_b (1/J_F − 1)(1/J_F) C⁻¹] (FCN's rk; energy units)."""
+    two_mu = 2.0 * params[P_MU]
+    pressure_term = params[P_KB] * (1.0 / detF - 1.0) / detF
+    for i in range(3):
+        for j in range(3):
+            S[i, j] = V0 * (two_mu * (Edev[i, j] - Ep[i, j]) - pressure_term * Cinv[i, j])
+
+
+@kernel
+def stress_into(F, Ep, V0, params, S, w):
+    """S(F, Eₚ) → S; returns J_F and leaves C, C⁻¹, E' in w[0..2] (see strain_measures)."""
+    detF = strain_measures(F, w)
+    stress_from_strain(w[2], w[1], detF, Ep, V0, params, S)
+    return detF
+
+
+@kernel
+def stored_energy_of(F, Ep, V0, params, w):
+    """U = V₀ [μ |E' − Eₚ|² + K_b (J_F − 1)² / (2 J_F²)] (g cm²/µs²)."""
+    detF = strain_measures(F, w)
+    Edev = w[2]
+    dev2 = 0.0
+    for i in range(3):
+        for j in range(3):
+            dev2 += (Edev[i, j] - Ep[i, j]) ** 2
+    return V0 * (params[P_MU] * dev2 + params[P_KB] * (detF - 1.0) ** 2 / (2.0 * detF * detF))
+
+
+@kernel
+def kinetic_energy_of(H, Jinv, p, m):
+    """T = ½ tr(Ḟ J Ḟᵀ) + ½|p|²/m = ½ tr(H J⁻¹ Hᵀ) + ½|p|²/m (eq. 5b)."""
+    t = 0.0
+    for i in range(3):
+        for a in range(3):
+            for b in range(3):
+                t += H[i, a] * Jinv[a, b] * H[i, b]
+    return 0.5 * t + 0.5 * (p[0] ** 2 + p[1] ** 2 + p[2] ** 2) / m
+
+
+@kernel
+def relaxation_rate(V0, params):
+    """Rate of Ėₚ = r (E' − Eₚ): r = 2μ/η, or V₀·2μ/η with legacy_eta_per_volume."""
+    if params[P_RELAX_PER_VOLUME] != 0.0:
+        return V0 * params[P_RELAX]
+    return params[P_RELAX]
+
+
+@kernel
+def rates_into(y, Jinv, m, V0, params, ydot, w):
+    """ẏ of the state equations (module docstring) for one packed state ``y (33,)``.
+
+    ``Jinv (3, 3)``: J⁻¹; ``ydot (33,)`` is overwritten; ``w (N_WORK, 3, 3)`` scratch.
+    """
+    H = y[H_SLICE].reshape((3, 3))
+    F = y[F_SLICE].reshape((3, 3))
+    Ep = y[EP_SLICE].reshape((3, 3))
+    Hdot = ydot[H_SLICE].reshape((3, 3))
+    Fdot = ydot[F_SLICE].reshape((3, 3))
+    Epdot = ydot[EP_SLICE].reshape((3, 3))
+    S, Finv = w[3], w[4]
+
+    matmul3(H, Jinv, Fdot)
+    detF = stress_into(F, Ep, V0, params, S, w)
+    Edev = w[2]
+    matmul3(F, S, Hdot)
+    for i in range(3):
+        for j in range(3):
+            Hdot[i, j] = -Hdot[i, j]
+    zeta = params[P_ZETA]
+    if zeta > 0.0:
+        inv3(F, Finv)
+        # tr D = tr(Ḟ F⁻¹); the viscous force is along F⁻ᵀ.
+        viscous = zeta * V0 * detF * trace_of_product(Fdot, Finv) / 3.0
+        for i in range(3):
+            for j in range(3):
+                Hdot[i, j] -= viscous * Finv[j, i]
+    r = relaxation_rate(V0, params)
+    for i in range(3):
+        for j in range(3):
+            Epdot[i, j] = r * (Edev[i, j] - Ep[i, j])
+    for k in range(3):
+        ydot[P_SLICE.start + k] = 0.0
+        ydot[C_SLICE.start + k] = y[P_SLICE.start + k] / m
+
+
+# --- vectorised wrappers (numpy in, numpy out) -----------------------------------
+
+
+@kernel
+def _stress_batch(F, Ep, V0, params, S):
+    w = np.empty((N_WORK, 3, 3))
+    for n in range(F.shape[0]):
+        stress_into(F[n], Ep[n], V0[n], params, S[n], w)
+
+
+@kernel
+def _stored_energy_batch(F, Ep, V0, params, U):
+    w = np.empty((N_WORK, 3, 3))
+    for n in range(F.shape[0]):
+        U[n] = stored_energy_of(F[n], Ep[n], V0[n], params, w)
+
+
+@kernel
+def _kinetic_energy_batch(y, Jinv, m, T):
+    for n in range(y.shape[0]):
+        T[n] = kinetic_energy_of(y[n, H_SLICE].reshape((3, 3)), Jinv[n], y[n, P_SLICE], m[n])
+
+
+@kernel
+def _rates_batch(y, Jinv, m, V0, params, ydot):
+    w = np.empty((N_WORK, 3, 3))
+    for n in range(y.shape[0]):
+        rates_into(y[n], Jinv[n], m[n], V0[n], params, ydot[n], w)
+
+
+def _batch(a, tail: tuple[int, ...]) -> np.ndarray:
+    return np.ascontiguousarray(np.asarray(a, dtype=float).reshape((-1,) + tail))
+
+
+def _per_particle(a, n: int) -> np.ndarray:
+    return np.ascontiguousarray(np.broadcast_to(np.asarray(a, dtype=float).reshape(-1), (n,)))
+
+
+def stress(F, Ep, V0, material: Material) -> np.ndarray:
+    """Second Piola–Kirchhoff-type stress S = ∂U/∂E (energy units, g cm²/µs²).
+
+    F, Eₚ ``(..., 3, 3)``; V₀ ``(...)`` (cm³); returns S ``(..., 3, 3)``.
+    """
+    F3 = _batch(F, (3, 3))
+    S = np.empty_like(F3)
+    _stress_batch(F3, _batch(Ep, (3, 3)), _per_particle(V0, len(F3)), material.packed(), S)
+    return S.reshape(np.shape(F))
+
+
+def stored_energy(F, Ep, V0, material: Material) -> np.ndarray:
+    """U(F, Eₚ) = V₀ [μ |E' − Eₚ|² + K_b (J_F − 1)²/(2J_F²)]; shapes as :func:`stress`, returns ``(...)``."""
+    F3 = _batch(F, (3, 3))
+    U = np.empty(len(F3))
+    _stored_energy_batch(F3, _batch(Ep, (3, 3)), _per_particle(V0, len(F3)), material.packed(), U)
+    return U.reshape(np.shape(F)[:-2])
+
+
+def kinetic_energy(states, J, m) -> np.ndarray:
+    """T = ½ tr(Ḟ J Ḟᵀ) + ½ |p|²/m with Ḟ = H J⁻¹ (eq. 5b).
+
+    states ``(..., 33)``, J ``(..., 3, 3)``, m ``(...)``; returns ``(...)``.
+    """
+    y = _batch(states, (STATE_SIZE,))
+    T = np.empty(len(y))
+    _kinetic_energy_batch(y, np.linalg.inv(_batch(J, (3, 3))), _per_particle(m, len(y)), T)
+    return T.reshape(np.shape(states)[:-1])
+
+
+def total_energy(states, J, m, V0, material: Material) -> np.ndarray:
+    """T + U, conserved when η = ∞ and ζ = 0; shapes as :func:`kinetic_energy`."""
+    H, F, Ep, _, _ = unpack_state(states)
+    return kinetic_energy(states, J, m) + stored_energy(F, Ep, V0, material)
+
+
+def state_rates(states, J, m, V0, material: Material) -> np.ndarray:
+    """ẏ = f(y) of the state equations (module docstring).
+
+    states ``(..., 33)``; J ``(..., 3, 3)``; m, V₀ ``(...)``; returns ``(..., 33)``.
+    """
+    y = _batch(states, (STATE_SIZE,))
+    ydot = np.empty_like(y)
+    _rates_batch(y, np.linalg.inv(_batch(J, (3, 3))), _per_particle(m, len(y)),
+                 _per_particle(V0, len(y)), material.packed(), ydot)
+    return ydot.reshape(np.shape(states))

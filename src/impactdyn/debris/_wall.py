@@ -1,0 +1,216 @@
+"""The rear wall: brick mesh, supports, material and the deposited momentum.
+
+One numbering serves every deck writer — DYNGEN's (Fahrenthold 1994, App. G):
+node (i, j, k) (i along x, j through the thickness y, k along z, 0-based) is
+number ``1 + i + (nx+1) k + (nx+1)(nz+1) j``; element (i, j, k) is number
+``1 + i + nx k + nx nz j``.  The debris hits the front face y = y[0]; its x–z
+face elements are the deposition grid of DYNOUT/DCPOST, and face element
+``e = i + nx k`` is solid element number e + 1 (front layer j = 0).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from impactdyn._errors import InputError
+
+
+@dataclass(frozen=True, eq=False)
+class WallGrid:
+    """Rectilinear brick mesh of the wall; x (nx+1,), y (ny+1,), z (nz+1,) node coordinates, cm.
+
+    y is the thickness direction; the front (impacted) face is y = y[0].
+    """
+
+    x: np.ndarray
+    y: np.ndarray
+    z: np.ndarray
+
+    def __post_init__(self) -> None:
+        for name in ("x", "y", "z"):
+            a = np.array(getattr(self, name), dtype=np.float64)
+            if a.ndim != 1 or a.size < 2 or not np.all(np.isfinite(a)) or np.any(np.diff(a) <= 0):
+                raise InputError(f"WallGrid.{name}: needs at least 2 finite, strictly increasing nodes")
+            a.flags.writeable = False
+            object.__setattr__(self, name, a)
+
+    @classmethod
+    def uniform(cls, x_range: tuple[float, float], y_range: tuple[float, float],
+                z_range: tuple[float, float], nodes: tuple[int, int, int]) -> "WallGrid":
+        """Equally spaced nodes, as DYNGEN: ``nodes = (idmax, jdmax, kdmax)`` over each range."""
+        return cls(*(np.linspace(lo, hi, n) for (lo, hi), n in zip((x_range, y_range, z_range), nodes)))
+
+    @property
+    def shape(self) -> tuple[int, int, int]:
+        """Number of elements (nx, ny, nz)."""
+        return (self.x.size - 1, self.y.size - 1, self.z.size - 1)
+
+    @property
+    def n_nodes(self) -> int:
+        return self.x.size * self.y.size * self.z.size
+
+    @property
+    def n_elements(self) -> int:
+        nx, ny, nz = self.shape
+        return nx * ny * nz
+
+    @property
+    def n_face_elements(self) -> int:
+        """Elements of the x–z deposition grid, nx·nz."""
+        return self.shape[0] * self.shape[2]
+
+    def node_numbers(self) -> np.ndarray:
+        """1-based node numbers, shape (nx+1, ny+1, nz+1), DYNGEN order (i fastest, then k, then j)."""
+        ni, nj, nk = self.x.size, self.y.size, self.z.size
+        i, j, k = np.meshgrid(np.arange(ni), np.arange(nj), np.arange(nk), indexing="ij")
+        return 1 + i + ni * k + ni * nk * j
+
+    def node_coordinates(self) -> np.ndarray:
+        """Coordinates in node-number order, shape (n_nodes, 3), cm."""
+        xyz = np.stack(np.meshgrid(self.x, self.y, self.z, indexing="ij"), axis=-1)
+        return _in_number_order(xyz)
+
+    def element_nodes(self) -> np.ndarray:
+        """Node numbers of each element in element-number order, shape (n_elements, 8).
+
+        DYNGEN's order: the back face (j+1) n5 n6 n7 n8, then the front face (j)
+        n1 n2 n3 n4, where n1 = (i, j, k), n2 = (i+1, j, k), n3 = (i+1, j, k+1),
+        n4 = (i, j, k+1) — a positive-volume hexahedron.
+        """
+        n = self.node_numbers()
+        front = [n[:-1, :-1, :-1], n[1:, :-1, :-1], n[1:, :-1, 1:], n[:-1, :-1, 1:]]
+        back = [n[:-1, 1:, :-1], n[1:, 1:, :-1], n[1:, 1:, 1:], n[:-1, 1:, 1:]]
+        return _in_number_order(np.stack(back + front, axis=-1))
+
+    def face_element_nodes(self, element: np.ndarray) -> np.ndarray:
+        """Front-face node numbers (n1 n2 n3 n4) of face elements ``i + nx k``, shape (n, 4)."""
+        k, i = np.divmod(np.asarray(element), self.shape[0])
+        n = self.node_numbers()[:, 0, :]
+        return np.stack([n[i, k], n[i + 1, k], n[i + 1, k + 1], n[i, k + 1]], axis=-1)
+
+    def constrained_dofs(self, clamped: bool = False) -> np.ndarray:
+        """Fixed translations (x, y, z) of each node in number order, shape (n_nodes, 3), bool.
+
+        The plane x = x[0] is the symmetry plane of the half model (x fixed).  The
+        other three edges, through the thickness, are supported as DYNGEN does:
+        x = x[-1] fixes x and y, z = z[0] and z = z[-1] fix y and z (DYNA3D codes
+        1, 4, 5, and 7 at the corners, where the edge conditions add up).  With
+        ``clamped`` those three edges fix all translations instead.
+        """
+        ni, nj, nk = self.x.size, self.y.size, self.z.size
+        fixed = np.zeros((ni, nj, nk, 3), dtype=bool)
+        fixed[0, :, :, 0] = True
+        fixed[-1, :, :, :] |= (True, True, clamped)
+        fixed[:, :, 0, :] |= (clamped, True, True)
+        fixed[:, :, -1, :] |= (clamped, True, True)
+        return _in_number_order(fixed)
+
+
+@dataclass(frozen=True)
+class WallMaterial:
+    """Isotropic elastic–plastic wall material with failure, cm-g-µs units.
+
+    The parameters of DYNA3D material 13 (isotropic elastic–plastic with failure),
+    the wall material of the report's deck (App. D).
+
+    Attributes: density (g/cm³); shear_modulus, bulk_modulus, yield_stress and
+    hardening_modulus (plastic hardening modulus E_h, Mbar); failure_strain
+    (effective plastic strain at failure, 0 = none); failure_pressure (Mbar, ≤ 0).
+    """
+
+    density: float
+    shear_modulus: float
+    bulk_modulus: float
+    yield_stress: float
+    hardening_modulus: float
+    failure_strain: float
+    failure_pressure: float
+
+    def __post_init__(self) -> None:
+        for name in ("density", "shear_modulus", "bulk_modulus", "yield_stress"):
+            v = getattr(self, name)
+            if not (np.isfinite(v) and v > 0):
+                raise InputError(f"WallMaterial.{name}: must be > 0, got {v!r}")
+        for name in ("hardening_modulus", "failure_strain"):
+            v = getattr(self, name)
+            if not (np.isfinite(v) and v >= 0):
+                raise InputError(f"WallMaterial.{name}: must be >= 0, got {v!r}")
+        if not (np.isfinite(self.failure_pressure) and self.failure_pressure <= 0):
+            raise InputError(f"WallMaterial.failure_pressure: must be <= 0, got {self.failure_pressure!r}")
+
+    @property
+    def youngs_modulus(self) -> float:
+        """E = 9KG / (3K + G), Mbar."""
+        k, g = self.bulk_modulus, self.shear_modulus
+        return 9.0 * k * g / (3.0 * k + g)
+
+    @property
+    def poisson_ratio(self) -> float:
+        """ν = (3K − 2G) / (2 (3K + G))."""
+        k, g = self.bulk_modulus, self.shear_modulus
+        return (3.0 * k - 2.0 * g) / (2.0 * (3.0 * k + g))
+
+    @property
+    def tangent_modulus(self) -> float:
+        """Slope E_t of the bilinear stress–strain curve, E E_h / (E + E_h), Mbar."""
+        e, eh = self.youngs_modulus, self.hardening_modulus
+        return e * eh / (e + eh)
+
+
+#: Al 6061-T6 as the report's DYNA3D deck gives it (Fahrenthold 1994, App. D,
+#: material 1, type 13: G 0.276, σ_y 2.900e-03, E_h 3.88e-03, ε_f 1.5, p_cut
+#: -12.e+33, K 0.720, in that order on the cards).  ρ, G and σ_y are Steinberg's
+#: (1991) 6061-T6 values (2.703 g/cm³, 27.6 GPa, Y₀ 0.29 GPa); K = 72 GPa is close
+#: to ρ₀c₀² = 74 GPa from his c₀ = 5.24 km/s.  p_cut = -1.2e34 Mbar means no
+#: pressure cutoff.  E = 73.4 GPa and ν = 0.330 follow from G and K.
+AL_6061_T6 = WallMaterial(
+    density=2.703,
+    shear_modulus=0.276,
+    bulk_modulus=0.720,
+    yield_stress=2.900e-03,
+    hardening_modulus=3.88e-03,
+    failure_strain=1.5,
+    failure_pressure=-12.0e33,
+)
+
+
+@dataclass(frozen=True, eq=False)
+class WallDeposition:
+    """Time-resolved momentum deposited on the wall's front face (DYNOUT records).
+
+    element : (n,) int — face element ``i + nx k`` of the x–z deposition grid (0-based).
+    time : (n,) — arrival time, µs.
+    impulse : (n, 3) — deposited momentum, g·cm/µs.
+    """
+
+    element: np.ndarray
+    time: np.ndarray
+    impulse: np.ndarray
+
+    def __post_init__(self) -> None:
+        e = np.asarray(self.element)
+        if e.ndim != 1 or (e.size and (not np.issubdtype(e.dtype, np.integer) or e.min() < 0)):
+            raise InputError("WallDeposition.element: must be a 1-D array of non-negative integers")
+        t = np.array(self.time, dtype=np.float64)
+        p = np.array(self.impulse, dtype=np.float64)
+        if t.shape != e.shape or p.shape != e.shape + (3,):
+            raise InputError(f"WallDeposition: shapes element {e.shape}, time {t.shape}, impulse {p.shape}; "
+                             "expected (n,), (n,), (n, 3)")
+        if not (np.all(np.isfinite(t)) and np.all(np.isfinite(p))):
+            raise InputError("WallDeposition: time and impulse must be finite")
+        for name, a in (("element", e.astype(np.int64)), ("time", t), ("impulse", p)):
+            a.flags.writeable = False
+            object.__setattr__(self, name, a)
+
+    def check_fits(self, wall: WallGrid) -> None:
+        """InputError unless every element lies on ``wall``'s deposition grid."""
+        if self.element.size and self.element.max() >= wall.n_face_elements:
+            raise InputError(f"WallDeposition.element: {self.element.max()} is outside the wall's "
+                             f"{wall.shape[0]} x {wall.shape[2]} face grid")
+
+
+def _in_number_order(a: np.ndarray) -> np.ndarray:
+    """(ni, nj, nk, ...) array -> (ni·nj·nk, ...) in DYNGEN order (i fastest, then k, then j)."""
+    return a.transpose(1, 2, 0, *range(3, a.ndim)).reshape(-1, *a.shape[3:])

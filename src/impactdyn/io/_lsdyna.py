@@ -1,0 +1,219 @@
+"""LS-DYNA keyword deck of the rear wall, loaded by the time-resolved deposition.
+
+Units cm, g, µs (LS-DYNA is unit-consistent): density g/cm³, stress Mbar, force
+g·cm/µs² (= 1e7 N), impulse g·cm/µs.  Standard fixed-column cards (LS-DYNA
+Keyword User's Manual): 10-column fields, except *NODE (NID i8, X Y Z 3×16, TC RC
+i8), *ELEMENT_SOLID (EID PID N1–N8, 10×i8, the one-card form) and the
+*DEFINE_CURVE points (A O, 2×20).  Reals take as many significant digits as
+their field holds after one leading blank.
+
+Deck: *KEYWORD, *TITLE, *CONTROL_TERMINATION, *DATABASE_BINARY_D3PLOT, *PART,
+*SECTION_SOLID (ELFORM 1), *MAT_PLASTIC_KINEMATIC, *NODE, *ELEMENT_SOLID
+(numbering of :class:`WallGrid`, DYNGEN's), *BOUNDARY_SPC_NODE, the loads, *END.
+
+Material: *MAT_PLASTIC_KINEMATIC (MAT_003) from a :class:`WallMaterial` — RO, E
+and ν from G and K, SIGY, ETAN = E E_h/(E + E_h) (the bilinear slope; E_h is
+DYNA3D's plastic hardening modulus), BETA = 1 (isotropic hardening, as DYNA3D
+material 13), FS = the failure strain (blank if 0: no erosion).  The default is
+the report's wall, :data:`AL_6061_T6`.
+
+Supports: :meth:`WallGrid.constrained_dofs` — x fixed on the symmetry plane
+x = x[0], and by default (``clamped_edges=True``) all translations fixed on the
+other three edges, through the thickness.
+
+Loads — the choice: each deposition record (face element, time t, impulse I) is
+a force on the element's four front-face nodes, I/4 each, as a triangular pulse
+over [t, t + ``pulse_width``] with ∫F dt = I/4 (peak I/(2w) at mid-pulse).  The
+pulses of a node add up into one *DEFINE_CURVE per loaded node and direction,
+applied by *LOAD_NODE_POINT (DOF 1, 2, 3, SF 1).  A load history keeps the
+arrival times the debris propagation computed, and its impulse is exact whatever
+the mesh; *INITIAL_VELOCITY_NODE would put all momentum in at t = 0 and into
+the nodal masses only.  The abscissae are rounded to what their field can hold
+*before* the peaks are computed, so the curves as written integrate to the
+deposited impulse exactly (to the ordinates' ~14 digits).  Each curve starts and
+ends with a flat zero segment, so LS-DYNA's extrapolation past its ends stays 0.
+``pulse_width`` should be of the order of a debris particle's contact time
+(size / speed: 0.03 cm / 0.6 cm/µs ≈ 0.05 µs, the default).
+
+:func:`read_lsdyna_deck` reads back what this module writes (nodes, solids,
+SPCs, curves, point loads), for tests and checks.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from impactdyn._errors import InputError
+from impactdyn.debris._wall import AL_6061_T6, WallDeposition, WallGrid, WallMaterial
+from impactdyn.io._fortran import parse_int, parse_real, read_lines
+from impactdyn.io._registry import atomic_output
+
+
+@dataclass(frozen=True, eq=False)
+class LsDynaDeck:
+    """What :func:`read_lsdyna_deck` finds.
+
+    node_ids (n,), coordinates (n, 3); solid_ids (m,), solid_parts (m,),
+    solid_nodes (m, 8); spc_nodes (s,), spc_dofs (s, 3) bool; curves: LCID ->
+    (abscissae (p,), ordinates (p,)) with SFA/SFO/OFFA/OFFO applied;
+    point_loads (q, 3) int (NID, DOF, LCID) with point_load_scale (q,).
+    """
+
+    node_ids: np.ndarray
+    coordinates: np.ndarray
+    solid_ids: np.ndarray
+    solid_parts: np.ndarray
+    solid_nodes: np.ndarray
+    spc_nodes: np.ndarray
+    spc_dofs: np.ndarray
+    curves: dict[int, tuple[np.ndarray, np.ndarray]]
+    point_loads: np.ndarray
+    point_load_scale: np.ndarray
+
+
+def write_lsdyna_deck(path: str | Path, wall: WallGrid, material: WallMaterial = AL_6061_T6,
+                      deposition: WallDeposition | None = None, *, pulse_width: float = 0.05,
+                      end_time: float = 30.0, clamped_edges: bool = True,
+                      title: str = "impactdyn rear wall under debris-cloud deposition") -> None:
+    """Write the keyword deck (module docstring), atomically.  Times in µs."""
+    if not (np.isfinite(end_time) and end_time > 0):
+        raise InputError(f"end_time = {end_time}: must be > 0 (µs)")
+    if deposition is not None:
+        deposition.check_fits(wall)
+    m = material
+    lines = ["*KEYWORD", "*TITLE", title[:80],
+             "$ units: cm, g, us; stress Mbar; force g*cm/us^2 = 1e7 N; impulse g*cm/us",
+             "*CONTROL_TERMINATION", _row([end_time]),
+             "*DATABASE_BINARY_D3PLOT", _row([end_time / 100.0]),
+             "*PART", "wall", _row([1, 1, 1]),
+             "*SECTION_SOLID", _row([1, 1]),
+             "*MAT_PLASTIC_KINEMATIC",
+             "$      MID        RO         E        PR      SIGY      ETAN      BETA",
+             _row([1, m.density, m.youngs_modulus, m.poisson_ratio, m.yield_stress, m.tangent_modulus, 1.0]),
+             _row([0.0, 0.0, m.failure_strain if m.failure_strain > 0 else None, 0.0]),
+             "*NODE"]
+    xyz = wall.node_coordinates()
+    lines += [_field(n, 8) + "".join(_field(c, 16) for c in p) for n, p in enumerate(xyz, start=1)]
+    lines.append("*ELEMENT_SOLID")
+    lines += [_field(e, 8) + _field(1, 8) + "".join(_field(n, 8) for n in c)
+              for e, c in enumerate(wall.element_nodes(), start=1)]
+    fixed = wall.constrained_dofs(clamped_edges)
+    lines.append("*BOUNDARY_SPC_NODE")
+    lines += [_row([n + 1, 0, *f.astype(int), 0, 0, 0]) for n, f in enumerate(fixed) if f.any()]
+    if deposition is not None and deposition.element.size:
+        lines += _load_cards(wall, deposition, pulse_width)
+    lines.append("*END")
+    with atomic_output(path) as tmp:
+        tmp.write_text("\n".join(lines) + "\n", encoding="ascii")
+
+
+def _load_cards(wall: WallGrid, dep: WallDeposition, width: float) -> list[str]:
+    """*DEFINE_CURVE per loaded node and direction, and the *LOAD_NODE_POINT cards."""
+    if not (np.isfinite(width) and width > 0):
+        raise InputError(f"pulse_width = {width}: must be > 0 (µs)")
+    a = _as_written(dep.time, 20)
+    b = _as_written(dep.time + width, 20)
+    mid = _as_written(0.5 * (a + b), 20)
+    if not np.all((a < mid) & (mid < b)):
+        raise InputError(f"pulse_width = {width} µs is below the resolution of the arrival times as written")
+    nodes = wall.face_element_nodes(dep.element).ravel()  # 4 nodes per record
+    record = np.repeat(np.arange(dep.element.size), 4)
+    order = np.argsort(nodes, kind="stable")
+    node_ids, starts = np.unique(nodes[order], return_index=True)
+    curves, loads = [], []
+    for nid, recs in zip(node_ids, np.split(record[order], starts[1:])):
+        t = np.unique(np.concatenate([a[recs], mid[recs], b[recs]]))
+        # each record's triangle of unit area, sampled at the node's breakpoints (exact: piecewise linear)
+        rise = (t - a[recs, None]) / (mid - a)[recs, None]
+        fall = (b[recs, None] - t) / (b - mid)[recs, None]
+        shape = np.clip(np.minimum(rise, fall), 0.0, None) * (2.0 / (b - a))[recs, None]
+        force = shape.T @ (dep.impulse[recs] / 4.0)  # (breakpoints, 3)
+        t_all = np.concatenate([[t[0] - width], t, [t[-1] + width]])  # flat zero ends
+        for dof in range(3):
+            if not force[:, dof].any():
+                continue
+            lcid = len(curves) + 1
+            f_all = np.concatenate([[0.0], force[:, dof], [0.0]])
+            curves += ["*DEFINE_CURVE", _row([lcid, 0, 1.0, 1.0, 0.0, 0.0])]
+            curves += [_field(ti, 20) + _field(fi, 20) for ti, fi in zip(t_all, f_all)]
+            loads.append(_row([int(nid), dof + 1, lcid, 1.0]))
+    return curves + ["*LOAD_NODE_POINT"] + loads
+
+
+def read_lsdyna_deck(path: str | Path) -> LsDynaDeck:
+    """Read the nodes, solids, SPCs, curves and point loads of a keyword deck (fixed or comma format)."""
+    path = Path(path)
+    blocks: list[tuple[str, list[tuple[int, str]]]] = []
+    for n, line in enumerate(read_lines(path), start=1):
+        if line.startswith("*"):
+            blocks.append((line.strip().upper(), []))
+        elif blocks and not line.startswith("$") and line.strip():
+            blocks[-1][1].append((n, line))
+    nodes, solids, spcs, loads, curves = [], [], [], [], {}
+    for key, rows in blocks:
+        if key == "*NODE":
+            nodes += [_parse(path, n, line, "ieee", (8, 16, 16, 16)) for n, line in rows]
+        elif key == "*ELEMENT_SOLID":
+            solids += [_parse(path, n, line, "i" * 10, (8,) * 10) for n, line in rows]
+        elif key == "*BOUNDARY_SPC_NODE":
+            spcs += [_parse(path, n, line, "i" * 5, (10,) * 5) for n, line in rows]
+        elif key == "*LOAD_NODE_POINT":
+            loads += [_parse(path, n, line, "iiie", (10,) * 4) for n, line in rows]
+        elif key == "*DEFINE_CURVE":
+            if not rows:
+                raise InputError(f"{path}: *DEFINE_CURVE without cards")
+            lcid, _, sfa, sfo, offa, offo = _parse(path, *rows[0], "iieeee", (10,) * 6)
+            pts = np.array([_parse(path, n, line, "ee", (20, 20)) for n, line in rows[1:]]).reshape(-1, 2)
+            curves[lcid] = ((sfa or 1.0) * (pts[:, 0] + offa), (sfo or 1.0) * (pts[:, 1] + offo))
+    nodes_a = np.array(nodes, dtype=float).reshape(-1, 4)
+    solids_a = np.array(solids, dtype=np.int64).reshape(-1, 10)
+    spcs_a = np.array(spcs, dtype=np.int64).reshape(-1, 5)
+    loads_a = np.array(loads, dtype=float).reshape(-1, 4)
+    return LsDynaDeck(
+        node_ids=nodes_a[:, 0].astype(np.int64), coordinates=nodes_a[:, 1:],
+        solid_ids=solids_a[:, 0], solid_parts=solids_a[:, 1], solid_nodes=solids_a[:, 2:],
+        spc_nodes=spcs_a[:, 0], spc_dofs=spcs_a[:, 2:5].astype(bool),
+        curves=curves, point_loads=loads_a[:, :3].astype(np.int64), point_load_scale=loads_a[:, 3])
+
+
+def _parse(path: Path, n: int, line: str, kinds: str, widths: Sequence[int]) -> list:
+    """The leading fields of a card (comma-separated or fixed columns); blank fields read as 0."""
+    if "," in line:
+        fields = line.split(",")
+    else:
+        edges = list(itertools.accumulate(widths, initial=0))
+        fields = [line[lo:hi] for lo, hi in zip(edges[:-1], edges[1:])]
+    fields = (fields + [""] * len(kinds))[:len(kinds)]
+    try:
+        return [(parse_int if k == "i" else parse_real)(f.strip() or "0") for k, f in zip(kinds, fields)]
+    except ValueError as err:
+        raise InputError(f"{path}:{n}: {err}") from None
+
+
+def _row(values: Sequence) -> str:
+    """A card of 10-column fields (None: blank)."""
+    return "".join(" " * 10 if v is None else _field(v, 10) for v in values)
+
+
+def _field(v, width: int) -> str:
+    """An integer, or a real with as many significant digits as ``width`` − 1 columns hold.
+
+    Reals keep a leading blank, so that neighbouring fields never touch.
+    """
+    if isinstance(v, (int, np.integer)):
+        s = str(int(v))
+    else:
+        s = next((t for p in range(min(width - 2, 17), 0, -1) if len(t := f"{float(v):.{p}g}") < width), None)
+    if s is None or len(s) > width:
+        raise ValueError(f"{v} does not fit a {width}-column field")
+    return s.rjust(width)
+
+
+def _as_written(values: np.ndarray, width: int) -> np.ndarray:
+    """``values`` rounded as :func:`_field` writes them."""
+    return np.array([float(_field(float(v), width)) for v in values])

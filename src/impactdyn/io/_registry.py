@@ -1,0 +1,109 @@
+"""Registry of HydroGrid file formats, and atomic output.
+
+Each format module registers itself by a call at its bottom (as meshio does)::
+
+    register_format("hdf5", (".h5", ".hdf5"), reader=read_hdf5, writer=write_hdf5)
+
+:func:`read_grid` and :func:`write_grid` pick the format by explicit name or by
+the file name: an extension starting with ``.`` matches the end of the name, one
+without (``avsout``) matches the whole name.  Writers write to a temporary file
+in the target's folder that replaces the target only when complete
+(:func:`atomic_output`), so an interrupted write never leaves a file that looks
+complete.
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+import uuid
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+
+from impactdyn._errors import InputError
+from impactdyn.debris._grid import HydroGrid
+
+Reader = Callable[[Path], HydroGrid]
+Writer = Callable[[Path, HydroGrid], None]
+
+_BUILTIN = ("_hdf5", "_vtk", "_legacy_avs")
+
+
+@dataclass(frozen=True)
+class GridFormat:
+    name: str
+    extensions: tuple[str, ...]
+    reader: Reader | None
+    writer: Writer | None
+
+
+_FORMATS: dict[str, GridFormat] = {}
+
+
+def register_format(name: str, extensions: tuple[str, ...] | list[str],
+                    reader: Reader | None = None, writer: Writer | None = None) -> None:
+    """Register (or replace) the grid format ``name``."""
+    _FORMATS[name] = GridFormat(name, tuple(e.lower() for e in extensions), reader, writer)
+
+
+def load_builtin_formats() -> None:
+    """Import the built-in format modules, which register themselves."""
+    for mod in _BUILTIN:
+        importlib.import_module(f"impactdyn.io.{mod}")
+
+
+def formats() -> dict[str, GridFormat]:
+    """The registered formats by name (built-ins loaded)."""
+    load_builtin_formats()
+    return dict(_FORMATS)
+
+
+def read_grid(path: str | os.PathLike, format: str | None = None) -> HydroGrid:
+    """Read a HydroGrid, format by name or by the file name."""
+    fmt = _choose(Path(path), format, "reader")
+    return fmt.reader(Path(path))
+
+
+def write_grid(path: str | os.PathLike, grid: HydroGrid, format: str | None = None) -> None:
+    """Write a HydroGrid atomically, format by name or by the file name."""
+    fmt = _choose(Path(path), format, "writer")
+    with atomic_output(path) as tmp:
+        fmt.writer(tmp, grid)
+
+
+@contextmanager
+def atomic_output(path: str | os.PathLike) -> Iterator[Path]:
+    """Yield a temporary path beside ``path`` (same suffix); it replaces ``path`` on success.
+
+    On an exception the temporary file is removed and ``path`` is left as it was.
+    """
+    target = Path(path)
+    if target.is_dir():
+        raise InputError(f"{target}: is a folder")
+    if not target.parent.is_dir():
+        raise InputError(f"{target}: folder {target.parent} does not exist")
+    tmp = target.with_name(f".{target.stem}.{uuid.uuid4().hex[:8]}.tmp{target.suffix}")
+    try:
+        yield tmp
+        os.replace(tmp, target)
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
+def _choose(path: Path, name: str | None, role: str) -> GridFormat:
+    table = formats()
+    known = ", ".join(f"{f.name} ({' '.join(f.extensions)})" for f in table.values()
+                      if getattr(f, role) is not None)
+    if name is not None:
+        fmt = table.get(name)
+        if fmt is None or getattr(fmt, role) is None:
+            raise InputError(f"{path}: no grid {role} named {name!r}; known: {known}")
+        return fmt
+    lname = path.name.lower()
+    for fmt in table.values():
+        if getattr(fmt, role) is not None and any(
+                lname.endswith(e) if e.startswith(".") else lname == e for e in fmt.extensions):
+            return fmt
+    raise InputError(f"{path}: unknown grid format (by file name); known: {known}")
