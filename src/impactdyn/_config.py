@@ -30,8 +30,8 @@ class Section(BaseModel):
 def _key_path(loc: tuple, data: Any) -> str:
     """Dotted key of an error location, without the tags pydantic inserts for unions."""
     parts, node = [], data
-    for p in loc:
-        if isinstance(node, dict) and p not in node and not isinstance(p, int) and parts:
+    for i, p in enumerate(loc):
+        if isinstance(node, dict) and p not in node and not isinstance(p, int) and parts and i < len(loc) - 1:
             continue  # a union member's name, not a key of the file
         parts.append(f"[{p}]" if isinstance(p, int) else str(p))
         node = node.get(p) if isinstance(node, dict) else (

@@ -378,6 +378,12 @@ class BeamModel:
         out[n + 1 : 2 * n + 2] = v + minv_j * P
         return out, float(P)
 
+    def rotating_frequencies(self, omega: float) -> np.ndarray:
+        """Natural frequencies (rad/s, ascending) of the modal equations with the hub
+        held at constant speed Ω: eigenvalues of ρL q̈ + [diag(Kᵢ) + Ω²(G − ρL I)] q = 0."""
+        k_eff = np.diag(self.kd) + omega**2 * (self.G - self.sc[RHO_L] * np.eye(self.n))
+        return np.sqrt(np.sort(np.linalg.eigvalsh(k_eff / self.sc[RHO_L])))
+
     def kernel_args(self, sc: np.ndarray) -> tuple:
         """The model arrays after ``sc``, in the order every kernel takes them."""
         return (sc, self.m0, self.kd, self.cd, self.G, self.h, self.b, self.phi_p, np.empty(3 * self.n + 2))

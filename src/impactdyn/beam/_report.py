@@ -111,12 +111,10 @@ def write_plots(result: Result, folder: Path) -> None:
     fig, axes = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
     zoom = first_impact_zoom(result)
     impulsive = result.impacts and result.impacts[0].peak_force is None
-    if impulsive:
-        axes[0].vlines([i.t_start for i in result.impacts], 0, [i.impulse for i in result.impacts])
-        axes[0].set_ylabel("impact impulse (N·s)")
-    else:
-        axes[0].plot(t, ts[:, 7])
-        axes[0].set_ylabel("contact force (N)")
+    # the pulses are far shorter than the output step: show one stem per contact
+    stems = [i.impulse if impulsive else i.peak_force for i in result.impacts]
+    axes[0].vlines([i.t_start for i in result.impacts], 0, stems)
+    axes[0].set_ylabel("impulse per impact (N·s)" if impulsive else "peak force per contact (N)")
     axes[0].set_xlabel("time (s)")
     axes[0].set_title("contact")
     if zoom is not None:

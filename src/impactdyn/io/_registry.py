@@ -94,7 +94,7 @@ def atomic_output(path: str | os.PathLike) -> Iterator[Path]:
 
 def _choose(path: Path, name: str | None, role: str) -> GridFormat:
     table = formats()
-    known = ", ".join(f"{f.name} ({' '.join(f.extensions)})" for f in table.values()
+    known = ", ".join(f"{f.name} ({' '.join(f.extensions)})" for _, f in sorted(table.items())
                       if getattr(f, role) is not None)
     if name is not None:
         fmt = table.get(name)
