@@ -132,7 +132,7 @@ def test_verlet_global_error_is_second_order():
 
 @pytest.mark.parametrize("method", METHODS)
 def test_small_vibrations_have_the_linearised_frequencies(method):
-    """Each mode of the linearised system, excited alone at 1e-4 strain, vibrates at its ω.
+    """Each mode of the linearised system, excited alone at 1e-6 strain, vibrates at its ω.
 
     verlet is run at 10 steps per mode period, where its frequency is the
     leapfrog's 2/h·arcsin(ωh/2), 1.6 % above ω; the others at tight tolerance.
@@ -155,7 +155,8 @@ def test_small_vibrations_have_the_linearised_frequencies(method):
     n_samples = 48
     for k in range(3, 9):
         omega = np.sqrt(w2[k])
-        Fdot0 = 1e-4 * omega * phi[:, k].reshape(3, 3)
+        shape = phi[:, k].reshape(3, 3) / np.abs(phi[:, k]).max()
+        Fdot0 = 1e-6 * omega * shape
         y0 = P.pack_state(Fdot0 @ J, np.eye(3), np.zeros((3, 3)), np.zeros(3), np.zeros(3))
         dt = 2 * np.pi / omega / 10
         t = dt * np.arange(1, n_samples + 1)
@@ -173,35 +174,44 @@ def test_small_vibrations_have_the_linearised_frequencies(method):
 # --- invariants -----------------------------------------------------------------------
 
 
-def test_verlet_energy_has_no_secular_drift():
-    """η = ∞, ζ = 0: the energy error over periods 950–1000 is no larger than over 0–50."""
-    y0, J, m = deforming_particle(ELASTIC, gradient=0.02, seed=3)
-    y0[P.P_SLICE] = 0.0
+def energy_error(y0, J, m, t, **kwargs):
+    """Relative total-energy error at times ``t`` of copies of one particle (η = ∞, ζ = 0)."""
     V0 = ELASTIC.reference_volume(m)
-    w2 = linear_modes(J, V0, ELASTIC)[2]
-    period = 2 * np.pi / np.sqrt(w2[3])                                  # the slowest vibration
-    rng = np.random.default_rng(0)
-    early, late = rng.uniform(0, 50 * period, 60), rng.uniform(950 * period, 1000 * period, 60)
-    t = np.concatenate([early, late])
-    y, stats = propagate(*copies(y0, J, m, len(t)), t, ELASTIC)
+    y, stats = propagate(*copies(y0, J, m, len(t)), t, ELASTIC, **kwargs)
     np.testing.assert_array_equal(stats.code, Failure.OK)
-    E0 = P.total_energy(y0, J, m, V0, ELASTIC)
-    error = np.abs(P.total_energy(y, np.repeat(J[None], len(t), 0), np.full(len(t), m), V0, ELASTIC) / E0 - 1)
-    assert error[:60].max() < 1e-2                                       # O((ω̂h)²) at 32 steps per period
-    assert error[60:].max() < 1.5 * error[:60].max(), (error[:60].max(), error[60:].max())
+    E = P.total_energy(y, np.repeat(J[None], len(t), 0), np.full(len(t), m), V0, ELASTIC)
+    return E / P.total_energy(y0, J, m, V0, ELASTIC) - 1
+
+
+def test_verlet_energy_has_no_secular_drift():
+    """Over 1000 periods of the slowest mode the energy error of verlet stays bounded.
+
+    Drift measure: the least-squares linear trend of the error over the run,
+    relative to its largest value. Bounded oscillation gives a small trend; the
+    same measure sees the linear drift of a non-symplectic method (rk45 at a loose
+    tolerance, whose error at this cost is of the same size).
+    """
+    y0, J, m = deforming_particle(ELASTIC, gradient=0.02, seed=3)
+    y0[P.P_SLICE] = 0.0                                                  # internal energy only
+    w2 = linear_modes(J, ELASTIC.reference_volume(m), ELASTIC)[2]
+    t = np.linspace(0, 1000, 201)[1:] * 2 * np.pi / np.sqrt(w2[3])
+
+    def trend(e):
+        return abs(np.polyfit(t, e, 1)[0] * t[-1]) / np.abs(e).max()
+
+    e = energy_error(y0, J, m, t)                                        # default 32 steps per period
+    assert np.abs(e).max() < 1e-2
+    assert trend(e) < 0.25, trend(e)
+    e_rk = energy_error(y0, J, m, t, method="rk45", eps=1e-5)
+    assert trend(e_rk) > 0.75, trend(e_rk)
 
 
 def test_verlet_energy_error_is_second_order():
     y0, J, m = deforming_particle(ELASTIC, gradient=0.02, seed=3)
     y0[P.P_SLICE] = 0.0
-    V0 = ELASTIC.reference_volume(m)
     t = np.linspace(0.5, 50, 64) * 2 * np.pi / omega_hat(J, m, ELASTIC)
-    E0 = P.total_energy(y0, J, m, V0, ELASTIC)
     spp = np.array([8.0, 16, 32, 64])
-    errors = []
-    for s in spp:
-        y, _ = propagate(*copies(y0, J, m, len(t)), t, ELASTIC, steps_per_period=s)
-        errors.append(np.abs(P.total_energy(y, np.repeat(J[None], len(t), 0), np.full(len(t), m), V0, ELASTIC) / E0 - 1).max())
+    errors = [np.abs(energy_error(y0, J, m, t, steps_per_period=s)).max() for s in spp]
     slope = np.polyfit(np.log(1 / spp), np.log(errors), 1)[0]
     assert 1.85 < slope < 2.15, (errors, slope)
 
@@ -233,34 +243,41 @@ def test_translation_keeps_F_identity(method):
 
 @pytest.mark.parametrize("method", METHODS)
 def test_spin_is_a_rotation_up_to_centrifugal_strain(method):
-    """A regular tetrahedron (J isotropic) set spinning at Ω about z, for one radian.
+    """A regular tetrahedron (J = αI) set spinning at Ω about z turns by Ωt and strains only as Ω².
 
-    Rigid rotation is not an exact motion of the affine particle: the spin
-    stretches it. Linearised, the static in-plane stretch is
-    ε_s = Ω²/ω̂² · 3K_b/(2(λ + μ)) (ω̂² = 3K_b V₀/α, J = α I), the sudden start
-    overshoots to 2ε_s, and the enlarged inertia slows the spin by ≤ 2·2ε_s.
-    Both vanish as Ω²: halving Ω quarters the rotation error.
+    Rigid rotation is not an exact motion of the affine particle: in the frame
+    turning with it the spin is a centrifugal load f = Ω²α P_xy applied at t = 0
+    (P_xy projects on the spin plane). Linearised, mode k (M-orthonormal φ_k)
+    responds with q_k(t) = (φ_k·f/ω_k²)(1 − cos ω_k t), so every strain
+    component stays below 2 Σ_k |φ_k·f|/ω_k² |sym φ_k|; the stretched body spins
+    slower by a relative O(Ω²/ω²), so halving Ω quarters the error of the rotation.
     """
     a = 0.03
     x = a / np.sqrt(8) * np.array([[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1.0]])
     m = ELASTIC.rho_ref * abs(T.signed_volume(x))
     J = T.inertia_tensor(x, m)
     np.testing.assert_allclose(J, J[0, 0] * np.eye(3), atol=1e-14 * J[0, 0])
+    _, M, w2, phi = linear_modes(J, ELASTIC.reference_volume(m), ELASTIC)
     w_hat = omega_hat(J, m, ELASTIC)
     rotation_errors = []
     for ratio in (1e-3, 5e-4):
         Omega = ratio * w_hat
         W = Omega * np.array([[0.0, -1, 0], [1, 0, 0], [0, 0, 0]])
+        load = (Omega**2 * J[0, 0] * np.diag([1.0, 1, 0])).reshape(9)
+        static = phi[:, 3:].T @ load / w2[3:]
+        sym_shapes = np.abs(0.5 * (phi[:, 3:] + phi.reshape(3, 3, 9).transpose(1, 0, 2).reshape(9, 9)[:, 3:]))
+        strain_bound = 2 * (sym_shapes @ np.abs(static)).max()
+
         y0 = P.pack_state(W @ J, np.eye(3), np.zeros((3, 3)), np.zeros(3), np.zeros(3))
         t = 1.0 / Omega
         y, stats = propagate(y0[None], J[None], np.array([m]), t, ELASTIC, method=method, eps=1e-10)
         assert stats.code[0] == Failure.OK
         F = y[0, P.F_SLICE].reshape(3, 3)
+        strain = np.abs(0.5 * (F.T @ F - np.eye(3))).max()
+        assert 0 < strain < 1.01 * strain_bound, (strain, strain_bound)
         u, _, vt = np.linalg.svd(F)
-        eps_static = ratio**2 * 3 * ELASTIC.bulk_modulus / (2 * (ELASTIC.lam + ELASTIC.mu))
-        assert np.abs(0.5 * (F.T @ F - np.eye(3))).max() < 2 * eps_static * 1.01
         rotation_errors.append(np.abs(u @ vt - expm(W * t)).max())
-        assert rotation_errors[-1] < 4 * eps_static
+    assert rotation_errors[0] < 10 * ratio**2 * 4
     assert 3.5 < rotation_errors[0] / rotation_errors[1] < 4.5, rotation_errors
 
 

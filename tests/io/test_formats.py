@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import base64
 import dataclasses
 
 import h5py
@@ -108,7 +109,7 @@ def test_hdf5_reader_checks_units_and_datasets(tmp_path, rng, representable_grid
         read_grid(p)
 
 
-def test_vtr_reader_takes_ascii_arrays_and_reports_missing_ones(tmp_path, rng, representable_grid):
+def test_vtr_reader_takes_other_encodings_and_reports_missing_arrays(tmp_path, rng, representable_grid):
     import xml.etree.ElementTree as ET
 
     g = representable_grid(rng)
@@ -120,6 +121,13 @@ def test_vtr_reader_takes_ascii_arrays_and_reports_missing_ones(tmp_path, rng, r
     el.text = " ".join(repr(float(v)) for v in g.mass.transpose(2, 1, 0).ravel())
     tree.write(p)
     np.testing.assert_array_equal(read_grid(p).mass, g.mass)
+    # header and data base64-encoded as one stream, as meshio writes them
+    el = tree.find(".//CellData/DataArray[@Name='density']")
+    data = g.density.transpose(2, 1, 0).astype("<f8").tobytes()
+    el.text = base64.b64encode(np.array([len(data)], "<u8").tobytes() + data).decode()
+    tree.write(p)
+    np.testing.assert_array_equal(read_grid(p).density, g.density)
+    el = tree.find(".//CellData/DataArray[@Name='mass']")
     tree.find(".//CellData").remove(el)
     tree.write(p)
     with pytest.raises(InputError, match="data array 'mass' missing"):

@@ -7,6 +7,7 @@ import dataclasses
 import numpy as np
 import pytest
 
+from impactdyn import units
 from impactdyn._errors import InputError
 from impactdyn.io._legacy_avs import AvsLayout, read_avsout, write_avsout
 from impactdyn.io._legacy_dc3din import read_dc3din
@@ -172,3 +173,15 @@ def test_writer_refuses_what_avsout_cannot_hold(tmp_path, rng, representable_gri
 def test_layout_checks_indices():
     with pytest.raises(InputError, match="i1 <= i2"):
         dataclasses.replace(LAYOUT, i2=4)
+
+
+def test_unit_conversions_used_by_the_legacy_formats():
+    assert units.cm_s_to_cm_us(7.0e5) == pytest.approx(units.km_s_to_cm_us(7.0)) == pytest.approx(0.7)
+    assert units.dyn_cm2_to_mbar(1.0e12) == 1.0 and units.gpa_to_mbar(100.0) == pytest.approx(1.0)
+    assert units.erg_g_to_cm2_us2(1.0e12) == 1.0
+    assert units.ksi_to_mbar(1.0) == pytest.approx(6.894757e-5, rel=1e-7)
+    assert units.inch_to_cm(0.125) == pytest.approx(0.3175)
+    for there, back in [(units.cm_s_to_cm_us, units.cm_us_to_cm_s), (units.dyn_cm2_to_mbar, units.mbar_to_dyn_cm2),
+                        (units.erg_g_to_cm2_us2, units.cm2_us2_to_erg_g), (units.km_s_to_cm_us, units.cm_us_to_km_s),
+                        (units.gpa_to_mbar, units.mbar_to_gpa), (units.s_to_us, units.us_to_s)]:
+        assert back(there(3.7)) == pytest.approx(3.7, rel=1e-15)

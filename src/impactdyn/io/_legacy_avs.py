@@ -41,7 +41,7 @@ from impactdyn import units
 from impactdyn._errors import InputError
 from impactdyn.debris._grid import HydroGrid
 from impactdyn.io._fortran import format_e, parse_real, read_lines, record_fields
-from impactdyn.io._registry import register_format
+from impactdyn.io._registry import atomic_output, register_format
 
 HEADER_LINES = 27
 FIELD_WIDTH = 11
@@ -152,10 +152,15 @@ def read_avsout(path: str | Path, layout: AvsLayout | None = None, time: float |
 
 
 def write_avsout(path: str | Path, grid: HydroGrid, layout: AvsLayout | None = None) -> None:
-    """Write a staggered, uniform HydroGrid as avsout (cgs, ``7e11.3``, 3 significant digits).
+    """Write a staggered, uniform HydroGrid as avsout (cgs, ``7e11.3``, 3 significant digits), atomically.
 
     ``layout`` places the block in a CTH mesh (default: cells numbered from 2).
     """
+    with atomic_output(path) as tmp:
+        _write(tmp, grid, layout)
+
+
+def _write(path: Path, grid: HydroGrid, layout: AvsLayout | None = None) -> None:
     if not grid.staggered:
         raise InputError(f"{path}: avsout holds face-centred (staggered) velocities; this grid is cell-centred")
     if layout is None:
@@ -258,4 +263,4 @@ def _line_of(data: list[tuple[int, str]], value_index: int) -> int:
     return data[2 * cell + (r >= len(_RECORD1))][0]
 
 
-register_format("avsout", ("avsout", ".avsout"), reader=read_avsout, writer=write_avsout)
+register_format("avsout", ("avsout", ".avsout"), reader=read_avsout, writer=_write)

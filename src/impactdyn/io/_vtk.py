@@ -6,9 +6,9 @@ Cell data arrays are named after the HydroGrid fields (units in the file's
 comment, see :data:`impactdyn.debris._grid.UNITS`); ``velocity`` has 3
 components.  FieldData holds ``TimeValue`` (µs, the name ParaView reads as the
 time) and ``staggered`` (0/1; absent means cell-centred).  Arrays are written
-inline as base64 ``binary`` (header and data encoded separately, UInt64
-header), which round-trips exactly; the reader also takes ``ascii`` arrays and
-UInt32 headers.  Compressed or appended data are not read.
+inline as base64 ``binary`` (header and data encoded separately, as VTK does,
+UInt64 header), which round-trips exactly; the reader also takes header and
+data encoded as one stream (meshio), ``ascii`` arrays and UInt32 headers.  Compressed or appended data are not read.
 """
 
 from __future__ import annotations
@@ -123,9 +123,13 @@ def _decode(path: Path, el: ET.Element, header: np.dtype, big: bool) -> np.ndarr
         if fmt == "ascii":
             return np.array(text.split(), dtype=np.float64)
         if fmt == "binary":
-            n_head = 4 * -(-header.itemsize // 3)  # base64 characters of the separately encoded header
-            nbytes = int(np.frombuffer(base64.b64decode(text[:n_head]), dtype=header.newbyteorder(order))[0])
-            data = base64.b64decode(text[n_head:])[:nbytes]
+            head = text[:4 * -(-header.itemsize // 3)]  # base64 characters of a separately encoded header
+            if head.endswith("="):  # header and data encoded separately (VTK, this writer)
+                raw = base64.b64decode(head) + base64.b64decode(text[len(head):])
+            else:  # one stream (meshio)
+                raw = base64.b64decode(text)
+            nbytes = int(np.frombuffer(raw[:header.itemsize], dtype=header.newbyteorder(order))[0])
+            data = raw[header.itemsize:header.itemsize + nbytes]
             return np.frombuffer(data, dtype=dtype).astype(np.float64)
     except (ValueError, TypeError) as err:
         raise InputError(f"{path}: array {name!r}: cannot decode ({err})") from None
