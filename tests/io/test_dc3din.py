@@ -51,6 +51,11 @@ def test_fixed_columns_with_touching_fields(tmp_path, example_dc3din):
     assert (d.ylow, d.dy) == (-11.5, 0.03175)
 
 
+def test_text_after_the_fields_is_ignored_as_fortran_does(tmp_path, example_dc3din):
+    d = read_dc3din(variant(tmp_path, example_dc3din, lambda ls: ls.__setitem__(3, "         2         1   itype jtype")))
+    assert (d.itype, d.jtype) == (2, 1)
+
+
 def test_new_wall_grid_for_jtype_3(tmp_path, example_dc3din):
     def edit(ls):
         ls[3] = "         2         3"

@@ -200,6 +200,7 @@ def test_curve_integrals_equal_the_deposited_impulse(tmp_path, rng):
         assert f[0] == f[1] == f[-2] == f[-1] == 0.0  # flat zero ends
         assert t[1] >= first[nid] - 1e-12  # nothing before the first arrival at the node
         got[nid, dof] = np.trapezoid(f, t)
+    assert sorted(deck.curves) == list(range(1, len(deck.point_loads) + 1))
     assert set(got) == {key for key, v in want.items() if scale[key] > 0}
     for key, v in got.items():
         assert abs(v - want[key]) <= 1e-12 * scale[key], key

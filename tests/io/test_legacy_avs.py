@@ -6,9 +6,12 @@ import dataclasses
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from impactdyn import units
 from impactdyn._errors import InputError
+from impactdyn.io._fortran import format_e, parse_real
 from impactdyn.io._legacy_avs import AvsLayout, read_avsout, write_avsout
 from impactdyn.io._legacy_dc3din import read_dc3din
 
@@ -185,3 +188,24 @@ def test_unit_conversions_used_by_the_legacy_formats():
                         (units.erg_g_to_cm2_us2, units.cm2_us2_to_erg_g), (units.km_s_to_cm_us, units.cm_us_to_km_s),
                         (units.gpa_to_mbar, units.mbar_to_gpa), (units.s_to_us, units.us_to_s)]:
         assert back(there(3.7)) == pytest.approx(3.7, rel=1e-15)
+
+
+def test_invalid_cell_values_name_the_file_and_cell(tmp_path):
+    p = tmp_path / "avsout"
+    lines = legacy_dump(p)
+    lines[27 + 2 * 4 + 1] = "-1.0 0.5 3.0"  # cell 5 in file order = (i, j, k) (1, 1, 0): negative mass
+    p.write_text("\n".join(lines) + "\n")
+    with pytest.raises(InputError, match=rf"{p}: HydroGrid.mass: negative value at index \(1, 1, 0\)"):
+        read_avsout(p, LAYOUT)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.one_of(st.just(0.0), st.floats(min_value=1e-300, max_value=1e300), st.floats(min_value=-1e300,
+                                                                                        max_value=-1e-300)),
+       st.sampled_from([(11, 3), (10, 3), (20, 8), (8, 1)]))
+def test_fortran_e_fields_round_trip(value, fmt):
+    """Ew.d output (3-digit exponents without the E) reads back to d significant digits."""
+    width, digits = fmt
+    field = format_e([value], width, digits)
+    assert len(field) == width
+    assert abs(parse_real(field) - value) <= 0.5 * 10.0 ** (1 - digits) * abs(value) * (1 + 1e-12)

@@ -118,7 +118,10 @@ class HydroGrid:
         if not isinstance(self.staggered, (bool, np.bool_)):
             raise InputError(f"HydroGrid.staggered: must be a bool, got {self.staggered!r}")
         object.__setattr__(self, "staggered", bool(self.staggered))
-        t = float(self.time)
+        try:
+            t = float(self.time)
+        except (TypeError, ValueError):
+            t = np.nan
         if not np.isfinite(t):
             raise InputError(f"HydroGrid.time: must be finite, got {self.time!r}")
         object.__setattr__(self, "time", t)
@@ -164,13 +167,11 @@ class HydroGrid:
         """
         m = self.mass
         mv = m[..., None] * self.velocity
-        out = np.empty(tuple(n + 1 for n in self.shape) + (3,))
-        for d in range(3):
-            pair_axes = tuple(ax for ax in range(3) if ax != d) if self.staggered else (0, 1, 2)
-            w = _node_sum(m, pair_axes)
-            s = _node_sum(mv[..., d], pair_axes)
-            out[..., d] = np.divide(s, w, out=np.zeros_like(s), where=w > 0)
-        return out
+        if not self.staggered:
+            return _weighted_mean(_node_sum(mv, (0, 1, 2)), _node_sum(m, (0, 1, 2))[..., None])
+        pairs = [tuple(ax for ax in range(3) if ax != d) for d in range(3)]
+        return np.stack([_weighted_mean(_node_sum(mv[..., d], p), _node_sum(m, p)) for d, p in enumerate(pairs)],
+                        axis=-1)
 
     def __repr__(self) -> str:
         return (f"HydroGrid(shape={self.shape}, staggered={self.staggered}, time={self.time} us, "
@@ -178,19 +179,24 @@ class HydroGrid:
 
 
 def _node_sum(a: np.ndarray, pair_axes: tuple[int, ...]) -> np.ndarray:
-    """Σ of cell values over each node's stencil, shape (nx+1, ny+1, nz+1).
+    """Σ of cell values (nx, ny, nz, ...) over each node's stencil, shape (nx+1, ny+1, nz+1, ...).
 
     Along a pair axis node n collects cells n−1 and n; along the other axes only
     cell n (the cell whose lower face holds the node).  Missing cells count as 0.
     """
-    nx, ny, nz = a.shape
-    p = np.zeros((nx + 2, ny + 2, nz + 2))
+    (nx, ny, nz), rest = a.shape[:3], a.shape[3:]
+    p = np.zeros((nx + 2, ny + 2, nz + 2) + rest)
     p[1:-1, 1:-1, 1:-1] = a  # p index n+1 is cell n; p[0] and p[-1] are empty cells
     offsets = [(0, 1) if ax in pair_axes else (1,) for ax in range(3)]
-    out = np.zeros((nx + 1, ny + 1, nz + 1))
+    out = np.zeros((nx + 1, ny + 1, nz + 1) + rest)
     for o in itertools.product(*offsets):
         out += p[o[0] : o[0] + nx + 1, o[1] : o[1] + ny + 1, o[2] : o[2] + nz + 1]
     return out
+
+
+def _weighted_mean(total: np.ndarray, weight: np.ndarray) -> np.ndarray:
+    """total / weight where weight > 0, else 0 (RDAVS: empty weights give zero)."""
+    return np.divide(total, weight, out=np.zeros(np.broadcast_shapes(total.shape, weight.shape)), where=weight > 0)
 
 
 def _frozen_array(grid: HydroGrid, name: str) -> np.ndarray:

@@ -17,7 +17,12 @@ The deck, in order:
    E 1.0, ν 0.3 — the backing element's.
 5. Nodes ``(i8, i5, 3e20.8)``: number, constraint code, x, y, z, in DYNGEN's
    numbering (:class:`WallGrid`); codes 0 free, 1 x, 2 y, 3 z, 4 x y, 5 y z,
-   6 z x, 7 all, from :meth:`WallGrid.constrained_dofs`.  Then the 8 nodes of the
+   6 z x, 7 all, from :meth:`WallGrid.constrained_dofs` (``clamped_edges``: 7 on
+   the three outer edges).  In the OCR a ``go to 761`` stands before the edge
+   codes without a comment mark; the same OCR drops the ``c`` of commented-out
+   debug lines elsewhere (DCELEM's single-cell filter), and DESIGN §5 and the
+   report's half model (symmetry plane x = xdmin) want the edge codes, so they
+   are written.  Then the 8 nodes of the
    backing element, code 0: the 1 cm cube x ∈ [xd, xd + 1], y ∈ [yd − 2, yd − 1],
    z ∈ [zd, zd + 1] at the wall grid's lower corner (xd, yd, zd), nodes 1–4 on
    y = yd − 1.  (The listing writes ``nnode = ... + 1`` and ``x(1)`` for these

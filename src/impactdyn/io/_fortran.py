@@ -67,12 +67,13 @@ def record_fields(line: str, n: int, width: int) -> list[str]:
 
     Fixed columns are used only when the line reaches into the last field, so a
     short (truncated) line is not silently padded with zeros; a blank field
-    inside the line reads as zero, as Fortran reads it.
+    inside the line reads as zero and text after the last field is ignored, as
+    Fortran reads them.
     """
     tokens = line.split()
     if len(tokens) == n:
         return tokens
-    if len(line.rstrip()) > width * (n - 1) and len(tokens) < n:
+    if len(line.rstrip()) > width * (n - 1):
         fields = [line[width * m : width * (m + 1)].strip() or "0" for m in range(n)]
         if all(fields) and not any(" " in f for f in fields):
             return fields
@@ -97,18 +98,19 @@ def format_e(values: Sequence[float] | np.ndarray, width: int, digits: int) -> s
     ``0.ddddE+ee``; three-digit exponents drop the ``E`` (``0.123-104``) as
     Fortran does.  A value that does not fit ``width`` is an error, not ``****``.
     """
+    a = np.asarray(values, dtype=float).ravel()
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"cannot write {a[~np.isfinite(a)][0]} in E{width}.{digits}")
+    spec, zero = f"#.{digits - 1}e", "0." + "0" * digits + "E+00"  # '#': keep the point when digits = 1
     out = []
-    for v in np.asarray(values, dtype=float).ravel():
-        if not np.isfinite(v):
-            raise ValueError(f"cannot write {v} in E{width}.{digits}")
+    for v in a.tolist():
         if v == 0.0:
-            mant, exp = "0" * digits, 0
+            field = zero
         else:
-            s = f"{abs(v):.{digits - 1}e}"  # d.ddde±xx, correctly rounded
-            m, e = s.split("e")
-            mant, exp = m.replace(".", ""), int(e) + 1
-        ex = f"E{exp:+03d}" if abs(exp) <= 99 else f"{exp:+04d}"
-        field = f"{'-' if v < 0 else ''}0.{mant}{ex}"
+            s = format(abs(v), spec)  # d.dd…e±xx, correctly rounded
+            exp = int(s[digits + 2:]) + 1
+            ex = f"E{exp:+03d}" if -99 <= exp <= 99 else f"{exp:+04d}"
+            field = ("-0." if v < 0 else "0.") + s[0] + s[2:digits + 1] + ex
         if len(field) > width:
             raise ValueError(f"{v} does not fit E{width}.{digits}")
         out.append(field.rjust(width))

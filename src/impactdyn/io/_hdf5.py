@@ -15,7 +15,7 @@ import numpy as np
 
 from impactdyn._errors import InputError
 from impactdyn.debris._grid import CELL_FIELDS, UNITS, HydroGrid
-from impactdyn.io._registry import register_format
+from impactdyn.io._registry import in_file, register_format
 
 FORMAT = "impactdyn.HydroGrid"
 VERSION = 1
@@ -59,7 +59,8 @@ def read_hdf5(path: str | Path) -> HydroGrid:
             if units != UNITS[name]:
                 raise InputError(f"{path}: /{name} has units {units!r}, expected {UNITS[name]!r}")
             arrays[name] = f[name][()]
-        return HydroGrid(**arrays, staggered=bool(np.asarray(f.attrs["staggered"])), time=float(f.attrs["time"]))
+        with in_file(path):
+            return HydroGrid(**arrays, staggered=bool(np.asarray(f.attrs["staggered"])), time=float(f.attrs["time"]))
 
 
 register_format("hdf5", (".h5", ".hdf5"), reader=read_hdf5, writer=write_hdf5)

@@ -41,7 +41,7 @@ from impactdyn import units
 from impactdyn._errors import InputError
 from impactdyn.debris._grid import HydroGrid
 from impactdyn.io._fortran import format_e, parse_real, read_lines, record_fields
-from impactdyn.io._registry import atomic_output, register_format
+from impactdyn.io._registry import atomic_output, in_file, register_format
 
 HEADER_LINES = 27
 FIELD_WIDTH = 11
@@ -136,19 +136,20 @@ def read_avsout(path: str | Path, layout: AvsLayout | None = None, time: float |
     values = _read_values(path, lines, nx * ny * nz, layout)
     cells = values.reshape(nz, ny, nx, _PER_CELL).transpose(2, 1, 0, 3)  # k outer, i inner -> (i, j, k)
     x, y, z = layout.nodes()
-    return HydroGrid(
-        x=x, y=y, z=z,
-        velocity=units.cm_s_to_cm_us(cells[..., 0:3]),
-        pressure=units.dyn_cm2_to_mbar(cells[..., 3]),
-        temperature=cells[..., 4],
-        density=cells[..., 5],
-        specific_energy=units.erg_g_to_cm2_us2(cells[..., 6]),
-        mass=cells[..., 7],
-        void_fraction=cells[..., 8],
-        sound_speed=units.cm_s_to_cm_us(cells[..., 9]),
-        staggered=True,
-        time=time,
-    )
+    with in_file(path):  # cell (i, j, k) is record pair i + nx (j + ny k) after the header
+        return HydroGrid(
+            x=x, y=y, z=z,
+            velocity=units.cm_s_to_cm_us(cells[..., 0:3]),
+            pressure=units.dyn_cm2_to_mbar(cells[..., 3]),
+            temperature=cells[..., 4],
+            density=cells[..., 5],
+            specific_energy=units.erg_g_to_cm2_us2(cells[..., 6]),
+            mass=cells[..., 7],
+            void_fraction=cells[..., 8],
+            sound_speed=units.cm_s_to_cm_us(cells[..., 9]),
+            staggered=True,
+            time=time,
+        )
 
 
 def write_avsout(path: str | Path, grid: HydroGrid, layout: AvsLayout | None = None) -> None:
@@ -162,7 +163,7 @@ def write_avsout(path: str | Path, grid: HydroGrid, layout: AvsLayout | None = N
 
 def _write(path: Path, grid: HydroGrid, layout: AvsLayout | None = None) -> None:
     if not grid.staggered:
-        raise InputError(f"{path}: avsout holds face-centred (staggered) velocities; this grid is cell-centred")
+        raise InputError("avsout holds face-centred (staggered) velocities; this grid is cell-centred")
     if layout is None:
         layout = AvsLayout.of_grid(grid)
     else:

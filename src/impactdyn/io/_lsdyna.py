@@ -137,7 +137,7 @@ def _load_cards(wall: WallGrid, dep: WallDeposition, width: float) -> list[str]:
         for dof in range(3):
             if not force[:, dof].any():
                 continue
-            lcid = len(curves) + 1
+            lcid = len(loads) + 1
             f_all = np.concatenate([[0.0], force[:, dof], [0.0]])
             curves += ["*DEFINE_CURVE", _row([lcid, 0, 1.0, 1.0, 0.0, 0.0])]
             curves += [_field(ti, 20) + _field(fi, 20) for ti, fi in zip(t_all, f_all)]

@@ -92,6 +92,17 @@ def atomic_output(path: str | os.PathLike) -> Iterator[Path]:
         tmp.unlink(missing_ok=True)
 
 
+@contextmanager
+def in_file(path: str | os.PathLike) -> Iterator[None]:
+    """Prefix the file name to an InputError raised inside (e.g. by HydroGrid's checks)."""
+    try:
+        yield
+    except InputError as err:
+        if str(err).startswith(str(path)):
+            raise
+        raise InputError(f"{path}: {err}") from None
+
+
 def _choose(path: Path, name: str | None, role: str) -> GridFormat:
     table = formats()
     known = ", ".join(f"{f.name} ({' '.join(f.extensions)})" for _, f in sorted(table.items())

@@ -21,7 +21,7 @@ import numpy as np
 
 from impactdyn._errors import InputError
 from impactdyn.debris._grid import CELL_FIELDS, UNITS, HydroGrid
-from impactdyn.io._registry import register_format
+from impactdyn.io._registry import in_file, register_format
 
 _HEADER_TYPES = {"UInt32": np.dtype("<u4"), "UInt64": np.dtype("<u8")}
 _TYPES = {"Float64": "<f8", "Float32": "<f4", "Int32": "<i4", "Int64": "<i8", "UInt8": "u1", "Int8": "i1"}
@@ -95,9 +95,10 @@ def read_vtr(path: str | Path) -> HydroGrid:
     fd = root.find("./RectilinearGrid/FieldData")
     time = array(fd, "TimeValue", required=False)
     staggered = array(fd, "staggered", required=False)
-    return HydroGrid(x=array(coords, "x"), y=array(coords, "y"), z=array(coords, "z"), **fields,
-                     staggered=bool(staggered[0]) if staggered is not None else False,
-                     time=float(time[0]) if time is not None else 0.0)
+    with in_file(path):
+        return HydroGrid(x=array(coords, "x"), y=array(coords, "y"), z=array(coords, "z"), **fields,
+                         staggered=bool(staggered[0]) if staggered is not None else False,
+                         time=float(time[0]) if time is not None else 0.0)
 
 
 def _data_array(parent: ET.Element, name: str, a: np.ndarray, vtk_type: str = "Float64",
