@@ -166,32 +166,38 @@ class Hertz(CompliantLaw):
         return np.array([self.stiffness, self.damping])
 
 
-@register_contact("hunt_crossley")
 @dataclass(frozen=True)
-class HuntCrossley(CompliantLaw):
-    """Hunt & Crossley (1975): F = k δⁿ (1 + D δ̇), D = 3(1 − e)/(2 v₀).
-
-    v₀ is the approach speed at first touch; e the target restitution.
-    """
+class PowerLaw(CompliantLaw):
+    """F = k δⁿ (1 + D δ̇) with D = ``damping_factor(e)``/v₀ (v₀: approach speed at touch)."""
 
     stiffness: float
     exponent: float = 1.5
     restitution: float = 0.8
     kernel_id = POWER_LAW
 
+    @staticmethod
+    def damping_factor(e: float) -> float:
+        raise TypeError("use a registered power law")  # pragma: no cover
+
     def params(self) -> np.ndarray:
-        return np.array([self.stiffness, self.exponent, 1.5 * (1.0 - self.restitution)])
+        return np.array([self.stiffness, self.exponent, self.damping_factor(self.restitution)])
+
+
+@register_contact("hunt_crossley")
+@dataclass(frozen=True)
+class HuntCrossley(PowerLaw):
+    """Hunt & Crossley (1975): F = k δⁿ (1 + D δ̇), D = 3(1 − e)/(2 v₀)."""
+
+    @staticmethod
+    def damping_factor(e: float) -> float:
+        return 1.5 * (1.0 - e)
 
 
 @register_contact("lankarani_nikravesh")
 @dataclass(frozen=True)
-class LankaraniNikravesh(CompliantLaw):
+class LankaraniNikravesh(PowerLaw):
     """Lankarani & Nikravesh (1990): F = k δⁿ (1 + D δ̇), D = 3(1 − e²)/(4 v₀)."""
 
-    stiffness: float
-    exponent: float = 1.5
-    restitution: float = 0.8
-    kernel_id = POWER_LAW
-
-    def params(self) -> np.ndarray:
-        return np.array([self.stiffness, self.exponent, 0.75 * (1.0 - self.restitution**2)])
+    @staticmethod
+    def damping_factor(e: float) -> float:
+        return 0.75 * (1.0 - e * e)
