@@ -66,6 +66,7 @@ from dataclasses import dataclass
 from enum import IntEnum
 from typing import Callable
 
+import numba
 import numpy as np
 from numba import prange
 
@@ -531,6 +532,9 @@ def _as_batch(states, J, m, t_end, material: Material, phi) -> ParticleBatch:
         omega_hat=np.sqrt(V0 * material.wave_modulus() / eig[:, 0]), j_max=eig[:, 2].copy())
 
 
+_CHUNK = 8
+
+
 def propagate(states, J, m, t_end, material: Material, *, phi=0.0, method: str = "verlet",
               eps: float = 1e-6, dt=None, steps_per_period: float = StepControl.steps_per_period,
               max_steps: int = StepControl.max_steps, ymxref: float = StepControl.ymxref):
@@ -557,6 +561,13 @@ def propagate(states, J, m, t_end, material: Material, *, phi=0.0, method: str =
     batch = _as_batch(states, J, m, t_end, material, phi)
     control = StepControl(eps=eps, dt=dt, steps_per_period=steps_per_period,
                           max_steps=int(max_steps), ymxref=ymxref)
-    y, t_reached, counts = INTEGRATORS[method](batch, control)
+    # Particles cost very different amounts (their end times differ, and they are
+    # often sorted by position, hence by flight time): hand them to the threads in
+    # small chunks on demand instead of numba's default equal contiguous blocks.
+    previous = numba.set_parallel_chunksize(_CHUNK)
+    try:
+        y, t_reached, counts = INTEGRATORS[method](batch, control)
+    finally:
+        numba.set_parallel_chunksize(previous)
     return y, PropagationStats(steps=counts[:, 0], rejected=counts[:, 1], code=counts[:, 2],
                                t_reached=t_reached)
