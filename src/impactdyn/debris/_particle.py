@@ -34,6 +34,12 @@ order; 3×3 blocks row-major, so ``y[3*i + j]`` is H[i, j])::
     y[ 9:18]  F   (1)             y[30:33]  c   (cm)
     y[18:27]  Eₚ  (1)
 
+Kernels see a state as its rows Y = y.reshape(11, 3) and name the blocks with
+:func:`state_views` (H, F, Eₚ, p, c); 3×3 scratch is named by
+:func:`scratch_views`. A loop makes such views once, outside the loop: a view
+made per step, or passed to a compiled call per step, costs reference-count
+traffic that was more than half of a step's time.
+
 Units cm, g, µs: moduli in Mbar, η and ζ in Mbar·µs, energy g·cm²/µs².
 
 Listing deviations (the default is the model; each is behind an explicit option):
@@ -65,18 +71,22 @@ F_SLICE = slice(9, 18)
 EP_SLICE = slice(18, 27)
 P_SLICE = slice(27, 30)
 C_SLICE = slice(30, 33)
+STATE_ROWS = 11
+H_ROWS, F_ROWS, EP_ROWS, P_ROW, C_ROW = slice(0, 3), slice(3, 6), slice(6, 9), 9, 10
 
 # Packed material parameters (``Material.packed()``), read by every kernel.
 P_MU, P_KB, P_RELAX, P_RELAX_PER_VOLUME, P_ZETA = range(5)
 N_PARAMS = 5
 
-# Scratch 3×3 matrices a kernel may overwrite: the strain measures use slots
-# 0–2, the stress 3, the rates 4–5, an integrator step 6 and up.
-N_WORK = 8
+# Scratch 3×3 matrices per particle, see scratch_views.
+N_WORK = 7
 
 # error_model="numpy": a degenerate trial state must give inf/NaN (which the
 # integrators detect and report), not raise ZeroDivisionError inside prange.
 kernel = partial(njit, cache=True, error_model="numpy")
+# Small kernels called in the step loops are inlined by numba, so that the views
+# passed to them cost no reference counting (about 2.5× per step).
+inline_kernel = partial(njit, cache=True, error_model="numpy", inline="always")
 
 
 @dataclass(frozen=True)
@@ -133,7 +143,7 @@ class Material:
         """V₀ = m / ((1 − φ) ρ_ref) (cm³), the volume whose stiffness the particle has."""
         return np.asarray(m, dtype=float) / ((1.0 - np.asarray(phi, dtype=float)) * self.rho_ref)
 
-    def wave_modulus(self) -> float:
+    def stiffness_bound(self) -> float:
         """Largest eigenvalue of ∂²U/∂F² at F = I per unit V₀: max(2μ, 3K_b) (Mbar)."""
         return max(2.0 * self.mu, 3.0 * self.bulk_modulus)
 
@@ -162,7 +172,7 @@ def unpack_state(y: np.ndarray):
 # --- 3×3 algebra (outputs never alias inputs) ------------------------------------
 
 
-@kernel
+@inline_kernel
 def det3(A):
     """det A of a 3×3 matrix."""
     return (A[0, 0] * (A[1, 1] * A[2, 2] - A[1, 2] * A[2, 1])
@@ -170,7 +180,7 @@ def det3(A):
             + A[0, 2] * (A[1, 0] * A[2, 1] - A[1, 1] * A[2, 0]))
 
 
-@kernel
+@inline_kernel
 def inv3(A, out):
     """out = A⁻¹ by cofactors; returns det A (inf/NaN entries when A is singular)."""
     d = det3(A)
@@ -187,7 +197,7 @@ def inv3(A, out):
     return d
 
 
-@kernel
+@inline_kernel
 def matmul3(A, B, out):
     """out = A B."""
     for i in range(3):
@@ -195,7 +205,7 @@ def matmul3(A, B, out):
             out[i, j] = A[i, 0] * B[0, j] + A[i, 1] * B[1, j] + A[i, 2] * B[2, j]
 
 
-@kernel
+@inline_kernel
 def matmul3_tn(A, B, out):
     """out = Aᵀ B."""
     for i in range(3):
@@ -203,7 +213,7 @@ def matmul3_tn(A, B, out):
             out[i, j] = A[0, i] * B[0, j] + A[1, i] * B[1, j] + A[2, i] * B[2, j]
 
 
-@kernel
+@inline_kernel
 def trace_of_product(A, B):
     """tr(A B) = Σᵢⱼ Aᵢⱼ Bⱼᵢ."""
     s = 0.0
@@ -213,16 +223,45 @@ def trace_of_product(A, B):
     return s
 
 
+# --- views ------------------------------------------------------------------------------
+
+
+@inline_kernel
+def state_views(Y):
+    """(H, F, Eₚ, p, c) of a state's rows ``Y (11, 3)``: three ``(3, 3)`` and two ``(3,)`` views."""
+    return Y[H_ROWS], Y[F_ROWS], Y[EP_ROWS], Y[P_ROW], Y[C_ROW]
+
+
+@inline_kernel
+def scratch_views(w):
+    """Named scratch (C, C⁻¹, E', S, F⁻¹, B, T) from ``w (N_WORK, 3, 3)``.
+
+    The constitutive kernels fill C = FᵀF, C⁻¹, E', S and F⁻¹; B and T are
+    the integrators'.
+    """
+    return w[0], w[1], w[2], w[3], w[4], w[5], w[6]
+
+
+@inline_kernel
+def frobenius(A, B):
+    """A : B = Σᵢⱼ Aᵢⱼ Bᵢⱼ = tr(AᵀB)."""
+    s = 0.0
+    for i in range(3):
+        for j in range(3):
+            s += A[i, j] * B[i, j]
+    return s
+
+
 # --- constitutive kernels ----------------------------------------------------------
 
 
-@kernel
-def strain_measures(F, w):
-    """C = FᵀF → w[0], C⁻¹ → w[1], E' = ½(C − ⅓ tr C I) → w[2]; returns J_F = det F.
+@inline_kernel
+def strain_measures(F, sc):
+    """Fill C = FᵀF, C⁻¹ and E' = ½(C − ⅓ tr C I) of the scratch ``sc``; return J_F = det F.
 
     (E' = E − ⅓ tr(E) I with E = ½(C − I): the identity has no deviator.)
     """
-    C, Cinv, Edev = w[0], w[1], w[2]
+    C, Cinv, Edev = sc[0], sc[1], sc[2]
     matmul3_tn(F, F, C)
     inv3(C, Cinv)
     third_trace = (C[0, 0] + C[1, 1] + C[2, 2]) / 3.0
@@ -233,9 +272,13 @@ def strain_measures(F, w):
     return det3(F)
 
 
-@kernel
-def stress_from_strain(Edev, Cinv, detF, Ep, V0, params, S):
-    """S = V₀ [2μ (E' − Eₚ) − K_b (1/J_F − 1)(1/J_F) C⁻¹] (FCN's rk; energy units)."""
+@inline_kernel
+def stress_from_strain(detF, Ep, V0, params, sc):
+    """Fill S = V₀ [2μ (E' − Eₚ) − K_b (1/J_F − 1)(1/J_F) C⁻¹] (FCN's rk; energy units).
+
+    Reads E', C⁻¹ from ``sc`` (see strain_measures).
+    """
+    Cinv, Edev, S = sc[1], sc[2], sc[3]
     two_mu = 2.0 * params[P_MU]
     pressure_term = params[P_KB] * (1.0 / detF - 1.0) / detF
     for i in range(3):
@@ -243,19 +286,19 @@ def stress_from_strain(Edev, Cinv, detF, Ep, V0, params, S):
             S[i, j] = V0 * (two_mu * (Edev[i, j] - Ep[i, j]) - pressure_term * Cinv[i, j])
 
 
-@kernel
-def stress_into(F, Ep, V0, params, S, w):
-    """S(F, Eₚ) → S; returns J_F and leaves C, C⁻¹, E' in w[0..2] (see strain_measures)."""
-    detF = strain_measures(F, w)
-    stress_from_strain(w[2], w[1], detF, Ep, V0, params, S)
+@inline_kernel
+def stress_into(F, Ep, V0, params, sc):
+    """Fill C, C⁻¹, E' and S(F, Eₚ) of the scratch ``sc``; return J_F."""
+    detF = strain_measures(F, sc)
+    stress_from_strain(detF, Ep, V0, params, sc)
     return detF
 
 
 @kernel
-def stored_energy_of(F, Ep, V0, params, w):
+def stored_energy_of(F, Ep, V0, params, sc):
     """U = V₀ [μ |E' − Eₚ|² + K_b (J_F − 1)² / (2 J_F²)] (g cm²/µs²)."""
-    detF = strain_measures(F, w)
-    Edev = w[2]
+    detF = strain_measures(F, sc)
+    Edev = sc[2]
     dev2 = 0.0
     for i in range(3):
         for j in range(3):
@@ -274,7 +317,7 @@ def kinetic_energy_of(H, Jinv, p, m):
     return 0.5 * t + 0.5 * (p[0] ** 2 + p[1] ** 2 + p[2] ** 2) / m
 
 
-@kernel
+@inline_kernel
 def relaxation_rate(V0, params):
     """Rate of Ėₚ = r (E' − Eₚ): r = 2μ/η, or V₀·2μ/η with legacy_eta_per_volume."""
     if params[P_RELAX_PER_VOLUME] != 0.0:
@@ -283,22 +326,21 @@ def relaxation_rate(V0, params):
 
 
 @kernel
-def rates_into(y, Jinv, m, V0, params, ydot, w):
-    """ẏ of the state equations (module docstring) for one packed state ``y (33,)``.
+def rates_into(Y, Jinv, m, V0, params, Ydot, w):
+    """Ẏ of the state equations (module docstring).
 
-    ``Jinv (3, 3)``: J⁻¹; ``ydot (33,)`` is overwritten; ``w (N_WORK, 3, 3)`` scratch.
+    ``Y``, ``Ydot (11, 3)``: rows of the state and of its rate (overwritten);
+    ``Jinv (3, 3)``: J⁻¹; ``w (N_WORK, 3, 3)``: scratch. (Called once per stage,
+    so it takes arrays: passing tuples of views to a compiled call costs more
+    than making the views here.)
     """
-    H = y[H_SLICE].reshape((3, 3))
-    F = y[F_SLICE].reshape((3, 3))
-    Ep = y[EP_SLICE].reshape((3, 3))
-    Hdot = ydot[H_SLICE].reshape((3, 3))
-    Fdot = ydot[F_SLICE].reshape((3, 3))
-    Epdot = ydot[EP_SLICE].reshape((3, 3))
-    S, Finv = w[3], w[4]
+    H, F, Ep, p, _ = state_views(Y)
+    Hdot, Fdot, Epdot, pdot, cdot = state_views(Ydot)
+    sc = scratch_views(w)
+    Edev, S, Finv = sc[2], sc[3], sc[4]
 
     matmul3(H, Jinv, Fdot)
-    detF = stress_into(F, Ep, V0, params, S, w)
-    Edev = w[2]
+    detF = stress_into(F, Ep, V0, params, sc)
     matmul3(F, S, Hdot)
     for i in range(3):
         for j in range(3):
@@ -316,8 +358,8 @@ def rates_into(y, Jinv, m, V0, params, ydot, w):
         for j in range(3):
             Epdot[i, j] = r * (Edev[i, j] - Ep[i, j])
     for k in range(3):
-        ydot[P_SLICE.start + k] = 0.0
-        ydot[C_SLICE.start + k] = y[P_SLICE.start + k] / m
+        pdot[k] = 0.0
+        cdot[k] = p[k] / m
 
 
 # --- vectorised wrappers (numpy in, numpy out) -----------------------------------
@@ -325,29 +367,30 @@ def rates_into(y, Jinv, m, V0, params, ydot, w):
 
 @kernel
 def _stress_batch(F, Ep, V0, params, S):
-    w = np.empty((N_WORK, 3, 3))
+    sc = scratch_views(np.empty((N_WORK, 3, 3)))
     for n in range(F.shape[0]):
-        stress_into(F[n], Ep[n], V0[n], params, S[n], w)
+        stress_into(F[n], Ep[n], V0[n], params, sc)
+        S[n] = sc[3]
 
 
 @kernel
 def _stored_energy_batch(F, Ep, V0, params, U):
-    w = np.empty((N_WORK, 3, 3))
+    sc = scratch_views(np.empty((N_WORK, 3, 3)))
     for n in range(F.shape[0]):
-        U[n] = stored_energy_of(F[n], Ep[n], V0[n], params, w)
+        U[n] = stored_energy_of(F[n], Ep[n], V0[n], params, sc)
 
 
 @kernel
-def _kinetic_energy_batch(y, Jinv, m, T):
-    for n in range(y.shape[0]):
-        T[n] = kinetic_energy_of(y[n, H_SLICE].reshape((3, 3)), Jinv[n], y[n, P_SLICE], m[n])
+def _kinetic_energy_batch(Y, Jinv, m, T):
+    for n in range(Y.shape[0]):
+        T[n] = kinetic_energy_of(Y[n, H_ROWS], Jinv[n], Y[n, P_ROW], m[n])
 
 
 @kernel
-def _rates_batch(y, Jinv, m, V0, params, ydot):
+def _rates_batch(Y, Jinv, m, V0, params, Ydot):
     w = np.empty((N_WORK, 3, 3))
-    for n in range(y.shape[0]):
-        rates_into(y[n], Jinv[n], m[n], V0[n], params, ydot[n], w)
+    for n in range(Y.shape[0]):
+        rates_into(Y[n], Jinv[n], m[n], V0[n], params, Ydot[n], w)
 
 
 def _batch(a, tail: tuple[int, ...]) -> np.ndarray:
@@ -370,7 +413,10 @@ def stress(F, Ep, V0, material: Material) -> np.ndarray:
 
 
 def stored_energy(F, Ep, V0, material: Material) -> np.ndarray:
-    """U(F, Eₚ) = V₀ [μ |E' − Eₚ|² + K_b (J_F − 1)²/(2J_F²)]; shapes as :func:`stress`, returns ``(...)``."""
+    """U(F, Eₚ) = V₀ [μ |E' − Eₚ|² + K_b (J_F − 1)²/(2J_F²)] (g cm²/µs²).
+
+    Shapes as :func:`stress`; returns ``(...)``.
+    """
     F3 = _batch(F, (3, 3))
     U = np.empty(len(F3))
     _stored_energy_batch(F3, _batch(Ep, (3, 3)), _per_particle(V0, len(F3)), material.packed(), U)
@@ -382,9 +428,9 @@ def kinetic_energy(states, J, m) -> np.ndarray:
 
     states ``(..., 33)``, J ``(..., 3, 3)``, m ``(...)``; returns ``(...)``.
     """
-    y = _batch(states, (STATE_SIZE,))
-    T = np.empty(len(y))
-    _kinetic_energy_batch(y, np.linalg.inv(_batch(J, (3, 3))), _per_particle(m, len(y)), T)
+    Y = _batch(states, (STATE_ROWS, 3))
+    T = np.empty(len(Y))
+    _kinetic_energy_batch(Y, np.linalg.inv(_batch(J, (3, 3))), _per_particle(m, len(Y)), T)
     return T.reshape(np.shape(states)[:-1])
 
 
@@ -399,8 +445,8 @@ def state_rates(states, J, m, V0, material: Material) -> np.ndarray:
 
     states ``(..., 33)``; J ``(..., 3, 3)``; m, V₀ ``(...)``; returns ``(..., 33)``.
     """
-    y = _batch(states, (STATE_SIZE,))
-    ydot = np.empty_like(y)
-    _rates_batch(y, np.linalg.inv(_batch(J, (3, 3))), _per_particle(m, len(y)),
-                 _per_particle(V0, len(y)), material.packed(), ydot)
-    return ydot.reshape(np.shape(states))
+    Y = _batch(states, (STATE_ROWS, 3))
+    Ydot = np.empty_like(Y)
+    _rates_batch(Y, np.linalg.inv(_batch(J, (3, 3))), _per_particle(m, len(Y)),
+                 _per_particle(V0, len(Y)), material.packed(), Ydot)
+    return Ydot.reshape(np.shape(states))
