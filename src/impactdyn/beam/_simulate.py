@@ -39,11 +39,12 @@ from scipy.optimize import brentq
 
 from impactdyn._errors import InputError
 from impactdyn.beam._case import BeamCase, MomentumContact
-from impactdyn.beam._contact import CONTACT_LAWS, CompliantLaw, ContactLaw, Momentum
+from impactdyn.beam._contact import CONTACT_LAWS, ContactLaw
 from impactdyn.beam._integrator import (
     EVENT, SAMPLES_PER_STEP, STEP_UNDERFLOW, TOO_MANY_STEPS, hermite, process_step, record_outputs,
     rosenbrock_segment, track_peak)
 from impactdyn.beam._model import IN_CONTACT, BeamModel, event_kernel, rhs_kernel
+from impactdyn.beam._modes import modal_integrals, shapes
 
 _SOLVERS = {"Radau": Radau, "BDF": BDF, "LSODA": LSODA}
 FREE, CONTACT, RESTING = "free", "contact", "resting"
@@ -181,8 +182,6 @@ def initial_state(case: BeamCase, model: BeamModel) -> np.ndarray:
     if ic.q_dot_m_s is not None:
         y[n + 2 : 2 * n + 2] = ic.q_dot_m_s
     if n:
-        from impactdyn.beam._modes import modal_integrals, shapes
-
         tip = float(shapes(modal_integrals(n).beta[:1], np.float64(1.0))[0])
         y[1] += ic.tip_deflection_m / tip
         y[n + 2] += ic.tip_velocity_m_s / tip
@@ -237,13 +236,13 @@ def _event_directions(mode: _Mode) -> np.ndarray:
     return np.array([+1, -1 if mode.force_on else +1])  # leave; release / re-engage
 
 
-_EVENT_NAMES = {FREE: ("strike", None), RESTING: ("lift_off", None),
-                CONTACT: ("leave", None)}
+_FIRST_EVENT = {FREE: "strike", RESTING: "lift_off", CONTACT: "leave"}
 
 
 def _event_name(mode: _Mode, e: int) -> str:
+    """Name of event slot e (0 or 1) in the current mode."""
     if e == 0:
-        return _EVENT_NAMES[mode.kind][0]
+        return _FIRST_EVENT[mode.kind]
     return "release" if mode.force_on else "reengage"
 
 
