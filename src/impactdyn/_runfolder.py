@@ -39,6 +39,9 @@ class RunFolder:
         check_target(self.target, force)
         self.target.parent.mkdir(parents=True, exist_ok=True)
         self.path = Path(tempfile.mkdtemp(prefix=f".{self.target.name}.", dir=self.target.parent))
+        umask = os.umask(0)  # mkdtemp makes the folder private; a run folder gets the usual permissions
+        os.umask(umask)
+        self.path.chmod(0o777 & ~umask)
 
     def __enter__(self) -> "RunFolder":
         return self

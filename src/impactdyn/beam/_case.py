@@ -10,10 +10,7 @@ from typing import Annotated, Literal, Union
 
 from pydantic import Field, model_validator
 
-from impactdyn._config import Section
-
-Positive = Annotated[float, Field(gt=0)]
-NonNegative = Annotated[float, Field(ge=0)]
+from impactdyn._config import NonNegative, Positive, Section
 
 
 class BeamSection(Section):

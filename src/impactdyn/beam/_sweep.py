@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import os
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 from typing import Any
 
@@ -11,6 +9,7 @@ import numpy as np
 
 from impactdyn._config import load_toml, set_dotted, validate
 from impactdyn._errors import InputError
+from impactdyn._parallel import run_tasks
 from impactdyn._runfolder import RunFolder
 
 SWEEP_HEADER = ["index", "value", "n_impacts", "first_impact_t_s", "v_approach_m_s", "v_separation_m_s",
@@ -80,21 +79,8 @@ def run_sweep(case_path, vary: str, outdir, force=False, workers: int | None = N
 
 def _execute(cases, workers, dask_address):
     if dask_address:
-        from dask.distributed import Client, LocalCluster, as_completed as dask_completed
-
-        cluster = LocalCluster(n_workers=workers or os.cpu_count(), threads_per_worker=1,
-                               processes=True, dashboard_address=None) if dask_address == "local" else None
-        with Client(cluster or dask_address) as client:
-            futures = {client.submit(_run_one, c, pure=False): i for i, c in enumerate(cases)}
-            for fut in dask_completed(futures):
-                yield futures[fut], fut.result()
-        if cluster is not None:
-            cluster.close()
-        return
-    with ProcessPoolExecutor(max_workers=workers or os.cpu_count()) as pool:
-        futures = {pool.submit(_run_one, c): i for i, c in enumerate(cases)}
-        for fut in as_completed(futures):
-            yield futures[fut], fut.result()
+        return run_tasks(_run_one, cases, scheduler="dask", workers=workers, address=dask_address)
+    return run_tasks(_run_one, cases, scheduler="processes", workers=workers)
 
 
 def _plot(rows, key, path):

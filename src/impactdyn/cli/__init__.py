@@ -12,7 +12,7 @@ import sys
 import typer
 
 from impactdyn._errors import InputError
-from impactdyn.cli import beam
+from impactdyn.cli import beam, ble, debris
 
 app = typer.Typer(
     name="impactdyn",
@@ -22,6 +22,8 @@ app = typer.Typer(
     pretty_exceptions_enable=False,
 )
 app.add_typer(beam.app, name="beam")
+app.add_typer(debris.app, name="debris")
+app.add_typer(ble.app, name="ble")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -43,14 +45,21 @@ def main(argv: list[str] | None = None) -> int:
     except typer.Abort:
         print("aborted", file=sys.stderr)
         return 130
-    except Exception as err:  # click usage errors carry their own exit code
-        import click
-
-        if isinstance(err, click.ClickException):
+    except Exception as err:  # usage errors carry their own exit code
+        if _is_usage_error(err):
             err.show()
             return err.exit_code
         raise
     return 0
+
+
+def _is_usage_error(err: Exception) -> bool:
+    """A click exception, from click itself or from the copy bundled with newer typer releases."""
+    import click
+
+    bundled = getattr(getattr(typer, "_click", None), "exceptions", None)
+    kinds = (click.ClickException,) + ((bundled.ClickException,) if bundled is not None else ())
+    return isinstance(err, kinds)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -1,18 +1,41 @@
-"""DC3D debris-cloud propagation (seed 000): grid model, wall grid, particle kernels.
+"""DC3D debris-cloud propagation (seed 000): hand-off grid → particles → wall deposition.
 
-The propagation/deposition driver is not built yet (issue 3).
+Python API: ``run_debris(grid, wall, material, ...)`` → :class:`DebrisResult`, or from a
+case file ``run_case(load_debris_case(path))``; :func:`write_debris_run` writes the
+run folder.  File formats live in :mod:`impactdyn.io`.
 """
 
+from impactdyn.debris._analytic import ShellCloud, shell_cloud_grid
+from impactdyn.debris._case import DebrisCase, build, load_debris_case, remap_grid
+from impactdyn.debris._deposit import (
+    POINTS_PER_PARTICLE, areal_density, arrival_points, deposit, element_impulse, element_records, face_areas,
+    face_element, momentum_enhancement, remap_impulse)
 from impactdyn.debris._grid import HydroGrid
 from impactdyn.debris._integrators import INTEGRATORS, Failure, PropagationStats, propagate, register_integrator
 from impactdyn.debris._particle import Material, pack_state, state_rates, total_energy, unpack_state
+from impactdyn.debris._propagate import (
+    ArrivalWindow, ComputeOptions, DebrisResult, DepositionOptions, IntegratorOptions, propagate_chunked,
+    run_debris)
+from impactdyn.debris._report import write_debris_run
+from impactdyn.debris._seed import ParticleCloud, SeedFilter, SeedOptions, arrival_times, seed_cells, seed_particles
 from impactdyn.debris._tets import (
     affine_velocity_fit, cell_nodes, gather_tets, inertia_tensor, initial_state, signed_volume, tet_vertices)
 from impactdyn.debris._wall import AL_6061_T6, WallDeposition, WallGrid, WallMaterial
 
+
+def run_case(case: DebrisCase, progress=None, source: str = "<case>") -> DebrisResult:
+    """Run a validated debris case (see :func:`run_debris` for ``progress``)."""
+    return run_debris(**build(case, source), progress=progress)
+
+
 __all__ = [
-    "AL_6061_T6", "Failure", "HydroGrid", "INTEGRATORS", "Material", "PropagationStats", "WallDeposition",
-    "WallGrid", "WallMaterial", "affine_velocity_fit", "cell_nodes", "gather_tets", "inertia_tensor",
-    "initial_state", "pack_state", "propagate", "register_integrator", "signed_volume", "state_rates",
-    "tet_vertices", "total_energy", "unpack_state",
+    "AL_6061_T6", "ArrivalWindow", "ComputeOptions", "DebrisCase", "DebrisResult", "DepositionOptions", "Failure",
+    "HydroGrid", "INTEGRATORS", "IntegratorOptions", "Material", "POINTS_PER_PARTICLE", "ParticleCloud",
+    "PropagationStats", "SeedFilter", "SeedOptions", "ShellCloud", "WallDeposition", "WallGrid", "WallMaterial",
+    "affine_velocity_fit", "areal_density", "arrival_points", "arrival_times", "build", "cell_nodes", "deposit",
+    "element_impulse", "element_records", "face_areas", "face_element", "gather_tets", "inertia_tensor",
+    "initial_state", "load_debris_case", "momentum_enhancement", "pack_state", "propagate", "propagate_chunked",
+    "register_integrator", "remap_grid", "remap_impulse", "run_case", "run_debris", "seed_cells",
+    "seed_particles", "shell_cloud_grid", "signed_volume", "state_rates", "tet_vertices", "total_energy",
+    "unpack_state", "write_debris_run",
 ]
