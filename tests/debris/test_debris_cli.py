@@ -106,6 +106,7 @@ def test_existing_folder_needs_force(run_folder, tmp_path, capsys):
     ({"compute.scheduler": "mpi"}, "compute.scheduler"),
     ({"bogus": 1}, "bogus: unknown key"),
     ({"grid.file": "nowhere.h5"}, "grid"),
+    ({"wall.y_cm": [-9.0, -8.7]}, "lies behind or inside the debris"),
 ])
 def test_bad_input_exit_2_and_nothing_written(tmp_path, capsys, change, words):
     out = tmp_path / "out"
@@ -213,3 +214,12 @@ def test_legacy_deck_only_and_rezone(tmp_path):
 
 def test_usage_errors_exit_2(capsys):
     assert main(["debris", "run"]) == 2
+
+
+def test_legacy_truncated_avsout_names_the_file(tmp_path, capsys):
+    dc3din, avsout = legacy_inputs(tmp_path)
+    lines = avsout.read_text().splitlines()
+    avsout.write_text("\n".join(lines[:-7]) + "\n")
+    assert main(["debris", "legacy", str(dc3din), str(avsout), "-o", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert str(avsout) in err and "Traceback" not in err and not (tmp_path / "o").exists()

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from impactdyn._errors import InputError
 from impactdyn._parallel import run_tasks
 from impactdyn.debris._deposit import (
     POINTS_PER_PARTICLE, areal_density, arrival_points, deposit, element_impulse, momentum_enhancement)
@@ -209,6 +210,10 @@ def run_debris(grid: HydroGrid, wall: WallGrid, material: Material, *,
     timings = {}
     tick = _time.perf_counter()
     cloud = seed_particles(grid, material, seed_filter, seed_options)
+    if len(cloud) and cloud.vertices[..., 1].max() > wall.y[0]:
+        raise InputError(f"wall: the front face y = {wall.y[0]:g} cm lies behind or inside the debris, which "
+                         f"reaches y = {cloud.vertices[..., 1].max():g} cm; the wall must lie beyond the cloud "
+                         "in +y")
     t_arr = arrival_times(cloud, wall.y[0], legacy_abs_arrival=window.legacy_abs_arrival)
     selected = np.nonzero((t_arr >= window.t_min) & (t_arr <= window.t_cut))[0]
     timings["seed"] = _time.perf_counter() - tick
