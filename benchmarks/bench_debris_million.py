@@ -1,0 +1,60 @@
+"""The issue-3 scale benchmark: N synthetic Al particles all flying 15 µs with the default integrator.
+
+Same synthetic cloud as ``bench_debris_integrators.py`` (cells of 0.03175 cm, bulk
+0.7 cm/µs, random affine perturbations; ρ_ref 2.703, μ 0.276, λ 0.56, η 1), but
+every particle flies the full ``--flight`` µs.  Runs ``n`` particles through
+:func:`impactdyn.debris.propagate_chunked` (the driver's chunked path) and
+reports the wall time, particle-steps per second, the time scaled to 1,000,000
+particles (particles are independent: the cost is linear in N), and a flop-rate
+estimate from a hand count of one Störmer–Verlet step.
+
+    python benchmarks/bench_debris_million.py [N] [--flight 15] [--steps-per-period 32]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import time
+
+import numba
+import numpy as np
+
+from bench_debris_integrators import ALUMINIUM, synthetic_cloud
+from impactdyn.debris import ComputeOptions, IntegratorOptions, ParticleCloud, propagate_chunked
+
+#: Floating-point operations of one verlet step (two drifts, two relaxations, two bulk-viscosity
+#: substeps, one kick with C = FᵀF, det F, C⁻¹, S and F S), counted by hand from the kernels.
+FLOPS_PER_STEP = 700
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("n", nargs="?", type=int, default=1_000_000)
+    parser.add_argument("--flight", type=float, default=15.0, help="flight time of every particle (µs)")
+    parser.add_argument("--steps-per-period", type=float, default=32.0)
+    parser.add_argument("--seed", type=int, default=0)
+    args = parser.parse_args()
+    x0, states, J, m, _ = synthetic_cloud(args.n, args.flight, np.random.default_rng(args.seed))
+    n = len(m)
+    cloud = ParticleCloud(vertices=x0, states=states, J=J, mass=m, void_fraction=np.zeros(n),
+                          density_ratio=np.ones(n), cell=np.zeros((n, 3), int), tet=np.zeros(n, int))
+    t_end = np.full(n, args.flight)
+    options = IntegratorOptions(steps_per_period=args.steps_per_period)
+    propagate_chunked(cloud.subset(slice(0, 8)), t_end[:8] * 1e-3, ALUMINIUM, options)  # compile
+    w0 = time.perf_counter()
+    _, stats = propagate_chunked(cloud, t_end, ALUMINIUM, options, ComputeOptions())
+    wall = time.perf_counter() - w0
+    steps = stats.steps.sum()
+    print(f"{platform.processor() or platform.machine()}, {os.cpu_count()} CPUs, numba {numba.__version__}, "
+          f"{numba.get_num_threads()} threads")
+    print(f"N = {n}, flight {args.flight:g} µs, verlet {args.steps_per_period:g} steps/period: "
+          f"wall {wall:.2f} s, {steps / n:.0f} steps/particle, {steps / wall:.3g} particle-steps/s, "
+          f"scaled to 1e6 particles: {wall * 1e6 / n:.0f} s, "
+          f"~{FLOPS_PER_STEP * steps / wall / 1e9:.2f} GFLOP/s (hand count {FLOPS_PER_STEP} flops/step), "
+          f"failed {stats.n_failed}")
+
+
+if __name__ == "__main__":
+    main()
