@@ -7,6 +7,7 @@
 from pathlib import Path
 
 from impactdyn.beam._case import BeamCase
+from impactdyn.beam._chain import ChainResult, RigidLinkChain
 from impactdyn.beam._contact import CONTACT_LAWS, listing_restitution, register_contact
 from impactdyn.beam._model import BeamModel
 from impactdyn.beam._modes import ModalIntegrals, eigenvalues, modal_integrals, shapes, sigma
@@ -22,7 +23,7 @@ def load_case(path: str | Path) -> BeamCase:
 
 
 __all__ = [
-    "BeamCase", "BeamModel", "CONTACT_LAWS", "Impact", "ModalIntegrals", "Result", "SimulationError",
-    "eigenvalues", "listing_restitution", "load_case", "modal_integrals", "register_contact", "shapes",
+    "BeamCase", "BeamModel", "CONTACT_LAWS", "ChainResult", "Impact", "ModalIntegrals", "Result", "RigidLinkChain",
+    "SimulationError", "eigenvalues", "listing_restitution", "load_case", "modal_integrals", "register_contact", "shapes",
     "sigma", "simulate", "write_run",
 ]

@@ -73,17 +73,32 @@ def gap_rate_kernel(y, sc, phi_p):
 
 
 @njit(cache=True, inline="always")
-def _schur_solve(m00, rho_l, m0, r0, rq, out):
-    """Solve [[m00, m0ᵀ], [m0, ρL I]] x = [r0; rq] into ``out`` (n + 1,)."""
+def _mass_solve(m00, rho_l, m0, work, r):
+    """work[r] ← M⁻¹ work[r] for the arrow matrix M = [[m00, m0ᵀ], [m0, ρL I]].
+
+    By its Schur complement s = m00 − |m0|²/ρL: x₀ = (r₀ − m0·r_q/ρL)/s,
+    x_q = (r_q − m0 x₀)/ρL, O(n). ``work`` (rows, n + 1); rows, not slices,
+    because numba's reference counting of views costs more than the maths.
+    """
     n = m0.shape[0]
-    schur = m00
-    rhs0 = r0
+    s = m00
+    x0 = work[r, 0]
     for i in range(n):
-        schur -= m0[i] * m0[i] / rho_l
-        rhs0 -= m0[i] * rq[i] / rho_l
-    out[0] = rhs0 / schur
+        s -= m0[i] * m0[i] / rho_l
+        x0 -= m0[i] * work[r, 1 + i] / rho_l
+    x0 /= s
+    work[r, 0] = x0
     for i in range(n):
-        out[1 + i] = (rq[i] - m0[i] * out[0]) / rho_l
+        work[r, 1 + i] = (work[r, 1 + i] - m0[i] * x0) / rho_l
+
+
+@njit(cache=True, inline="always")
+def _p_times(y, sc, G, i, off):
+    """(P z)ᵢ = ρL zᵢ − (G z)ᵢ for z = y[off : off + n], P = ρL I − G."""
+    pz = sc[RHO_L] * y[off + i]
+    for j in range(G.shape[0]):
+        pz -= G[i, j] * y[off + j]
+    return pz
 
 
 @njit(cache=True, inline="always")
@@ -92,74 +107,59 @@ def accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work):
 
     J_F = [moment arm, φ₁(x_p/L), …] is the generalized direction of the contact
     force, so the accelerations under a contact force F are a₀ + F u. Both (n + 1,),
-    written to ``work`` (3n + 2,) as [a₀, u, scratch]: no allocation and no array
-    returned (numba's reference counting of returned views costs more than the maths).
+    written to rows 0 and 1 of ``work`` (2n + 4, n + 1). Returns M₀₀(q).
     """
     n = m0.shape[0]
     theta = y[0]
     thd = y[n + 1]
-    rho_l = sc[RHO_L]
     cth, sth = np.cos(theta), np.sin(theta)
-    q0 = sc[TORQUE] - sc[C_JOINT] * thd - sc[GRAV_THETA] * cth
-    a0 = work[0 : n + 1]
-    u = work[n + 1 : 2 * n + 2]
-    qq = work[2 * n + 2 : 3 * n + 2]
-    for i in range(n):
-        cent = -rho_l * y[1 + i]
-        for j in range(n):
-            cent += G[i, j] * y[1 + j]
-        qq[i] = -kd[i] * y[1 + i] - thd * thd * cent - cd[i] * y[n + 2 + i] - sc[GRAV_MODAL] * b[i] * cth
     m00 = sc[J0]
-    if sc[COUPLED] > 0.0:
-        qpq = 0.0
-        qpqd = 0.0
-        qhq = 0.0
-        bq = 0.0
-        for i in range(n):
-            pq_i = rho_l * y[1 + i]
+    work[0, 0] = sc[TORQUE] - sc[C_JOINT] * thd - sc[GRAV_THETA] * cth
+    work[1, 0] = sc[MOMENT_ARM]
+    for i in range(n):
+        pq_i = _p_times(y, sc, G, i, 1)
+        work[0, 1 + i] = -kd[i] * y[1 + i] + thd * thd * pq_i - cd[i] * y[n + 2 + i] - sc[GRAV_MODAL] * b[i] * cth
+        work[1, 1 + i] = phi_p[i]
+        if sc[COUPLED] > 0.0:
             hq_i = 0.0
             for j in range(n):
-                pq_i -= G[i, j] * y[1 + j]
                 hq_i += h[i, j] * y[1 + j]
-            qpq += y[1 + i] * pq_i
-            qpqd += y[n + 2 + i] * pq_i
-            qhq += y[1 + i] * hq_i
-            bq += b[i] * y[1 + i]
-            qq[i] += sc[RHO_G] * sth * hq_i
-        m00 += qpq
-        q0 += -2.0 * thd * qpqd + sc[RHO_G] * (0.5 * cth * qhq + sc[LENGTH] * sth * bq)
-    _schur_solve(m00, rho_l, m0, q0, qq, a0)
-    _schur_solve(m00, rho_l, m0, sc[MOMENT_ARM], phi_p, u)
+            m00 += y[1 + i] * pq_i
+            work[0, 0] += -2.0 * thd * y[n + 2 + i] * pq_i + sc[RHO_G] * (
+                0.5 * cth * y[1 + i] * hq_i + sc[LENGTH] * sth * b[i] * y[1 + i])
+            work[0, 1 + i] += sc[RHO_G] * sth * hq_i
+    _mass_solve(m00, sc[RHO_L], m0, work, 0)
+    _mass_solve(m00, sc[RHO_L], m0, work, 1)
+    return m00
 
 
 @njit(cache=True, inline="always")
-def resting_force_kernel(sc, phi_p, work):
-    """λ keeping g̈ = 0 in resting contact: J a₀ + λ J u = 0 (the gap is linear in the coordinates)."""
-    n = phi_p.shape[0]
-    ja = sc[GAP_ARM] * work[0]
-    ju = sc[GAP_ARM] * work[n + 1]
-    for i in range(n):
-        ja += phi_p[i] * work[1 + i]
-        ju += phi_p[i] * work[n + 2 + i]
-    return -ja / ju
+def _mode_force(y, sc, phi_p, work, law_id, lawp):
+    """F_c of the segment's mode, given a₀ and u in ``work``: 0 in free flight
+    (IN_CONTACT = 0), the compliant law's force clipped at 0 (1), or the
+    resting-contact multiplier λ (2), which keeps g̈ = J a₀ + λ J u = 0 (the gap
+    is linear in the coordinates)."""
+    mode = sc[IN_CONTACT]
+    if mode == 1.0:
+        delta = -gap_kernel(y, sc, phi_p)
+        if delta > 0.0:
+            return max(force_kernel(law_id, delta, -gap_rate_kernel(y, sc, phi_p), sc[V0], lawp), 0.0)
+    elif mode == 2.0:
+        n = phi_p.shape[0]
+        ja = sc[GAP_ARM] * work[0, 0]
+        ju = sc[GAP_ARM] * work[1, 0]
+        for i in range(n):
+            ja += phi_p[i] * work[0, 1 + i]
+            ju += phi_p[i] * work[1, 1 + i]
+        return -ja / ju
+    return 0.0
 
 
 @njit(cache=True, inline="always")
 def contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, law_id, lawp):
-    """F_c: 0 in free flight (IN_CONTACT = 0), the compliant law's force (1),
-    or the resting-contact multiplier λ (2); leaves a₀ and u in ``work``."""
+    """F_c in the segment's mode (:func:`_mode_force`); leaves a₀ and u in ``work``."""
     accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work)
-    mode = sc[IN_CONTACT]
-    f_c = 0.0
-    if mode == 1.0:
-        delta = -gap_kernel(y, sc, phi_p)
-        if delta > 0.0:
-            f_c = force_kernel(law_id, delta, -gap_rate_kernel(y, sc, phi_p), sc[V0], lawp)
-            if f_c < 0.0:
-                f_c = 0.0
-    elif mode == 2.0:
-        f_c = resting_force_kernel(sc, phi_p, work)
-    return f_c
+    return _mode_force(y, sc, phi_p, work, law_id, lawp)
 
 
 @njit(cache=True)
@@ -172,17 +172,18 @@ def rhs_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, work, law_id, lawp):
 
 @njit(cache=True)
 def rhs_into(t, y, dy, sc, m0, kd, cd, G, h, b, phi_p, work, law_id, lawp):
-    """dy/dt of the state into ``dy``; shapes: y, dy (2n+7,), m0/kd/cd/b/phi_p (n,), G/h (n,n)."""
+    """dy/dt of the state into ``dy``; shapes: y, dy (2n+7,), m0/kd/cd/b/phi_p (n,),
+    G/h (n,n), work (2n+4, n+1)."""
     n = m0.shape[0]
     f_c = contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, law_id, lawp)
     thd = y[n + 1]
     dy[0] = thd
-    dy[n + 1] = work[0] + f_c * work[n + 1]
+    dy[n + 1] = work[0, 0] + f_c * work[1, 0]
     dmodal = 0.0
     p_contact = sc[MOMENT_ARM] * thd
     for i in range(n):
         dy[1 + i] = y[n + 2 + i]
-        dy[n + 2 + i] = work[1 + i] + f_c * work[n + 2 + i]
+        dy[n + 2 + i] = work[0, 1 + i] + f_c * work[1, 1 + i]
         dmodal += cd[i] * y[n + 2 + i] ** 2
         p_contact += phi_p[i] * y[n + 2 + i]
     base = 2 * n + 2
@@ -193,22 +194,134 @@ def rhs_into(t, y, dy, sc, m0, kd, cd, G, h, b, phi_p, work, law_id, lawp):
     dy[base + 4] = f_c
 
 
-@njit(cache=True)
-def event_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, law_id, lawp, out):
-    """Event functions of the current mode into ``out`` (2,).
+@njit(cache=True, inline="always")
+def _law_slopes(law_id, delta, delta_dot, v0, lawp, force):
+    """(∂F/∂δ, ∂F/∂δ̇) of the unclipped law at (δ, δ̇), F = ``force``, by forward
+    differences of its kernel: the laws stay defined once, in the registry of
+    ``_contact``, and a scalar difference costs two law evaluations (error ~1e-8
+    relative, far below what the Rosenbrock method's order conditions feel)."""
+    d_delta = (delta + 1.5e-8 * delta) - delta
+    d_rate = (delta_dot + 1.5e-8 * max(abs(delta_dot), v0)) - delta_dot
+    return ((force_kernel(law_id, delta + d_delta, delta_dot, v0, lawp) - force) / d_delta,
+            (force_kernel(law_id, delta, delta_dot + d_rate, v0, lawp) - force) / d_rate)
 
-    free: [g, –]; contact: [g, release indicator]; resting: [λ, –].
+
+@njit(cache=True)
+def jacobian_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, work, law_id, lawp, jac):
+    """∂f/∂y of :func:`rhs_into` into ``jac`` (2n + 7, 2n + 7), analytically.
+
+    The right-hand side is autonomous within a segment (the torque is constant
+    between the pulse corners), so ``t`` is unused. With x = [θ, q, θ̇, q̇] (2n + 2)
+    and the accelerations a = M(q)⁻¹(Q(x) + F J_F)::
+
+        ∂a/∂xₖ = Bₖ + u ∂F/∂xₖ,   Bₖ = M⁻¹(∂Q/∂xₖ − e₀ a₀ ∂M₀₀/∂xₖ),   u = M⁻¹J_F,
+
+    a₀ the hub acceleration and ∂M₀₀/∂qⱼ = 2(Pq)ⱼ (coupled model; 0 otherwise).
+    The derivatives of the generalized forces (module docstring; [·] coupled only)::
+
+        ∂Q₀/∂θ = ρLg(A + L/2) sin θ [+ ρg(L cos θ bᵀq − ½ sin θ qᵀhq)],
+        ∂Qᵢ/∂θ = ρLg bᵢ sin θ [+ ρg cos θ (hq)ᵢ],
+        ∂Q₀/∂qⱼ = [−2θ̇ (Pq̇)ⱼ + ρg(cos θ (hq)ⱼ + L sin θ bⱼ)],
+        ∂Qᵢ/∂qⱼ = −Kᵢ δᵢⱼ + θ̇² Pᵢⱼ [+ ρg sin θ hᵢⱼ],
+        ∂Q₀/∂θ̇ = −c [− 2 q̇ᵀPq],   ∂Qᵢ/∂θ̇ = 2θ̇ (Pq)ᵢ,
+        ∂Q₀/∂q̇ⱼ = [−2θ̇ (Pq)ⱼ],    ∂Qᵢ/∂q̇ⱼ = −cᵢ δᵢⱼ.
+
+    The contact force adds a rank-one term: in contact ∂F/∂x = −F_δ [J, 0] − F_δ̇ [0, J]
+    (δ = −g, δ̇ = −ġ, J the gap row, slopes by :func:`_law_slopes`; 0 where F is
+    clipped); at rest λ keeps J a = 0 for every x, so ∂λ/∂xₖ = −J·Bₖ / J·u. The rows
+    of the running integrals follow by the chain rule; their columns are zero (they
+    do not feed back). ``work`` rows 2…2n+3 hold Bₖ.
     """
+    n = m0.shape[0]
+    nd = 2 * n + 2
+    rho_l, rho_g = sc[RHO_L], sc[RHO_G]
+    theta, thd = y[0], y[n + 1]
+    cth, sth = np.cos(theta), np.sin(theta)
+    m00 = accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work)
+    f_c = _mode_force(y, sc, phi_p, work, law_id, lawp)
+    hub_acc = work[0, 0] + f_c * work[1, 0]
+    # ∂Q/∂xₖ into work[2 + k]: θ, q_j, θ̇, q̇_j columns
+    for k in range(nd):
+        for i in range(n + 1):
+            work[2 + k, i] = 0.0
+    work[2, 0] = sc[GRAV_THETA] * sth
+    work[n + 3, 0] = -sc[C_JOINT]
+    for i in range(n):
+        work[2, 1 + i] = sc[GRAV_MODAL] * b[i] * sth
+        work[n + 3, 1 + i] = 2.0 * thd * _p_times(y, sc, G, i, 1)
+        work[n + 4 + i, 1 + i] = -cd[i]
+        for j in range(n):
+            work[3 + j, 1 + i] = -thd * thd * G[i, j]
+        work[3 + i, 1 + i] += thd * thd * rho_l - kd[i]
+    if sc[COUPLED] > 0.0:
+        for j in range(n):
+            pq_j = _p_times(y, sc, G, j, 1)
+            pqd_j = _p_times(y, sc, G, j, n + 2)
+            hq_j = 0.0
+            for i in range(n):
+                hq_j += h[j, i] * y[1 + i]
+                work[3 + j, 1 + i] += rho_g * sth * h[i, j]
+            work[2, 0] += rho_g * (-0.5 * sth * y[1 + j] * hq_j + sc[LENGTH] * cth * b[j] * y[1 + j])
+            work[2, 1 + j] += rho_g * cth * hq_j
+            work[3 + j, 0] = -2.0 * thd * pqd_j + rho_g * (cth * hq_j + sc[LENGTH] * sth * b[j]) - 2.0 * pq_j * hub_acc
+            work[n + 3, 0] -= 2.0 * y[n + 2 + j] * pq_j
+            work[n + 4 + j, 0] = -2.0 * thd * pq_j
+    for k in range(nd):
+        _mass_solve(m00, rho_l, m0, work, 2 + k)
+    ns = nd + 5
+    for r in range(ns):
+        for k in range(ns):
+            jac[r, k] = 0.0
+    # ∂F/∂x into the last row (dI_contact/dt = F)
+    d_f = nd + 4
+    mode = sc[IN_CONTACT]
+    if mode == 1.0 and f_c > 0.0:
+        delta, rate = -gap_kernel(y, sc, phi_p), -gap_rate_kernel(y, sc, phi_p)
+        s_delta, s_rate = _law_slopes(law_id, delta, rate, sc[V0], lawp,
+                                      force_kernel(law_id, delta, rate, sc[V0], lawp))
+        jac[d_f, 0] = -s_delta * sc[GAP_ARM]
+        jac[d_f, n + 1] = -s_rate * sc[GAP_ARM]
+        for i in range(n):
+            jac[d_f, 1 + i] = -s_delta * phi_p[i]
+            jac[d_f, n + 2 + i] = -s_rate * phi_p[i]
+    elif mode == 2.0:
+        ju = sc[GAP_ARM] * work[1, 0]
+        for i in range(n):
+            ju += phi_p[i] * work[1, 1 + i]
+        for k in range(nd):
+            jb = sc[GAP_ARM] * work[2 + k, 0]
+            for i in range(n):
+                jb += phi_p[i] * work[2 + k, 1 + i]
+            jac[d_f, k] = -jb / ju
+    # d(θ, q)/dt = (θ̇, q̇); the accelerations; the running integrals W_τ, D_joint, D_modal, W_contact
+    for r in range(n + 1):
+        jac[r, n + 1 + r] = 1.0
+        for k in range(nd):
+            jac[n + 1 + r, k] = work[2 + k, r] + work[1, r] * jac[d_f, k]
+    p_contact = sc[MOMENT_ARM] * thd
+    for i in range(n):
+        p_contact += phi_p[i] * y[n + 2 + i]
+    for k in range(nd):
+        jac[nd + 3, k] = p_contact * jac[d_f, k]
+    jac[nd, n + 1] = sc[TORQUE]
+    jac[nd + 1, n + 1] = 2.0 * sc[C_JOINT] * thd
+    jac[nd + 3, n + 1] += f_c * sc[MOMENT_ARM]
+    for i in range(n):
+        jac[nd + 2, n + 2 + i] = 2.0 * cd[i] * y[n + 2 + i]
+        jac[nd + 3, n + 2 + i] += f_c * phi_p[i]
+
+
+@njit(cache=True)
+def event_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, law_id, lawp):
+    """The two event functions of the current mode: free: (g, 0); contact:
+    (g, release indicator); resting: (λ, 0)."""
     mode = sc[IN_CONTACT]
     if mode == 2.0:
-        out[0] = contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, law_id, lawp)
-        out[1] = 0.0
-        return
+        return contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, law_id, lawp), 0.0
     g = gap_kernel(y, sc, phi_p)
-    out[0] = g
-    out[1] = 0.0
     if mode == 1.0:
-        out[1] = release_kernel(law_id, -g, -gap_rate_kernel(y, sc, phi_p), sc[V0], lawp)
+        return g, release_kernel(law_id, -g, -gap_rate_kernel(y, sc, phi_p), sc[V0], lawp)
+    return g, 0.0
 
 
 @dataclass(frozen=True)
@@ -386,7 +499,14 @@ class BeamModel:
 
     def kernel_args(self, sc: np.ndarray) -> tuple:
         """The model arrays after ``sc``, in the order every kernel takes them."""
-        return (sc, self.m0, self.kd, self.cd, self.G, self.h, self.b, self.phi_p, np.empty(3 * self.n + 2))
+        return (sc, self.m0, self.kd, self.cd, self.G, self.h, self.b, self.phi_p,
+                np.empty((2 * self.n + 4, self.n + 1)))
+
+    def jacobian(self, y: np.ndarray, sc: np.ndarray, law_id: int = 0, lawp=None) -> np.ndarray:
+        """∂f/∂y of the right-hand side in the segment mode of ``sc``, shape (2n + 7, 2n + 7)."""
+        jac = np.empty((self.n_state, self.n_state))
+        jacobian_kernel(0.0, y, *self.kernel_args(sc), law_id, np.zeros(1) if lawp is None else lawp, jac)
+        return jac
 
     def contact_force(self, y: np.ndarray, sc: np.ndarray, law_id: int = 0, lawp=None) -> float:
         """F_c (N) in the segment's contact mode; in resting contact the multiplier λ

@@ -204,7 +204,7 @@ class _Run:
     k_out: int = 0
     impacts: list = field(default_factory=list)
     resting: list = field(default_factory=list)
-    counts: np.ndarray = field(default_factory=lambda: np.zeros(3))  # steps, rejected, rhs evaluations
+    counts: np.ndarray = field(default_factory=lambda: np.zeros(4))  # steps, rejected, rhs, Jacobian evaluations
     n_restarts: int = 0
     h_next: float = 1e-4
 
@@ -269,14 +269,13 @@ class _Segment:
         self.args = (*run.model.kernel_args(sc), self.law_id, self.lawp)
         self.dirs = _event_directions(mode)
         self.armed = np.zeros(2, dtype=np.bool_)
+        self.scan = (np.empty((SAMPLES_PER_STEP + 1, 2)), np.empty(run.model.n_state))  # process_step scratch
 
     def rhs(self, t, y):
         return rhs_kernel(t, y, *self.args)
 
     def event_values(self, y):
-        out = np.empty(2)
-        event_kernel(y, *self.args, out)
-        return out
+        return event_kernel(y, *self.args)
 
     def locate(self, step, j, e) -> tuple[float, np.ndarray]:
         """Root of event e inside sample bracket j of the step (Brent on the interpolant)."""
@@ -329,12 +328,13 @@ def _integrate_segment(run: "_Run", case: BeamCase, mode: _Mode, sc, t, t_seg, y
                 raise SimulationError(f"integrator failed at t = {solver.t:.9g} s: {msg}")
             f1 = seg.rhs(solver.t, solver.y)
             step = (solver.t_old, y, f0, solver.t, solver.y.copy(), f1)
-            j, e, run.k_out = process_step(*step, *seg.args, seg.dirs, seg.armed,
+            j, e, run.k_out = process_step(*step, *seg.args, seg.dirs, seg.armed, *seg.scan,
                                            run.out_t, run.out_y, run.out_f, run.k_out, peak)
             run.counts[0] += 1
             event = j >= 0
             y, f0 = step[4], f1
         run.counts[2] += solver.nfev
+        run.counts[3] += solver.njev
         run.h_next = solver.h_abs if hasattr(solver, "h_abs") else run.h_next
     if mode.contact is not None:
         mode.contact["peak"] = max(mode.contact["peak"], peak[0])
@@ -445,7 +445,8 @@ def simulate(case: BeamCase) -> Result:
     wall = _time.perf_counter() - wall0
     stats = {"method": case.solver.method, "rtol": case.solver.rtol, "atol": case.solver.atol,
              "steps": int(run.counts[0]), "rejected_steps": int(run.counts[1]),
-             "rhs_evaluations": int(run.counts[2]), "restarts": run.n_restarts}
+             "rhs_evaluations": int(run.counts[2]), "jacobian_evaluations": int(run.counts[3]),
+             "restarts": run.n_restarts}
     return Result(case=case, model=model, t=run.out_t, y=run.out_y, contact_force=run.out_f,
                   impacts=run.impacts, resting=np.array(run.resting, dtype=float).reshape(-1, 2),
                   stats=stats, wall_time_s=wall)

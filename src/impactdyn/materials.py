@@ -1,0 +1,196 @@
+"""Material library of the impact stages, with a source for every number.
+
+Units are the impact stages' (cm, g, µs; :mod:`impactdyn.units`): density g/cm³,
+velocity cm/µs, moduli and stresses Mbar, specific heat cm²/(µs²·K). The
+literature values are entered in their own units (km/s, GPa, MPa, J/(g·K)) and
+converted here through :mod:`impactdyn.units`.
+
+Equation of state: Mie–Grüneisen about a linear shock-velocity–particle-velocity
+Hugoniot ``Us = c₀ + s·up`` with ``Γρ = Γ₀ρ₀`` (see :mod:`impactdyn.shield._eos`).
+Strength: shear modulus G and yield stress Y₀ (elastic–perfectly-plastic), and
+optionally Johnson–Cook flow-stress parameters. Failure: spall strength (a
+particle fails when its pressure falls below −p_spall) and a plastic-strain
+limit.
+
+Sources
+-------
+[S91]  D. J. Steinberg, *Equation of state and strength properties of selected
+       materials*, LLNL UCRL-MA-106439 (1991, rev. 1996): ρ₀, c₀, s, Γ₀, G₀, Y₀
+       (the Steinberg–Guinan ``Y0``, the yield stress at zero plastic strain and
+       pressure), as tabulated in DESIGN §6 for the aluminium alloys.
+[JC83] G. R. Johnson, W. H. Cook, *A constitutive model and data for metals
+       subjected to large strains, high strain rates and high temperatures*,
+       Proc. 7th Int. Symp. Ballistics, The Hague (1983), Table 1 (2024-T351, OFHC copper).
+[L01]  D. R. Lesuer, G. J. Kay, M. M. LeBlanc, *Modeling large-strain,
+       high-rate deformation in metals*, LLNL UCRL-JC-134118 (2001) (6061-T6).
+[K04]  G. I. Kanel, S. V. Razorenov, V. E. Fortov, *Shock-wave phenomena and the
+       properties of condensed matter*, Springer (2004), ch. 7: spall strengths of
+       aluminium alloys 1.0–1.7 GPa and of copper 1.2–1.6 GPa at microsecond
+       load durations. The values below are representative values inside those
+       ranges, not measurements of the particular temper.
+[ASM]  ASM Handbook vol. 2 (aluminium, copper) and vol. 1 (steel): specific heat
+       and elongation at break. The elongation is used as the plastic-strain
+       failure limit — a simple, conservative (early-failing) choice.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from impactdyn._errors import InputError
+from impactdyn.units import CM_US_PER_KM_S, MBAR_PER_GPA
+
+_MBAR_PER_MPA = 1.0e-3 * MBAR_PER_GPA
+_CM2_US2_PER_J_G = 1.0e-5  # 1 J/g = 1e3 J/kg = 1e-5 cm²/µs² (1 cm²/µs² = 1e8 J/kg)
+
+
+@dataclass(frozen=True)
+class JohnsonCook:
+    """Johnson–Cook flow stress [JC83]::
+
+        Y = (A + B εₚⁿ) (1 + C ln ε̇*) (1 − T*ᵐ),
+        ε̇* = max(ε̇ₚ/ε̇₀, 1),   T* = clip((T − T_room)/(T_melt − T_room), 0, 1)
+
+    A, B in Mbar; ε̇₀ in 1/µs (1 s⁻¹ = 1e-6 µs⁻¹); temperatures in K.
+    """
+
+    A: float
+    B: float
+    n: float
+    C: float
+    m: float
+    t_melt: float
+    t_room: float = 294.0
+    reference_strain_rate: float = 1.0e-6
+
+
+@dataclass(frozen=True)
+class Material:
+    """One material of the shield stage (units cm, g, µs, Mbar, K).
+
+    Attributes
+    ----------
+    name : str
+    rho0 : float
+        Reference density ρ₀, g/cm³.
+    c0, s, gamma0 : float
+        Hugoniot intercept c₀ (cm/µs), slope s, Grüneisen parameter Γ₀.
+    shear_modulus, yield_stress : float
+        G and Y₀, Mbar (elastic–perfectly-plastic strength).
+    specific_heat : float
+        c_v, cm²/(µs²·K); used only for the temperature estimate of the shield stage.
+    spall_strength : float | None
+        p_spall > 0, Mbar: the particle fails when p < −p_spall. None: no spall.
+    failure_strain : float | None
+        Plastic-strain limit εₚ,f: the particle fails when εₚ > εₚ,f. None: none.
+    johnson_cook : JohnsonCook | None
+    source : str
+        Where the numbers come from (keys of the module docstring).
+    """
+
+    name: str
+    rho0: float
+    c0: float
+    s: float
+    gamma0: float
+    shear_modulus: float
+    yield_stress: float
+    specific_heat: float
+    spall_strength: float | None = None
+    failure_strain: float | None = None
+    johnson_cook: JohnsonCook | None = None
+    source: str = ""
+
+    def __post_init__(self) -> None:
+        for field in ("rho0", "c0", "s", "gamma0", "shear_modulus", "specific_heat"):
+            value = getattr(self, field)
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+                raise InputError(f"material {self.name!r}: {field} must be a positive number, got {value!r}")
+        if not (math.isfinite(self.yield_stress) and self.yield_stress >= 0):
+            raise InputError(f"material {self.name!r}: yield_stress must be ≥ 0, got {self.yield_stress!r}")
+        for field in ("spall_strength", "failure_strain"):
+            value = getattr(self, field)
+            if value is not None and not (math.isfinite(value) and value > 0):
+                raise InputError(f"material {self.name!r}: {field} must be positive or None, got {value!r}")
+
+    def hugoniot(self, up: float) -> tuple[float, float, float]:
+        """Shock state for particle velocity ``up`` (cm/µs) into material at rest.
+
+        Rankine–Hugoniot jump conditions with Us = c₀ + s·up::
+
+            Us = c₀ + s up,   p = ρ₀ Us up,   ρ = ρ₀ Us / (Us − up)
+
+        Returns (Us cm/µs, p Mbar, ρ g/cm³).
+        """
+        us = self.c0 + self.s * up
+        return us, self.rho0 * us * up, self.rho0 * us / (us - up)
+
+
+def _gpa(x: float) -> float:
+    return x * MBAR_PER_GPA
+
+
+def _km_s(x: float) -> float:
+    return x * CM_US_PER_KM_S
+
+
+def _jc(a_mpa: float, b_mpa: float, n: float, c: float, m: float, t_melt: float) -> JohnsonCook:
+    return JohnsonCook(A=a_mpa * _MBAR_PER_MPA, B=b_mpa * _MBAR_PER_MPA, n=n, C=c, m=m, t_melt=t_melt)
+
+
+AL_6061_T6 = Material(
+    name="al6061-t6", rho0=2.703, c0=_km_s(5.24), s=1.40, gamma0=1.97,
+    shear_modulus=_gpa(27.6), yield_stress=_gpa(0.29), specific_heat=0.896 * _CM2_US2_PER_J_G,
+    spall_strength=_gpa(1.2), failure_strain=0.12,
+    johnson_cook=_jc(324.0, 114.0, 0.42, 0.002, 1.34, 925.0),
+    source="[S91] EOS, G, Y0; [L01] Johnson-Cook; [K04] spall; [ASM] c_v, elongation 12 %",
+)
+AL_2024_T4 = Material(
+    name="al2024-t4", rho0=2.785, c0=_km_s(5.328), s=1.338, gamma0=2.00,
+    shear_modulus=_gpa(28.6), yield_stress=_gpa(0.26), specific_heat=0.875 * _CM2_US2_PER_J_G,
+    spall_strength=_gpa(1.2), failure_strain=0.20,
+    johnson_cook=_jc(265.0, 426.0, 0.34, 0.015, 1.0, 775.0),
+    source="[S91] EOS, G, Y0; [JC83] Johnson-Cook of 2024-T351; [K04] spall; [ASM] c_v, elongation 20 %",
+)
+AL_7075_T6 = Material(
+    name="al7075-t6", rho0=2.803, c0=_km_s(5.20), s=1.36, gamma0=2.20,
+    shear_modulus=_gpa(26.7), yield_stress=_gpa(0.42), specific_heat=0.960 * _CM2_US2_PER_J_G,
+    spall_strength=_gpa(1.2), failure_strain=0.11,
+    source="[S91] EOS, G, Y0; [K04] spall; [ASM] c_v, elongation 11 %",
+)
+CU_OFHC = Material(
+    name="cu-ofhc", rho0=8.93, c0=_km_s(3.94), s=1.489, gamma0=2.02,
+    shear_modulus=_gpa(47.7), yield_stress=_gpa(0.12), specific_heat=0.385 * _CM2_US2_PER_J_G,
+    spall_strength=_gpa(1.4), failure_strain=0.45,
+    johnson_cook=_jc(90.0, 292.0, 0.31, 0.025, 1.09, 1356.0),
+    source="[S91] EOS, G, Y0; [JC83] Johnson-Cook; [K04] spall; [ASM] c_v, elongation 45 %",
+)
+SS_304 = Material(
+    name="ss304", rho0=7.90, c0=_km_s(4.57), s=1.49, gamma0=1.93,
+    shear_modulus=_gpa(77.0), yield_stress=_gpa(0.34), specific_heat=0.500 * _CM2_US2_PER_J_G,
+    failure_strain=0.40,
+    source="[S91] EOS, G, Y0 (304 stainless steel); [ASM] c_v, elongation 40 %; no spall data entered",
+)
+
+#: Registry by name; look names up with :func:`get_material` (case and separators ignored).
+MATERIALS: dict[str, Material] = {m.name: m for m in (AL_6061_T6, AL_2024_T4, AL_7075_T6, CU_OFHC, SS_304)}
+
+
+def _key(name: str) -> str:
+    return "".join(ch for ch in name.lower() if ch.isalnum())
+
+
+def get_material(name: str | Material) -> Material:
+    """The registered material called ``name`` ("Al6061-T6", "al_6061_t6", ... all match).
+
+    A :class:`Material` passes through. Unknown names raise :class:`InputError`
+    listing the known ones.
+    """
+    if isinstance(name, Material):
+        return name
+    if isinstance(name, str):
+        for known, material in MATERIALS.items():
+            if _key(known) == _key(name):
+                return material
+    raise InputError(f"unknown material {name!r}; known materials: {', '.join(MATERIALS)}")

@@ -1,0 +1,27 @@
+"""Built-in shield-impact stage: 3-D SPH for a sphere striking a plate (DESIGN §6).
+
+Updated-Lagrangian SPH with a Mie–Grüneisen EOS, elastic–plastic deviatoric
+stress (Jaumann rate, von Mises radial return, Johnson–Cook optional), Monaghan
+artificial viscosity and artificial stress, spall / plastic-strain failure,
+variable smoothing length and a cell-list neighbour search in compiled parallel
+kernels (:mod:`._integrate` states the equations). Units cm, g, µs, Mbar.
+
+Typical use::
+
+    from impactdyn import shield
+    problem = shield.sphere_on_plate("al6061-t6", "al6061-t6", diameter_cm=0.575, velocity_km_s=7.0,
+                                     obliquity_deg=25.0, plate_thickness_cm=0.127, spacing_cm=0.025)
+    result = shield.run(problem, t_end_us=4.0)
+    grid = shield.bin_to_hydrogrid(result.state, cell_size_cm=0.03175)
+"""
+
+from impactdyn.shield._binning import bin_to_hydrogrid
+from impactdyn.shield._integrate import FLOW_STRESS_MODELS, SPHError, SPHOptions, run
+from impactdyn.shield._neighbours import Domain, neighbour_pairs
+from impactdyn.shield._problems import Problem, planar_impact, sphere_on_plate
+from impactdyn.shield._state import TENSOR_COMPONENTS, History, Particles, RunResult
+
+__all__ = [
+    "Domain", "FLOW_STRESS_MODELS", "History", "Particles", "Problem", "RunResult", "SPHError", "SPHOptions",
+    "TENSOR_COMPONENTS", "bin_to_hydrogrid", "neighbour_pairs", "planar_impact", "run", "sphere_on_plate",
+]
