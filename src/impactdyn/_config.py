@@ -16,7 +16,7 @@ from typing import Annotated, Any, TypeVar
 import tomli_w
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
-from impactdyn._errors import InputError
+from impactdyn._errors import InputError, reading
 
 M = TypeVar("M", bound=BaseModel)
 
@@ -68,14 +68,8 @@ def load_toml(path: str | Path) -> dict[str, Any]:
     """Read a TOML file; unreadable or malformed files raise :class:`InputError`."""
     p = Path(path)
     try:
-        with p.open("rb") as fh:
+        with reading(p, "case file"), p.open("rb") as fh:
             return tomllib.load(fh)
-    except FileNotFoundError:
-        raise InputError(f"{p}: no such file") from None
-    except IsADirectoryError:
-        raise InputError(f"{p}: is a folder, not a case file") from None
-    except PermissionError:
-        raise InputError(f"{p}: cannot be read (permission denied)") from None
     except UnicodeDecodeError:
         raise InputError(f"{p}: not a UTF-8 text file") from None
     except tomllib.TOMLDecodeError as err:

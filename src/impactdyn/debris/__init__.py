@@ -15,7 +15,7 @@ from impactdyn.debris._integrators import INTEGRATORS, Failure, PropagationStats
 from impactdyn.debris._particle import Material, pack_state, state_rates, total_energy, unpack_state
 from impactdyn.debris._propagate import (
     ArrivalWindow, ComputeOptions, DebrisResult, DepositionOptions, IntegratorOptions, propagate_chunked,
-    run_debris)
+    run_debris, seed_and_select)
 from impactdyn.debris._report import write_debris_run
 from impactdyn.debris._seed import ParticleCloud, SeedFilter, SeedOptions, arrival_times, seed_cells, seed_particles
 from impactdyn.debris._tets import (
@@ -35,7 +35,7 @@ __all__ = [
     "affine_velocity_fit", "areal_density", "arrival_points", "arrival_times", "build", "cell_nodes", "deposit",
     "element_impulse", "element_records", "face_areas", "face_element", "gather_tets", "inertia_tensor",
     "initial_state", "load_debris_case", "momentum_enhancement", "pack_state", "propagate", "propagate_chunked",
-    "register_integrator", "remap_grid", "remap_impulse", "run_case", "run_debris", "seed_cells",
+    "register_integrator", "remap_grid", "remap_impulse", "run_case", "run_debris", "seed_and_select", "seed_cells",
     "seed_particles", "shell_cloud_grid", "signed_volume", "state_rates", "tet_vertices", "total_energy",
     "unpack_state", "write_debris_run",
 ]

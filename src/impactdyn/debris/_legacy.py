@@ -113,14 +113,12 @@ def _decks_only(d, case, out: Path, force: bool, echo) -> dict:
 def _rezone(args: dict, case, out: Path, force: bool, start: float, echo) -> dict:
     """Run type 1/1: particles in the arrival window, propagated for 0.2 µs, as CTH rezone packages."""
     from impactdyn._config import dump_toml
-    from impactdyn.debris._propagate import propagate_chunked
-    from impactdyn.debris._seed import arrival_times, seed_particles
+    from impactdyn.debris._propagate import propagate_chunked, seed_and_select
     from impactdyn.io import write_cth_packages, write_grid
 
-    cloud = seed_particles(args["grid"], args["material"], args["seed_filter"], args["seed_options"])
-    w = args["window"]
-    t_arr = arrival_times(cloud, args["wall"].y[0], legacy_abs_arrival=w.legacy_abs_arrival)
-    moving = cloud.subset((t_arr >= w.t_min) & (t_arr <= w.t_cut))
+    cloud, _, selected = seed_and_select(args["grid"], args["wall"], args["material"], args["seed_filter"],
+                                         args["seed_options"], args["window"])
+    moving = cloud.subset(selected)
     states, stats = propagate_chunked(moving, np.full(len(moving), REZONE_TIME_US), args["material"],
                                       args["integrator"], args["compute"])
     with RunFolder(out, force=force) as rf:

@@ -197,6 +197,22 @@ def _run_chunk(chunk: _Chunk):
                      ymxref=o.ymxref)
 
 
+def seed_and_select(grid: HydroGrid, wall: WallGrid, material: Material, seed_filter: SeedFilter,
+                    seed_options: SeedOptions, window: ArrivalWindow):
+    """Particles of ``grid``, their arrival times at the wall plane and the indices in the window.
+
+    Returns (cloud, t_arrival ``(N,)``, selected ``(A,)``).  A wall whose front face
+    does not lie beyond the whole cloud in +y is an :class:`InputError`.
+    """
+    cloud = seed_particles(grid, material, seed_filter, seed_options)
+    if len(cloud) and cloud.vertices[..., 1].max() > wall.y[0]:
+        raise InputError(f"wall: the front face y = {wall.y[0]:g} cm lies behind or inside the debris, which "
+                         f"reaches y = {cloud.vertices[..., 1].max():g} cm; the wall must lie beyond the cloud "
+                         "in +y")
+    t_arr = arrival_times(cloud, wall.y[0], legacy_abs_arrival=window.legacy_abs_arrival)
+    return cloud, t_arr, np.nonzero((t_arr >= window.t_min) & (t_arr <= window.t_cut))[0]
+
+
 def run_debris(grid: HydroGrid, wall: WallGrid, material: Material, *,
                seed_filter: SeedFilter = SeedFilter(), seed_options: SeedOptions = SeedOptions(),
                window: ArrivalWindow = ArrivalWindow(), integrator: IntegratorOptions = IntegratorOptions(),
@@ -209,13 +225,7 @@ def run_debris(grid: HydroGrid, wall: WallGrid, material: Material, *,
     """
     timings = {}
     tick = _time.perf_counter()
-    cloud = seed_particles(grid, material, seed_filter, seed_options)
-    if len(cloud) and cloud.vertices[..., 1].max() > wall.y[0]:
-        raise InputError(f"wall: the front face y = {wall.y[0]:g} cm lies behind or inside the debris, which "
-                         f"reaches y = {cloud.vertices[..., 1].max():g} cm; the wall must lie beyond the cloud "
-                         "in +y")
-    t_arr = arrival_times(cloud, wall.y[0], legacy_abs_arrival=window.legacy_abs_arrival)
-    selected = np.nonzero((t_arr >= window.t_min) & (t_arr <= window.t_cut))[0]
+    cloud, t_arr, selected = seed_and_select(grid, wall, material, seed_filter, seed_options, window)
     timings["seed"] = _time.perf_counter() - tick
     if progress:
         progress("seed", len(cloud), len(cloud))
@@ -230,7 +240,8 @@ def run_debris(grid: HydroGrid, wall: WallGrid, material: Material, *,
         if progress:
             progress("propagate", done, len(selected))
 
-    states, stats = propagate_chunked(moving, t_arr[selected], material, integrator, compute, advance)
+    t_moving = t_arr[selected]
+    states, stats = propagate_chunked(moving, t_moving, material, integrator, compute, advance)
     timings["propagate"] = _time.perf_counter() - tick
 
     tick = _time.perf_counter()
@@ -240,7 +251,7 @@ def run_debris(grid: HydroGrid, wall: WallGrid, material: Material, *,
     if deposition.legacy_momentum_enhancement:
         p = p * momentum_enhancement(wall, moving.mass, material.rho_ref)[:, None]
     ok = stats.code == 0
-    dep, on = deposit(points[ok], p[ok], t_arr[selected][ok], wall)
+    dep, on = deposit(points[ok], p[ok], t_moving[ok], wall)
     on_wall = np.zeros((len(selected), POINTS_PER_PARTICLE), dtype=bool)
     on_wall[ok] = on
     impulse = element_impulse(dep, wall)

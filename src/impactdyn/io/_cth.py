@@ -28,20 +28,17 @@ from pathlib import Path
 import numpy as np
 
 from impactdyn import units
-from impactdyn.debris._particle import C_SLICE, F_SLICE, P_SLICE
+from impactdyn.debris._deposit import arrival_points
+from impactdyn.debris._particle import F_SLICE, P_SLICE
 from impactdyn.io._registry import atomic_output
 
 
 def write_cth_packages(path: str | Path, cloud, states: np.ndarray, rho_ref: float, *,
                        material: int = 1, numsub: int = 49) -> None:
     """Write one package per particle of ``cloud`` (a :class:`ParticleCloud`) in ``states (N, 33)``."""
-    F = states[:, F_SLICE].reshape(-1, 3, 3)
-    detF = np.linalg.det(F)
-    c = states[:, C_SLICE]
+    detF = np.linalg.det(states[:, F_SLICE].reshape(-1, 3, 3))
     v = units.cm_us_to_cm_s(states[:, P_SLICE] / cloud.mass[:, None])
-    s = np.cbrt((1.0 - cloud.void_fraction) * cloud.density_ratio)
-    arms = np.einsum("nij,nkj->nki", F, cloud.vertices - cloud.vertices.mean(axis=1, keepdims=True))
-    corners = c[:, None, :] + s[:, None, None] * arms
+    corners = arrival_points(states, cloud.vertices, np.cbrt((1.0 - cloud.void_fraction) * cloud.density_ratio))
 
     def xyz(p) -> str:
         return ", ".join(f"{q:15.6e}" for q in p)

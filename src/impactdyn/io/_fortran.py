@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from impactdyn._errors import InputError
+from impactdyn._errors import InputError, reading
 
 _REAL = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][+-]?\d+|[+-]\d+)?")
 _INT = re.compile(r"[+-]?\d+")
@@ -30,14 +30,8 @@ _BARE_EXPONENT = re.compile(r"^(.*[\d.])([+-]\d+)$")
 def read_lines(path: str | Path) -> list[str]:
     """The lines of a text file (newline characters removed)."""
     p = Path(path)
-    try:
+    with reading(p):
         return p.read_text(encoding="latin-1").splitlines()
-    except FileNotFoundError:
-        raise InputError(f"{p}: no such file") from None
-    except IsADirectoryError:
-        raise InputError(f"{p}: is a folder, not a file") from None
-    except PermissionError:
-        raise InputError(f"{p}: cannot be read (permission denied)") from None
 
 
 def parse_real(token: str) -> float:
