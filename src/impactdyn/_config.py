@@ -94,6 +94,21 @@ def set_dotted(data: dict[str, Any], key: str, value: Any) -> dict[str, Any]:
     return out
 
 
+def parse_range(option: str, spec: str, example: str) -> list[float]:
+    """``START:STOP:N`` → N values from START to STOP inclusive; ``option`` and ``example`` go into the error."""
+    import numpy as np
+
+    try:
+        start, stop, n = spec.split(":")
+        count = int(n)
+        values = np.linspace(float(start), float(stop), count)
+    except ValueError:
+        raise InputError(f"{option} {spec!r}: expected START:STOP:N, e.g. {example}") from None
+    if count < 1 or not np.all(np.isfinite(values)):
+        raise InputError(f"{option} {spec!r}: N must be at least 1 and the bounds finite")
+    return values.tolist()
+
+
 def _deepcopy(d: Any) -> Any:
     if isinstance(d, dict):
         return {k: _deepcopy(v) for k, v in d.items()}

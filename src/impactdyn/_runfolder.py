@@ -27,7 +27,42 @@ def check_target(path: Path, force: bool) -> None:
         raise InputError(f"{path}: exists and is not a folder")
 
 
-class RunFolder:
+class FolderWriter:
+    """Writes files under ``path`` (parents created); :meth:`sub` gives a writer for a subfolder."""
+
+    def __init__(self, path: str | os.PathLike):
+        self.path = Path(path)
+
+    def sub(self, name: str) -> "FolderWriter":
+        """A writer rooted at the subfolder ``name`` (created)."""
+        writer = FolderWriter(self.path / name)
+        writer.path.mkdir(parents=True, exist_ok=True)
+        return writer
+
+    def file(self, name: str) -> Path:
+        """Path of ``name`` inside the folder (parents created)."""
+        p = self.path / name
+        p.parent.mkdir(parents=True, exist_ok=True)
+        return p
+
+    def write_text(self, name: str, text: str) -> Path:
+        p = self.file(name)
+        p.write_text(text)
+        return p
+
+    def write_json(self, name: str, obj: Any) -> Path:
+        return self.write_text(name, json.dumps(obj, indent=2, default=_json_default) + "\n")
+
+    def write_csv(self, name: str, header: Sequence[str], rows: Iterable[Sequence[Any]]) -> Path:
+        p = self.file(name)
+        with p.open("w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(header)
+            w.writerows(rows)
+        return p
+
+
+class RunFolder(FolderWriter):
     """Staging area for one run; use as a context manager.
 
     On normal exit the staging folder replaces ``target``; on an exception it is
@@ -38,7 +73,7 @@ class RunFolder:
         self.target = Path(target)
         check_target(self.target, force)
         self.target.parent.mkdir(parents=True, exist_ok=True)
-        self.path = Path(tempfile.mkdtemp(prefix=f".{self.target.name}.", dir=self.target.parent))
+        super().__init__(tempfile.mkdtemp(prefix=f".{self.target.name}.", dir=self.target.parent))
         umask = os.umask(0)  # mkdtemp makes the folder private; a run folder gets the usual permissions
         os.umask(umask)
         self.path.chmod(0o777 & ~umask)
@@ -59,28 +94,6 @@ class RunFolder:
         else:
             self.path.rename(self.target)
         self.path = self.target
-
-    def file(self, name: str) -> Path:
-        """Path of ``name`` inside the staging folder (parents created)."""
-        p = self.path / name
-        p.parent.mkdir(parents=True, exist_ok=True)
-        return p
-
-    def write_text(self, name: str, text: str) -> Path:
-        p = self.file(name)
-        p.write_text(text)
-        return p
-
-    def write_json(self, name: str, obj: Any) -> Path:
-        return self.write_text(name, json.dumps(obj, indent=2, default=_json_default) + "\n")
-
-    def write_csv(self, name: str, header: Sequence[str], rows: Iterable[Sequence[Any]]) -> Path:
-        p = self.file(name)
-        with p.open("w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(header)
-            w.writerows(rows)
-        return p
 
 
 def _json_default(obj: Any) -> Any:

@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from impactdyn._config import load_toml, set_dotted, validate
+from impactdyn._config import load_toml, parse_range, set_dotted, validate
 from impactdyn._errors import InputError
 from impactdyn._parallel import run_tasks
 from impactdyn._runfolder import RunFolder
@@ -18,15 +18,11 @@ SWEEP_HEADER = ["index", "value", "n_impacts", "first_impact_t_s", "v_approach_m
 
 def parse_vary(spec: str) -> tuple[str, np.ndarray]:
     """``KEY=START:STOP:N`` → (dotted key, N values from START to STOP inclusive)."""
-    try:
-        key, rng = spec.split("=", 1)
-        start, stop, n = rng.split(":")
-        values = np.linspace(float(start), float(stop), int(n))
-    except ValueError:
-        raise InputError(f"--vary {spec!r}: expected KEY=START:STOP:N, e.g. torque.amplitude_N_m=-0.3:-0.1:5") from None
-    if int(n) < 1:
-        raise InputError(f"--vary {spec!r}: N must be at least 1")
-    return key.strip(), values
+    example = "torque.amplitude_N_m=-0.3:-0.1:5"
+    key, sep, rng = spec.partition("=")
+    if not sep:
+        raise InputError(f"--vary {spec!r}: expected KEY=START:STOP:N, e.g. {example}")
+    return key.strip(), np.array(parse_range(f"--vary {key.strip()}=", rng, example))
 
 
 def sweep_cases(case_path: str | Path, key: str, values: np.ndarray) -> list:

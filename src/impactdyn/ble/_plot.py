@@ -6,6 +6,8 @@ import os
 import tempfile
 from pathlib import Path
 
+import numpy as np
+
 from impactdyn._errors import InputError
 from impactdyn.ble._jsc import BallisticLimitCurve, Regime
 
@@ -35,12 +37,16 @@ def check_plot_path(path: str | os.PathLike, force: bool = False) -> Path:
 
 
 def plot_ballistic_limit(curves: list[BallisticLimitCurve], path: str | os.PathLike,
-                         shot: tuple[float, float, bool] | None = None, title: str | None = None) -> Path:
+                         shot: tuple[float, float, bool] | None = None, title: str | None = None,
+                         outcomes: tuple | None = None) -> Path:
     """Draw d_c(V) curves into ``path`` (written under a temporary name, then renamed).
 
     The first curve's JSC regimes, if it has them, are shaded, with the boundaries
     3/cos θ and 7/cos θ marked; ``shot`` = (V km/s, d cm, perforated) is drawn as one
-    point, a red cross for a perforation, a green dot otherwise.
+    point, a red cross for a perforation, a green dot otherwise.  ``outcomes`` =
+    (V (n,), d (n,), value (n,), perforated (n,) bool, label): simulated shots,
+    coloured by ``value`` (with a colour bar titled ``label``), crosses where the
+    curve predicts perforation and dots elsewhere.
     """
     import matplotlib
 
@@ -70,11 +76,21 @@ def plot_ballistic_limit(curves: list[BallisticLimitCurve], path: str | os.PathL
         ax.plot([vs], [ds], marker="X" if perforated else "o", ms=10, ls="none",
                 color="tab:red" if perforated else "tab:green", zorder=5,
                 label=f"shot: d = {ds:g} cm at {vs:g} km/s ({'perforation' if perforated else 'no perforation'})")
+    top_points = 0.0
+    if outcomes is not None:
+        vo, do, value, perforated, label = outcomes
+        norm = matplotlib.colors.Normalize(vmin=0.0, vmax=max(float(np.max(value)), 1e-300))
+        for mask, marker, name in ((perforated, "X", "JSC: perforation"), (~perforated, "o", "JSC: none")):
+            if np.any(mask):
+                ax.scatter(vo[mask], do[mask], c=value[mask], norm=norm, cmap="inferno_r", marker=marker,
+                                s=110, edgecolors="k", linewidths=0.6, zorder=5, label=f"shot ({name})")
+        fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap="inferno_r"), ax=ax, label=label)
+        top_points = float(np.max(do))
     ax.set_xlabel("impact velocity V (km/s)")
     ax.set_ylabel("critical projectile diameter d_c (cm)")
     ax.set_xlim(v[0], v[-1])
     top = max(float(c.critical_diameter_cm.max()) for c in curves)
-    ax.set_ylim(0.0, 1.15 * (top if shot is None else max(top, shot[1])))
+    ax.set_ylim(0.0, 1.15 * max(top, top_points, 0.0 if shot is None else shot[1]))
     ax.grid(alpha=0.3)
     ax.set_title(title or f"Ballistic limit, θ = {main.obliquity_deg:g}°, "
                           f"ρ_p = {main.projectile_density:g} g/cm³", fontsize=10)

@@ -18,7 +18,7 @@ os.environ.setdefault("OMP_WAIT_POLICY", "passive")
 import typer  # noqa: E402
 
 from impactdyn._errors import InputError
-from impactdyn.cli import beam, ble, debris
+from impactdyn.cli import beam, ble, debris, whipple
 
 app = typer.Typer(
     name="impactdyn",
@@ -30,6 +30,7 @@ app = typer.Typer(
 app.add_typer(beam.app, name="beam")
 app.add_typer(debris.app, name="debris")
 app.add_typer(ble.app, name="ble")
+app.add_typer(whipple.app, name="whipple")
 
 
 def main(argv: list[str] | None = None) -> int:

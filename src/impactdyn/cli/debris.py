@@ -7,27 +7,13 @@ from typing import Optional
 
 import typer
 
+from impactdyn.cli._progress import progress_bars
+
 app = typer.Typer(help="Debris cloud → rear wall (DC3D, DCPOST, DCMPLT).", no_args_is_help=True)
 
 #: dc3din's (itype, jtype) → what `debris legacy` does, for the help text.
 LEGACY_HELP = ("2/1 propagate, deposit, write both wall decks; 2/2 and 2/3 write the wall deck only on the old or "
                "new wall grid; 1/1 propagate 0.2 µs and write CTH rezone packages")
-
-
-def _progress():
-    """A rich progress display and the ``progress(stage, done, total)`` callback feeding it."""
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
-
-    bar = Progress(TextColumn("{task.description:<10}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                   transient=False)
-    tasks: dict[str, int] = {}
-
-    def update(stage: str, done: int, total: int) -> None:
-        if stage not in tasks:
-            tasks[stage] = bar.add_task(stage, total=max(total, 1))
-        bar.update(tasks[stage], completed=done if total else 1, total=max(total, 1))
-
-    return bar, update
 
 
 def _report(summary: dict, out: Path) -> None:
@@ -57,7 +43,7 @@ def run(
     c = load_debris_case(case)
     args = build(c, str(case))
     start = time.perf_counter()
-    bar, update = _progress()
+    bar, update = progress_bars()
     with bar:
         result = run_debris(**args, progress=update)
     summary = write_debris_run(result, c, out, force=force, remap=remap_grid(c),
@@ -77,5 +63,5 @@ def legacy(
 ):
     from impactdyn.debris._legacy import run_legacy
 
-    run_legacy(dc3din, avsout, out, force=force, listing=listing, progress_factory=_progress,
+    run_legacy(dc3din, avsout, out, force=force, listing=listing, progress_factory=progress_bars,
                echo=typer.echo, report=_report)

@@ -26,12 +26,13 @@ from pathlib import Path
 import numpy as np
 
 from impactdyn._config import dump_toml
-from impactdyn._runfolder import RunFolder
+from impactdyn._errors import InputError
+from impactdyn._runfolder import FolderWriter, RunFolder
 from impactdyn.debris._deposit import areal_density, element_records, face_areas, remap_impulse
 from impactdyn.debris._particle import P_SLICE
 from impactdyn.debris._propagate import DebrisResult
 from impactdyn.debris._tets import signed_volume
-from impactdyn.debris._wall import AL_6061_T6, WallGrid
+from impactdyn.debris._wall import AL_6061_T6, WallDeposition, WallGrid, WallMaterial
 
 AREAL_HEADER = ["i", "k", "element", "x_cm", "z_cm", "px_g_cm_us", "py_g_cm_us", "pz_g_cm_us",
                 "areal_density_g_cm_us"]
@@ -50,48 +51,67 @@ def write_debris_run(result: DebrisResult, case, outdir: str | Path, *, force: b
                      remap: WallGrid | None = None, dcpost_factor: float = 1.0,
                      extra_summary: dict | None = None) -> dict:
     """Write the run folder atomically; returns the summary written."""
+    with RunFolder(outdir, force=force) as rf:
+        return write_debris_files(rf, result, case, remap=remap, dcpost_factor=dcpost_factor,
+                                  extra_summary=extra_summary)
+
+
+def write_debris_files(folder: FolderWriter, result: DebrisResult, case, *, remap: WallGrid | None = None,
+                       dcpost_factor: float = 1.0, extra_summary: dict | None = None,
+                       wall_material: WallMaterial = AL_6061_T6, decks: bool = True) -> dict:
+    """Every file of the module docstring into ``folder``; returns the summary (also ``summary.json``).
+
+    ``decks=False`` leaves the wall decks out (the Whipple pipeline writes them in a stage of their own).
+    """
     o = case.output
     summary = result.summary() | (extra_summary or {})
     files = ["summary.json", "config.resolved.toml", "areal_density.csv"]
-    with RunFolder(outdir, force=force) as rf:
-        rf.write_text("config.resolved.toml", dump_toml(case))
-        rf.write_csv("areal_density.csv", AREAL_HEADER, areal_rows(result.impulse, result.wall))
-        if remap is not None:
-            moved = remap_impulse(result.impulse, result.wall, remap)
-            rf.write_csv("areal_density_remap.csv", AREAL_HEADER, areal_rows(moved, remap))
-            summary["remap"] = {"momentum_deposited": moved.reshape(-1, 3).sum(axis=0).tolist(),
-                                "peak_areal_density_g_cm_us": float(areal_density(moved, remap).max())}
-            files.append("areal_density_remap.csv")
-        if o.hdf5:
-            from impactdyn.io import write_grid
+    folder.write_text("config.resolved.toml", dump_toml(case))
+    folder.write_csv("areal_density.csv", AREAL_HEADER, areal_rows(result.impulse, result.wall))
+    if remap is not None:
+        moved = remap_impulse(result.impulse, result.wall, remap)
+        folder.write_csv("areal_density_remap.csv", AREAL_HEADER, areal_rows(moved, remap))
+        summary["remap"] = {"momentum_deposited": moved.reshape(-1, 3).sum(axis=0).tolist(),
+                            "peak_areal_density_g_cm_us": float(areal_density(moved, remap).max())}
+        files.append("areal_density_remap.csv")
+    if o.hdf5:
+        from impactdyn.io import write_grid
 
-            write_grid(rf.file("handoff_grid.h5"), result.grid)
-            write_hdf5(result, rf.file("debris.h5"))
-            files += ["handoff_grid.h5", "debris.h5"]
-        if o.vtk:
-            files += write_vtk(result, rf.path, o.max_vtk_particles)
-        if o.lsdyna_deck:
-            from impactdyn.io import write_lsdyna_deck
-
-            end = o.end_time_us or (float(result.deposition.time.max()) + 10.0 if result.deposition.time.size
-                                    else 10.0)
-            write_lsdyna_deck(rf.file("wall.k"), result.wall, AL_6061_T6, result.deposition,
-                              pulse_width=o.pulse_width_us, end_time=end, clamped_edges=case.wall.clamped_edges,
-                              title=case.title or "impactdyn rear wall under debris-cloud deposition")
-            files.append("wall.k")
-        if o.dyna3d_deck:
-            from impactdyn.io import write_dyna3d_deck
-
-            write_dyna3d_deck(rf.file("wall_dyna3d.inp"), result.wall, AL_6061_T6,
-                              element_records(result.impulse, dcpost_factor),
-                              clamped_edges=case.wall.clamped_edges)
-            files.append("wall_dyna3d.inp")
-        if o.plots:
-            write_plots(result, rf.path / "plots")
-            files += ["plots/areal_density.png", "plots/cloud.png"]
-        summary["files"] = sorted(files)
-        rf.write_json("summary.json", summary)
+        write_grid(folder.file("handoff_grid.h5"), result.grid)
+        write_hdf5(result, folder.file("debris.h5"))
+        files += ["handoff_grid.h5", "debris.h5"]
+    if o.vtk:
+        files += write_vtk(result, folder.path, o.max_vtk_particles)
+    if decks:
+        files += write_decks(folder, result.wall, result.deposition, result.impulse, case, dcpost_factor,
+                             wall_material)
+    if o.plots:
+        write_plots(result, folder.path / "plots")
+        files += ["plots/areal_density.png", "plots/cloud.png"]
+    summary["files"] = sorted(files)
+    folder.write_json("summary.json", summary)
     return summary
+
+
+def write_decks(folder: FolderWriter, wall: WallGrid, deposition: WallDeposition, impulse: np.ndarray, case,
+                dcpost_factor: float = 1.0, material: WallMaterial = AL_6061_T6) -> list[str]:
+    """The wall decks ``case.output`` asks for: LS-DYNA (time-resolved loads) and DYNA3D (DCPOST's cards)."""
+    o, written = case.output, []
+    if o.lsdyna_deck:
+        from impactdyn.io import write_lsdyna_deck
+
+        end = o.end_time_us or (float(deposition.time.max()) + 10.0 if deposition.time.size else 10.0)
+        write_lsdyna_deck(folder.file("wall.k"), wall, material, deposition, pulse_width=o.pulse_width_us,
+                          end_time=end, clamped_edges=case.wall.clamped_edges,
+                          title=case.title or "impactdyn rear wall under debris-cloud deposition")
+        written.append("wall.k")
+    if o.dyna3d_deck:
+        from impactdyn.io import write_dyna3d_deck
+
+        write_dyna3d_deck(folder.file("wall_dyna3d.inp"), wall, material, element_records(impulse, dcpost_factor),
+                          clamped_edges=case.wall.clamped_edges)
+        written.append("wall_dyna3d.inp")
+    return written
 
 
 def write_hdf5(result: DebrisResult, path: Path) -> None:
@@ -122,6 +142,22 @@ def write_hdf5(result: DebrisResult, path: Path) -> None:
             w.create_dataset(name, data=getattr(r.wall, name))
         w.create_dataset("impulse", data=r.impulse)
         w.create_dataset("areal_density", data=r.areal)
+
+
+def read_deposition(path: str | Path) -> tuple[WallGrid, WallDeposition, np.ndarray]:
+    """The wall, its time-resolved deposition and the impulse per element ``(nx, nz, 3)`` of a ``debris.h5``."""
+    from impactdyn.io import open_hdf5
+
+    path = Path(path)
+    with open_hdf5(path) as f:
+        try:
+            w, d = f["wall"], f["deposition"]
+            wall = WallGrid(x=w["x"][()], y=w["y"][()], z=w["z"][()])
+            dep = WallDeposition(element=d["element"][()], time=d["time"][()], impulse=d["impulse"][()])
+            impulse = w["impulse"][()]
+        except KeyError as err:
+            raise InputError(f"{path}: not a debris.h5 file ({err})") from None
+    return wall, dep, impulse
 
 
 def _tet_mesh(vertices: np.ndarray):

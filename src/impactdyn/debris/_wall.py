@@ -176,6 +176,24 @@ AL_6061_T6 = WallMaterial(
 )
 
 
+
+def wall_material(material) -> WallMaterial:
+    """The DYNA3D material-13 card of a library material (:mod:`impactdyn.materials`).
+
+    Al 6061-T6 gets the report's own card (:data:`AL_6061_T6`).  Any other
+    material: ρ₀, G, K = ρ₀c₀² and Y₀ of the library, no hardening (the
+    elastic–perfectly-plastic model of the shield stage), its plastic-strain
+    failure limit (0 = none) and failure pressure −p_spall (no cutoff without one).
+    """
+    from impactdyn.materials import get_material
+
+    m = get_material(material)
+    if m.name == "al6061-t6":
+        return AL_6061_T6
+    return WallMaterial(density=m.rho0, shear_modulus=m.shear_modulus, bulk_modulus=m.rho0 * m.c0**2,
+                        yield_stress=m.yield_stress, hardening_modulus=0.0, failure_strain=m.failure_strain or 0.0,
+                        failure_pressure=-m.spall_strength if m.spall_strength else AL_6061_T6.failure_pressure)
+
 @dataclass(frozen=True, eq=False)
 class WallDeposition:
     """Time-resolved momentum deposited on the wall's front face (DYNOUT records).

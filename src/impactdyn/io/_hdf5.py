@@ -15,7 +15,7 @@ import numpy as np
 
 from impactdyn._errors import InputError
 from impactdyn.debris._grid import CELL_FIELDS, UNITS, HydroGrid
-from impactdyn.io._registry import in_file, register_format
+from impactdyn.io._registry import in_file, open_hdf5, register_format
 
 FORMAT = "impactdyn.HydroGrid"
 VERSION = 1
@@ -35,13 +35,7 @@ def write_hdf5(path: str | Path, grid: HydroGrid) -> None:
 
 def read_hdf5(path: str | Path) -> HydroGrid:
     path = Path(path)
-    if not path.is_file():
-        raise InputError(f"{path}: no such file")
-    try:
-        f = h5py.File(path, "r")
-    except OSError as err:
-        raise InputError(f"{path}: not an HDF5 file ({err})") from None
-    with f:
+    with open_hdf5(path) as f:
         if f.attrs.get("format") != FORMAT:
             raise InputError(f"{path}: not a HydroGrid file (attribute format = {f.attrs.get('format')!r})")
         if f.attrs.get("version") != VERSION:

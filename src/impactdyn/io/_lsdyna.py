@@ -4,8 +4,8 @@ Units cm, g, µs (LS-DYNA is unit-consistent): density g/cm³, stress Mbar, forc
 g·cm/µs² (= 1e7 N), impulse g·cm/µs.  Standard fixed-column cards (LS-DYNA
 Keyword User's Manual): 10-column fields, except *NODE (NID i8, X Y Z 3×16, TC RC
 i8), *ELEMENT_SOLID (EID PID N1–N8, 10×i8, the one-card form) and the
-*DEFINE_CURVE points (A O, 2×20).  Reals take as many significant digits as
-their field holds after one leading blank.
+*DEFINE_CURVE points (A O, 2×20, in E20.12 form: 13 significant digits).  Other
+reals take as many significant digits as their field holds after one leading blank.
 
 Deck: *KEYWORD, *TITLE, *CONTROL_TERMINATION, *DATABASE_BINARY_D3PLOT, *PART,
 *SECTION_SOLID (ELFORM 1), *MAT_PLASTIC_KINEMATIC, *NODE, *ELEMENT_SOLID
@@ -116,9 +116,9 @@ def _load_cards(wall: WallGrid, dep: WallDeposition, width: float) -> list[str]:
     """*DEFINE_CURVE per loaded node and direction, and the *LOAD_NODE_POINT cards."""
     if not (np.isfinite(width) and width > 0):
         raise InputError(f"pulse_width = {width}: must be > 0 (µs)")
-    a = _as_written(dep.time, 20)
-    b = _as_written(dep.time + width, 20)
-    mid = _as_written(0.5 * (a + b), 20)
+    a = _as_written(dep.time)
+    b = _as_written(dep.time + width)
+    mid = _as_written(0.5 * (a + b))
     if not np.all((a < mid) & (mid < b)):
         raise InputError(f"pulse_width = {width} µs is below the resolution of the arrival times as written")
     nodes = wall.face_element_nodes(dep.element).ravel()  # 4 nodes per record
@@ -127,12 +127,7 @@ def _load_cards(wall: WallGrid, dep: WallDeposition, width: float) -> list[str]:
     node_ids, starts = np.unique(nodes[order], return_index=True)
     curves, loads = [], []
     for nid, recs in zip(node_ids, np.split(record[order], starts[1:])):
-        t = np.unique(np.concatenate([a[recs], mid[recs], b[recs]]))
-        # each record's triangle of unit area, sampled at the node's breakpoints (exact: piecewise linear)
-        rise = (t - a[recs, None]) / (mid - a)[recs, None]
-        fall = (b[recs, None] - t) / (b - mid)[recs, None]
-        shape = np.clip(np.minimum(rise, fall), 0.0, None) * (2.0 / (b - a))[recs, None]
-        force = shape.T @ (dep.impulse[recs] / 4.0)  # (breakpoints, 3)
+        t, force = _pulse_sum(a[recs], mid[recs], b[recs], dep.impulse[recs] / 4.0)
         t_all = np.concatenate([[t[0] - width], t, [t[-1] + width]])  # flat zero ends
         for dof in range(3):
             if not force[:, dof].any():
@@ -140,9 +135,30 @@ def _load_cards(wall: WallGrid, dep: WallDeposition, width: float) -> list[str]:
             lcid = len(loads) + 1
             f_all = np.concatenate([[0.0], force[:, dof], [0.0]])
             curves += ["*DEFINE_CURVE", _row([lcid, 0, 1.0, 1.0, 0.0, 0.0])]
-            curves += [_field(ti, 20) + _field(fi, 20) for ti, fi in zip(t_all, f_all)]
+            curves += [_point(ti, fi) for ti, fi in zip(t_all.tolist(), f_all.tolist())]
             loads.append(_row([int(nid), dof + 1, lcid, 1.0]))
     return curves + ["*LOAD_NODE_POINT"] + loads
+
+
+def _pulse_sum(a: np.ndarray, mid: np.ndarray, b: np.ndarray, impulse: np.ndarray
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """Sum of triangular pulses, pulse r over [a_r, b_r] peaking at mid_r with area impulse_r ``(R, 3)``.
+
+    Returns the breakpoints t ``(P,)`` (every a, mid, b, sorted, unique) and the
+    sum at them ``(P, 3)`` (exact between them: the sum is piecewise linear).  The
+    slope changes at each breakpoint are accumulated, O(R log R); where no pulse
+    is active the sum is set to exactly 0, so round-off never leaves a tail.
+    """
+    height = impulse * (2.0 / (b - a))[:, None]
+    up, down = height / (mid - a)[:, None], height / (b - mid)[:, None]
+    t, where = np.unique(np.concatenate([a, mid, b]), return_inverse=True)
+    kink = np.zeros((t.size, 3))
+    np.add.at(kink, where, np.concatenate([up, -up - down, down]))
+    slope = np.cumsum(kink, axis=0)[:-1]
+    force = np.concatenate([np.zeros((1, 3)), np.cumsum(slope * np.diff(t)[:, None], axis=0)])
+    active = np.searchsorted(np.sort(a), t, "left") - np.searchsorted(np.sort(b), t, "right")
+    force[active == 0] = 0.0
+    return t, force
 
 
 def read_lsdyna_deck(path: str | Path) -> LsDynaDeck:
@@ -208,12 +224,32 @@ def _field(v, width: int) -> str:
     if isinstance(v, (int, np.integer)):
         s = str(int(v))
     else:
-        s = next((t for p in range(min(width - 2, 17), 0, -1) if len(t := f"{float(v):.{p}g}") < width), None)
+        s = _fit(float(v), width - 1)
     if s is None or len(s) > width:
         raise ValueError(f"{v} does not fit a {width}-column field")
     return s.rjust(width)
 
 
-def _as_written(values: np.ndarray, width: int) -> np.ndarray:
-    """``values`` rounded as :func:`_field` writes them."""
-    return np.array([float(_field(float(v), width)) for v in values])
+def _fit(x: float, room: int) -> str | None:
+    """``x`` in %g form with the most significant digits (≤ 17) that fit in ``room`` characters."""
+    most = min(room - 1, 17)
+    p, s = most, f"{x:.{most}g}"
+    while len(s) > room and p > 1:  # one digit fewer per character over, then back up while it fits
+        p = max(1, p - (len(s) - room))
+        s = f"{x:.{p}g}"
+    while p < most and len(wider := f"{x:.{p + 1}g}") <= room:
+        p, s = p + 1, wider
+    return s if len(s) <= room else None
+
+
+def _point(t: float, f: float) -> str:
+    """A *DEFINE_CURVE point card: two E20.12 fields (a wider exponent falls back to :func:`_field`)."""
+    card = f"{t:20.12e}{f:20.12e}"
+    if card[0] == " " and card[20] == " " and len(card) == 40:
+        return card
+    return _field(t, 20) + _field(f, 20)
+
+
+def _as_written(values: np.ndarray) -> np.ndarray:
+    """Curve abscissae rounded as :func:`_point` writes them."""
+    return np.array([float(_point(v, 0.0)[:20]) for v in np.asarray(values, dtype=float).tolist()])

@@ -73,6 +73,19 @@ def write_grid(path: str | os.PathLike, grid: HydroGrid, format: str | None = No
         fmt.writer(tmp, grid)
 
 
+def open_hdf5(path: str | os.PathLike):
+    """``h5py.File(path, "r")``, with a missing or non-HDF5 file an :class:`InputError` naming it."""
+    import h5py
+
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"{path}: no such file")
+    try:
+        return h5py.File(path, "r")
+    except OSError as err:
+        raise InputError(f"{path}: not an HDF5 file ({err})") from None
+
+
 @contextmanager
 def atomic_output(path: str | os.PathLike) -> Iterator[Path]:
     """Yield a temporary path beside ``path`` (same suffix); it replaces ``path`` on success.

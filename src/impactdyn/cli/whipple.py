@@ -1,0 +1,71 @@
+"""``impactdyn whipple``: the end-to-end Whipple-shield pipeline and ballistic-limit campaigns."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from impactdyn.cli._progress import progress_bars
+
+app = typer.Typer(help="Whipple shield: SPH shield impact → debris cloud → rear-wall load → decks and report.",
+                  no_args_is_help=True)
+
+STAGE_HELP = "shield, binning, debris, decks or report"
+
+
+@app.command()
+def run(
+    case: Path = typer.Argument(..., help="Whipple case file (TOML)."),
+    out: Path = typer.Option(..., "-o", "--out", help="Run folder to create (or to restart, with --from)."),
+    start: str = typer.Option("shield", "--from", help=f"First stage to run ({STAGE_HELP}); the earlier "
+                                                       "stages are taken from the existing run folder."),
+    force: bool = typer.Option(False, "--force", help="Overwrite an existing run folder."),
+):
+    """Run a shot end to end: shield impact, binning, debris flight and deposition, wall decks, report."""
+    from impactdyn.whipple import load_whipple_case, run_whipple
+
+    c = load_whipple_case(case)
+    bar, update = progress_bars(counts=False)
+    with bar:
+        s = run_whipple(c, out, start=start, force=force, progress=update)
+    ble, cloud, dep = s["ble"], s["cloud"], s["deposition"]
+    typer.echo(f"JSC ballistic limit: d_c = {ble['critical_diameter_cm']:.4f} cm ({ble['regime']} regime) → "
+               f"{ble['verdict']}")
+    if cloud.get("n_debris_particles"):
+        typer.echo(f"debris cloud: leading edge {cloud['leading_edge_velocity_km_s']:.3f} km/s, centre of mass "
+                   f"{cloud['centre_of_mass_speed_km_s']:.3f} km/s at {cloud['axis_angle_from_normal_deg']:.1f}°, "
+                   f"cone half-angle {cloud['cone_half_angle_deg']:.1f}°")
+    typer.echo(f"wall: peak areal momentum {dep['peak_areal_momentum_N_s_cm2']:.4g} N·s/cm², normal impulse "
+               f"{dep['impulse_on_wall_normal_N_s_full_model']:.4g} N·s (full model); "
+               f"{s['wall_time_s']:.1f} s; report in {Path(out) / 'report.html'}")
+
+
+@app.command()
+def campaign(
+    case: Path = typer.Argument(..., help="Base Whipple case file (TOML)."),
+    velocity: str = typer.Option(..., "--velocity", help="Impact velocities START:STOP:N (km/s), e.g. 5:11:4."),
+    diameter: str = typer.Option(..., "--diameter", help="Sphere diameters START:STOP:N (cm), e.g. 0.3:0.7:5."),
+    out: Path = typer.Option(..., "-o", "--out", help="Campaign folder to create."),
+    force: bool = typer.Option(False, "--force", help="Overwrite an existing folder."),
+    workers: Optional[int] = typer.Option(None, "--workers", help="Shots run at once (default: all cores)."),
+    dask: Optional[str] = typer.Option(None, "--dask", help="'local' for a LocalCluster, or a scheduler address."),
+):
+    """Run a grid of (velocity, diameter) shots in parallel and draw them over the ballistic-limit curve."""
+    from rich.progress import Progress
+
+    from impactdyn._config import load_toml, parse_range
+    from impactdyn._runfolder import check_target
+    from impactdyn.whipple._campaign import run_campaign
+
+    check_target(out, force)
+    velocities = parse_range("--velocity", velocity, "5:11:4")
+    diameters = parse_range("--diameter", diameter, "0.3:0.7:5")
+    raw = load_toml(case)
+    with Progress(transient=True) as bar:
+        task = bar.add_task("shots", total=len(velocities) * len(diameters))
+        rows = run_campaign(raw, velocities, diameters, out, source=str(case), force=force,
+                            scheduler="dask" if dask else "processes", workers=workers, address=dask,
+                            progress=lambda: bar.advance(task))
+    typer.echo(f"{len(rows)} shots; table in {out / 'campaign.csv'}, plot in {out / 'campaign.png'}")

@@ -1,0 +1,18 @@
+"""The end-to-end Whipple-shield pipeline (DESIGN §5–7).
+
+A case file (:class:`WhippleCase`) describes a shot: sphere, bumper, rear wall and
+the numerics of each stage. :func:`run_whipple` runs the SPH shield impact to the
+hand-off time, bins the particles behind the bumper into a HydroGrid, carries the
+debris to the wall with DC3D, writes the wall decks and a report with the NASA JSC
+ballistic-limit verdict beside the simulated deposition::
+
+    from impactdyn.whipple import load_whipple_case, run_whipple
+    summary = run_whipple(load_whipple_case("examples/whipple/table2_7a.toml"), "runs/7a")
+"""
+
+from impactdyn.whipple._case import WhippleCase, load_whipple_case
+from impactdyn.whipple._cloud import cloud_figures
+from impactdyn.whipple._pipeline import STAGES, run_whipple
+from impactdyn.whipple._report import ble_verdict
+
+__all__ = ["STAGES", "WhippleCase", "ble_verdict", "cloud_figures", "load_whipple_case", "run_whipple"]

@@ -1,0 +1,116 @@
+"""Ballistic-limit campaigns: a grid of (velocity, diameter) shots of one Whipple case, run in parallel.
+
+Every shot is a full Whipple run (:func:`run_whipple`) in ``runs/V<v>_d<d>/``.
+The campaign folder adds ``campaign.csv`` and ``campaign.json`` (one row per
+shot: the JSC critical diameter and verdict beside the simulated cloud and wall
+figures) and ``campaign.png``: the JSC ballistic-limit curve with each shot
+drawn at its (V, d), coloured by the simulated peak areal momentum on the wall
+and shaped by the JSC verdict.  The simulation gives the wall's load, not its
+failure: a verdict from it needs the wall's response (the decks in each run
+folder are for the user's FE code), so the plot shows the load against the curve.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+from impactdyn._config import set_dotted, validate
+from impactdyn._errors import InputError
+from impactdyn._parallel import run_tasks
+from impactdyn._runfolder import RunFolder
+from impactdyn.whipple._case import WhippleCase
+
+CAMPAIGN_HEADER = [
+    "velocity_km_s", "diameter_cm", "ble_critical_diameter_cm", "ble_regime", "ble_verdict",
+    "peak_areal_momentum_N_s_cm2", "impulse_on_wall_normal_N_s_full_model", "leading_edge_velocity_km_s",
+    "centre_of_mass_speed_km_s", "cone_half_angle_deg", "n_debris_particles_arrived", "wall_time_s", "run"]
+
+
+@dataclass(frozen=True)
+class Shot:
+    """One shot of a campaign: its case, its run folder and the numba threads it may use."""
+
+    case: WhippleCase
+    folder: Path
+    threads: int
+
+
+def shot_name(velocity_km_s: float, diameter_cm: float) -> str:
+    return f"V{velocity_km_s:g}_d{diameter_cm:g}"
+
+
+def campaign_shots(raw: dict, velocities: list[float], diameters: list[float], source: str = "<case>"
+                   ) -> list[tuple[float, float, WhippleCase]]:
+    """Every (V, d) case of the grid, validated before any work."""
+    shots = []
+    for v in velocities:
+        for d in diameters:
+            data = set_dotted(set_dotted(raw, "projectile.velocity_km_s", float(v)), "projectile.diameter_cm", float(d))
+            shots.append((v, d, validate(WhippleCase, data, source=f"{source} [V = {v:g} km/s, d = {d:g} cm]")))
+    return shots
+
+
+def _run_shot(shot: Shot) -> dict:
+    import numba
+
+    from impactdyn.whipple._pipeline import run_whipple
+
+    numba.set_num_threads(max(1, min(shot.threads, numba.config.NUMBA_NUM_THREADS)))
+    return run_whipple(shot.case, shot.folder)
+
+
+def _row(v: float, d: float, s: dict) -> list:
+    c, dep, ble = s["cloud"], s["deposition"], s["ble"]
+    return [v, d, ble["critical_diameter_cm"], ble["regime"], ble["verdict"], dep["peak_areal_momentum_N_s_cm2"],
+            dep["impulse_on_wall_normal_N_s_full_model"], c.get("leading_edge_velocity_km_s", ""),
+            c.get("centre_of_mass_speed_km_s", ""), c.get("cone_half_angle_deg", ""),
+            s["stages"]["debris"]["n_arrived"], s["wall_time_s"], f"runs/{shot_name(v, d)}"]
+
+
+def run_campaign(raw: dict, velocities: list[float], diameters: list[float], outdir: str | Path, *,
+                 source: str = "<case>", force: bool = False, scheduler: str = "processes",
+                 workers: int | None = None, address: str | None = None, progress=None) -> list[list]:
+    """Run the campaign into ``outdir`` (module docstring); returns the table rows.
+
+    ``raw``: the base case as read from TOML (the grid replaces the projectile's
+    velocity and diameter); ``scheduler``: ``processes`` (``workers`` local
+    processes, the cores shared among them), ``dask`` (``address``, or a
+    LocalCluster) or ``serial``; ``progress()`` is called after each shot.
+    """
+    if not velocities or not diameters:
+        raise InputError("campaign: needs at least one velocity and one diameter")
+    grid = campaign_shots(raw, velocities, diameters, source)
+    cores = os.cpu_count() or 1
+    n_workers = 1 if scheduler == "serial" else max(1, min(workers or cores, len(grid)))
+    with RunFolder(outdir, force=force) as rf:
+        tasks = [Shot(case, rf.path / "runs" / shot_name(v, d), max(1, cores // n_workers)) for v, d, case in grid]
+        rows: list = [None] * len(grid)
+        for i, summary in run_tasks(_run_shot, tasks, scheduler=scheduler, workers=n_workers, address=address):
+            rows[i] = _row(grid[i][0], grid[i][1], summary)
+            if progress:
+                progress()
+        rf.write_csv("campaign.csv", CAMPAIGN_HEADER, rows)
+        rf.write_json("campaign.json", [dict(zip(CAMPAIGN_HEADER, r)) for r in rows])
+        _plot(rf.path / "campaign.png", grid[0][2], rows)
+    return rows
+
+
+def _plot(path: Path, case: WhippleCase, rows: list) -> None:
+    import numpy as np
+
+    from impactdyn.ble import ballistic_limit_curve, plot_ballistic_limit
+    from impactdyn.materials import get_material
+    from impactdyn.whipple._case import ble_shield
+
+    p, w, b = case.projectile, case.wall, case.bumper
+    v = np.array([r[0] for r in rows])
+    d = np.array([r[1] for r in rows])
+    curve = ballistic_limit_curve(ble_shield(case), np.linspace(1.0, max(15.0, 1.1 * v.max()), 281),
+                                  p.obliquity_deg, get_material(p.material).rho0)
+    plot_ballistic_limit([curve], path, outcomes=(v, d, np.array([r[5] for r in rows]),
+                                                  np.array([r[4] == "perforation" for r in rows]),
+                                                  "simulated peak areal momentum on the wall (N·s/cm²)"),
+                         title=f"Campaign: t_b = {b.thickness_cm:g} cm, t_w = {w.thickness_cm:g} cm, "
+                               f"S = {w.spacing_cm:g} cm, θ = {p.obliquity_deg:g}°")

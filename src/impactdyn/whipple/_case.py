@@ -1,0 +1,239 @@
+"""Whipple case files: the TOML schema of ``impactdyn whipple run`` (units cm, g, µs, km/s as named).
+
+A case describes a shot (projectile, bumper, rear wall and the stand-off between
+them) and the numerics of each stage.  Problem setup only: the functions below
+turn a case into the inputs of the shield stage (:func:`shield_problem`), the
+debris stage (:func:`debris_case`) and the ballistic-limit check
+(:func:`ble_shield`).  See ``examples/whipple/*.toml``.
+
+Coordinates (those of :mod:`impactdyn.shield`): the bumper's front face is the
+plane y = 0 and its back face y = t_b; the wall's front face is y = t_b + S
+(S = ``wall.spacing_cm``, bumper back to wall front, as in the report's App. A);
+x = 0 is the symmetry plane of the half model; the projectile flies along
+(0, cos θ, sin θ) and first touches the bumper at the origin.  The wall's x and
+z extents are in these coordinates (the report's wall, App. C: x ∈ [0, 8],
+z ∈ [−4, 12] cm about the impact point).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Literal
+
+from pydantic import Field, field_validator, model_validator
+
+from impactdyn._config import NonNegative, Positive, Section, load_toml, validate
+from impactdyn.debris._case import (
+    ComputeSection, DebrisCase, FilterSection, IntegratorSection, LegacySection, OutputSection, Range)
+from impactdyn.materials import Material, get_material
+
+NodeCount = Annotated[int, Field(ge=2)]
+
+
+def _known_material(name: str) -> str:
+    from impactdyn._errors import InputError
+
+    try:
+        return get_material(name).name
+    except InputError as err:
+        raise ValueError(str(err)) from None
+
+
+class ProjectileSection(Section):
+    """The sphere: material name (:data:`impactdyn.materials.MATERIALS`), diameter, speed, obliquity."""
+
+    material: str = "al6061-t6"
+    diameter_cm: Positive
+    velocity_km_s: Positive
+    obliquity_deg: Annotated[float, Field(ge=0, lt=90)] = 0.0
+
+    _material = field_validator("material")(_known_material)
+
+
+class BumperSection(Section):
+    """The bumper plate; ``radius_cm`` of the modelled half disc (default twice the projectile diameter)."""
+
+    material: str = "al6061-t6"
+    thickness_cm: Positive
+    radius_cm: Positive | None = None
+
+    _material = field_validator("material")(_known_material)
+
+
+class WallSection(Section):
+    """The rear wall: stand-off S from the bumper's back face, thickness, face grid and the BLE's yield stress."""
+
+    material: str = "al6061-t6"
+    thickness_cm: Positive
+    spacing_cm: float
+    yield_stress_ksi: Positive = 40.0
+    x_cm: Range = [0.0, 8.0]
+    z_cm: Range = [-4.0, 12.0]
+    nodes: Annotated[list[NodeCount], Field(min_length=3, max_length=3)] = [51, 5, 101]
+    clamped_edges: bool = True
+
+    _material = field_validator("material")(_known_material)
+
+    @field_validator("spacing_cm")
+    @classmethod
+    def _outside_bumper(cls, spacing: float) -> float:
+        if spacing <= 0:
+            raise ValueError(f"{spacing}: the wall's front face would lie inside the bumper (the spacing runs "
+                             "from the bumper's back face to the wall's front face and must be > 0)")
+        return spacing
+
+    @model_validator(mode="after")
+    def _extent(self) -> "WallSection":
+        for name, (lo, hi) in (("x_cm", self.x_cm), ("z_cm", self.z_cm)):
+            if not hi > lo:
+                raise ValueError(f"{name} = [{lo}, {hi}]: the upper bound must exceed the lower")
+        return self
+
+
+class ShieldSection(Section):
+    """SPH numerics of the shield stage (:class:`impactdyn.shield.SPHOptions`) and the hand-off time."""
+
+    spacing_cm: Positive = 0.0254
+    handoff_us: Positive = 4.0
+    flow_stress: Literal["perfectly_plastic", "johnson_cook"] = "perfectly_plastic"
+    failure: bool = True
+    alpha: NonNegative = 1.0
+    beta: NonNegative = 2.0
+    artificial_stress: NonNegative = 0.3
+    h_factor: Annotated[float, Field(ge=0.8, le=2.5)] = 1.3
+    cfl: Annotated[float, Field(gt=0, le=1)] = 0.3
+
+
+class BinningSection(Section):
+    """The hand-off HydroGrid: cubic cells (the report's DC3D cells are 0.03175 cm)."""
+
+    cell_size_cm: Positive = 0.03175
+
+
+class DebrisMaterialSection(Section):
+    """Constants of the debris particles (dc3din record 13–14).
+
+    μ and λ default to the projectile material's G and K − 2G/3 (K = ρ₀c₀²);
+    η and ζ to the report's App. C values.
+    """
+
+    mu_Mbar: Positive | None = None
+    lambda_Mbar: float | None = None
+    eta_Mbar_us: Positive | None = 0.01
+    zeta_Mbar_us: NonNegative = 1.0
+
+
+class WhippleCase(Section):
+    """A complete Whipple case (every table of the TOML file)."""
+
+    title: str = ""
+    projectile: ProjectileSection
+    bumper: BumperSection
+    wall: WallSection
+    shield: ShieldSection = ShieldSection()
+    binning: BinningSection = BinningSection()
+    debris: DebrisMaterialSection = DebrisMaterialSection()
+    filter: FilterSection = FilterSection()
+    integrator: IntegratorSection = IntegratorSection()
+    compute: ComputeSection = ComputeSection()
+    output: OutputSection = OutputSection()
+    legacy: LegacySection = LegacySection()
+
+    @model_validator(mode="after")
+    def _fits(self) -> "WhippleCase":
+        p, b, w, s = self.projectile, self.bumper, self.wall, self.shield
+        if s.spacing_cm > p.diameter_cm / 4:
+            raise ValueError(f"shield.spacing_cm = {s.spacing_cm} is too coarse for the {p.diameter_cm} cm "
+                             "projectile: at least 4 particles across it")
+        if s.spacing_cm > 1.5 * b.thickness_cm:
+            raise ValueError(f"shield.spacing_cm = {s.spacing_cm} is too coarse for the {b.thickness_cm} cm "
+                             "bumper: at least one particle layer through it")
+        if b.radius_cm is not None and b.radius_cm <= p.diameter_cm / 2:
+            raise ValueError(f"bumper.radius_cm = {b.radius_cm} must exceed the projectile radius")
+        reach = p.velocity_km_s * 0.1 * s.handoff_us  # cm: no debris outruns the projectile's speed
+        if reach >= w.spacing_cm:
+            raise ValueError(
+                f"wall.spacing_cm = {w.spacing_cm} cannot hold the hand-off grid: by shield.handoff_us = "
+                f"{s.handoff_us} µs debris at up to {p.velocity_km_s} km/s may be {reach:.4g} cm behind the "
+                "bumper, at or past the wall; increase the spacing or hand off earlier")
+        if self.binning.cell_size_cm >= w.spacing_cm:
+            raise ValueError(f"binning.cell_size_cm = {self.binning.cell_size_cm} does not fit in the "
+                             f"{w.spacing_cm} cm between bumper and wall")
+        d = self.debris
+        if d.lambda_Mbar is not None and d.mu_Mbar is not None and d.lambda_Mbar + 2 * d.mu_Mbar / 3 <= 0:
+            raise ValueError("debris.lambda_Mbar + 2/3 debris.mu_Mbar must be > 0 (bulk modulus)")
+        return self
+
+    @property
+    def wall_front_y(self) -> float:
+        """y of the wall's front face, cm."""
+        return self.bumper.thickness_cm + self.wall.spacing_cm
+
+
+def load_whipple_case(path: str | Path) -> WhippleCase:
+    """Load and validate a Whipple case file."""
+    return validate(WhippleCase, load_toml(path), source=str(path))
+
+
+def shield_problem(case: WhippleCase):
+    """The SPH sphere-on-plate problem and options of the shield stage."""
+    from impactdyn.shield import SPHOptions, sphere_on_plate
+
+    p, b, s = case.projectile, case.bumper, case.shield
+    problem = sphere_on_plate(p.material, b.material, diameter_cm=p.diameter_cm, velocity_km_s=p.velocity_km_s,
+                              obliquity_deg=p.obliquity_deg, plate_thickness_cm=b.thickness_cm,
+                              spacing_cm=s.spacing_cm, plate_radius_cm=b.radius_cm)
+    options = SPHOptions(alpha=s.alpha, beta=s.beta, artificial_stress=s.artificial_stress, h_factor=s.h_factor,
+                         cfl=s.cfl, flow_stress=s.flow_stress, failure=s.failure)
+    return problem, options
+
+
+def binning_region(case: WhippleCase, particles) -> tuple:
+    """The hand-off grid's box: behind the bumper's back face (y ≥ t_b), from the symmetry plane x = 0,
+    over the particles there, corners rounded outward to whole cells."""
+    import math
+
+    import numpy as np
+
+    cell, y0 = case.binning.cell_size_cm, case.bumper.thickness_cm
+    x = particles.position[particles.position[:, 1] >= y0]
+    if len(x) == 0:
+        x = np.array([[cell, y0 + cell, 0.0]])
+    return ((0.0, cell * math.ceil(x[:, 0].max() / cell + 1e-9)),
+            (y0, y0 + cell * math.ceil((x[:, 1].max() - y0) / cell + 1e-9)),
+            (cell * math.floor(x[:, 2].min() / cell), cell * math.ceil(x[:, 2].max() / cell + 1e-9)))
+
+
+def debris_material_constants(case: WhippleCase) -> dict:
+    """μ, λ, ρ_ref, η, ζ of the debris particles (Mbar, g/cm³, Mbar·µs)."""
+    m: Material = get_material(case.projectile.material)
+    bulk = m.rho0 * m.c0**2
+    mu = case.debris.mu_Mbar if case.debris.mu_Mbar is not None else m.shear_modulus
+    lam = case.debris.lambda_Mbar if case.debris.lambda_Mbar is not None else bulk - 2.0 * mu / 3.0
+    return dict(mu_Mbar=mu, lambda_Mbar=lam, rho_ref_g_cm3=m.rho0, eta_Mbar_us=case.debris.eta_Mbar_us,
+                zeta_Mbar_us=case.debris.zeta_Mbar_us)
+
+
+def debris_case(case: WhippleCase, grid_file: str) -> DebrisCase:
+    """The debris case the Whipple case implies, reading the hand-off grid from ``grid_file``.
+
+    Written as ``debris/config.resolved.toml``, it reruns the debris stage alone
+    with ``impactdyn debris run``.
+    """
+    w = case.wall
+    y0 = case.wall_front_y
+    shared = {name: getattr(case, name).model_dump() for name in ("filter", "integrator", "compute", "output",
+                                                                  "legacy")}
+    return validate(DebrisCase, shared | {
+        "title": case.title, "grid": {"file": grid_file}, "material": debris_material_constants(case),
+        "wall": {"x_cm": list(w.x_cm), "y_cm": [y0, y0 + w.thickness_cm], "z_cm": list(w.z_cm),
+                 "nodes": list(w.nodes), "clamped_edges": w.clamped_edges}}, source="debris case of the Whipple case")
+
+
+def ble_shield(case: WhippleCase):
+    """The NASA JSC Whipple shield of the case (:class:`impactdyn.ble.WhippleShield`)."""
+    from impactdyn.ble import WhippleShield
+
+    return WhippleShield(bumper_thickness_cm=case.bumper.thickness_cm, wall_thickness_cm=case.wall.thickness_cm,
+                         spacing_cm=case.wall.spacing_cm, wall_yield_ksi=case.wall.yield_stress_ksi)
+

@@ -1,0 +1,68 @@
+"""Figures of the debris cloud at hand-off, from the SPH particles (half model x ≥ 0).
+
+The debris is every particle behind the bumper's back face (y > t_b) that moves
+toward the wall (v_y > 0).  With mᵢ, vᵢ its masses and velocities (N_d,) and
+(N_d, 3), and the full model's mirror image across x = 0:
+
+* centre-of-mass velocity  v_cm = Σ mᵢ vᵢ / Σ mᵢ with its x component set to 0
+  (the image cancels it); the cloud axis â = v_cm/|v_cm|, at the angle
+  atan(v_cm,z / v_cm,y) from the wall normal;
+* leading-edge velocity: the mean axial velocity vᵢ·â, mass-weighted, of the
+  foremost debris holding 1 % of the debris mass (foremost by xᵢ·â; one
+  particle alone is a noisy measure of the front);
+* cone half-angle: the angle about â within which the flight directions of 95 %
+  of the debris momentum Σ mᵢ|vᵢ| lie (the angle of vᵢ from â, image included);
+* axial momentum: Σ mᵢ vᵢ,y, the momentum the wall can receive, and the debris mass.
+
+Momenta are of the half model (g·cm/µs); the full model has twice the y and z
+components and no x component.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: Share of the debris mass whose mean axial velocity is the leading-edge velocity.
+LEADING_MASS_FRACTION = 0.01
+#: Share of the debris momentum inside the cone half-angle.
+CONE_MOMENTUM_FRACTION = 0.95
+
+
+def _weighted_quantile(values: np.ndarray, weights: np.ndarray, q: float) -> float:
+    order = np.argsort(values)
+    cum = np.cumsum(weights[order])
+    return float(values[order][np.searchsorted(cum, q * cum[-1])])
+
+
+def debris_mask(particles, bumper_back_y: float) -> np.ndarray:
+    """``(N,)`` bool: particles behind the bumper's back face moving toward the wall."""
+    return (particles.position[:, 1] > bumper_back_y) & (particles.velocity[:, 1] > 0)
+
+
+def cloud_figures(particles, bumper_back_y: float) -> dict:
+    """The module docstring's figures (velocities in km/s, angles in degrees, momenta g·cm/µs)."""
+    debris = debris_mask(particles, bumper_back_y)
+    if not np.any(debris):
+        return {"n_debris_particles": 0, "debris_mass_g": 0.0}
+    m = particles.mass[debris]
+    v = particles.velocity[debris]
+    x = particles.position[debris]
+    v_cm = np.array([0.0, *(m @ v[:, 1:] / m.sum())])
+    axis = v_cm / np.linalg.norm(v_cm)
+    ahead = x @ axis
+    front = ahead >= _weighted_quantile(ahead, m, 1.0 - LEADING_MASS_FRACTION)
+    axial = v @ axis
+    speed = np.linalg.norm(v, axis=1)
+    angle = np.degrees(np.arccos(np.clip(axial / np.maximum(speed, 1e-300), -1.0, 1.0)))
+    kms = 10.0  # cm/µs → km/s
+    return {
+        "n_debris_particles": int(debris.sum()),
+        "debris_mass_g": float(m.sum()),
+        "centre_of_mass_velocity_km_s": (kms * v_cm).tolist(),
+        "centre_of_mass_speed_km_s": float(kms * np.linalg.norm(v_cm)),
+        "axis_angle_from_normal_deg": float(np.degrees(np.arctan2(v_cm[2], v_cm[1]))),
+        "leading_edge_velocity_km_s": float(kms * (m[front] @ axial[front]) / m[front].sum()),
+        "cone_half_angle_deg": _weighted_quantile(angle, m * speed, CONE_MOMENTUM_FRACTION),
+        "axial_momentum_g_cm_us": float(m @ v[:, 1]),
+        "momentum_g_cm_us": (m @ v).tolist(),
+    }

@@ -1,0 +1,232 @@
+"""The end-to-end Whipple pipeline: shield → binning → debris → decks → report (DESIGN §5–7).
+
+Each stage reads the artifacts of the stages before it from the run folder and
+writes its own into a subfolder with a ``stage.json`` record (its numbers, its
+wall time and the case settings it depends on), so a run restarts from any
+stage with exactly the code path of a full run::
+
+    shield/    particles.h5        SPH particles at the hand-off time and the history of totals
+               particles.vtu       the same as points (ParaView)
+    binning/   handoff_grid.h5     the HydroGrid binned from the particles behind the bumper
+    debris/    (an ``impactdyn debris run`` folder: summary.json, config.resolved.toml — a
+               runnable debris case —, areal_density.csv, debris.h5, particles_*.vtu,
+               wall_deposition.vtu, plots/)
+    decks/     wall.k, wall_dyna3d.inp   the wall decks with the deposited momentum
+    report.html, summary.json, plots/, case.toml   (the report stage)
+
+A restart (``start`` = a later stage) stages the run anew: the earlier stages'
+subfolders are copied from the existing run folder, their ``stage.json`` must
+show the same settings as the case (otherwise they would not belong to it), the
+later stages are recomputed, and the whole folder replaces the old one at the end.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from impactdyn._config import dump_toml
+from impactdyn._errors import InputError
+from impactdyn._runfolder import FolderWriter, RunFolder, check_target
+from impactdyn.whipple._case import WhippleCase
+
+STAGES = ("shield", "binning", "debris", "decks", "report")
+
+#: Case tables each stage's result depends on (cumulative: a stage depends on the ones before it).
+#: ``compute`` is left out: where the particle chunks run does not change the result.
+_DEPENDS = {
+    "shield": ("projectile", "bumper", "shield"),
+    "binning": ("binning",),
+    "debris": ("wall", "debris", "filter", "integrator", "legacy"),
+    "decks": ("output",),
+    "report": (),
+}
+
+#: ``progress(stage, done, total)``: the shield stage reports simulated µs, the debris
+#: stage its sub-stages ``seed``, ``propagate`` and ``deposit``, the others 0 then 1 of 1.
+Progress = Callable[[str, float, float], None]
+
+
+def settings(case: WhippleCase, stage: str) -> dict:
+    """The case tables ``stage``'s result depends on, as plain data (cumulative)."""
+    upto = STAGES[:STAGES.index(stage) + 1]
+    return {name: getattr(case, name).model_dump(mode="json") for s in upto for name in _DEPENDS[s]}
+
+
+@dataclass
+class _Stage:
+    """What a stage function gets: the case, the staging folder and the progress callback."""
+
+    case: WhippleCase
+    folder: FolderWriter
+    progress: Progress | None
+
+    def report(self, stage: str, done: float, total: float) -> None:
+        if self.progress is not None:
+            self.progress(stage, done, total)
+
+
+def _shield(s: _Stage) -> dict:
+    from impactdyn.shield import run
+    from impactdyn.shield._io import write_particles
+    from impactdyn.whipple._case import shield_problem
+
+    problem, options = shield_problem(s.case)
+    t_end = s.case.shield.handoff_us
+    result = run(problem, t_end, options=options, progress=lambda t, t1: s.report("shield", t, t1))
+    out = s.folder.sub("shield")
+    write_particles(out.file("particles.h5"), result.state, result.history)
+    if s.case.output.vtk:
+        _write_points_vtk(out.file("particles.vtu"), result.state)
+    h = result.history
+    p0 = h.momentum[0]
+    e0 = h.total_energy[0]
+    n_proj = int(np.sum(result.state.material == 0)) if len(problem.materials) > 1 else None
+    return {
+        "problem": problem.name,
+        "n_particles": len(result.state),
+        "n_projectile_particles": n_proj,
+        "t_handoff_us": t_end,
+        "steps": result.steps,
+        "mass_g": float(h.mass[-1]),
+        "momentum_initial_g_cm_us": p0.tolist(),
+        "momentum_final_g_cm_us": h.momentum[-1].tolist(),
+        "momentum_error_rel": float(np.max(np.linalg.norm(h.momentum[:, 1:] - p0[1:], axis=1))
+                                    / np.linalg.norm(p0)),
+        "energy_initial": float(e0),
+        "energy_error_rel": float(np.max(np.abs(h.total_energy - e0)) / e0),
+        "kinetic_final": float(h.kinetic[-1]),
+        "internal_final": float(h.internal[-1]),
+        "n_failed": int(result.state.failed.sum()),
+    }
+
+
+def _write_points_vtk(path: Path, particles) -> None:
+    import meshio
+
+    n = len(particles)
+    meshio.write(path, meshio.Mesh(particles.position, [("vertex", np.arange(n).reshape(-1, 1))], point_data={
+        "velocity_cm_us": particles.velocity, "speed_km_s": 10.0 * np.linalg.norm(particles.velocity, axis=1),
+        "density_g_cm3": particles.density, "pressure_Mbar": particles.pressure,
+        "plastic_strain": particles.plastic_strain, "failed": particles.failed.astype(np.int8),
+        "material": particles.material.astype(np.int32), "mass_g": particles.mass}))
+
+
+def _binning(s: _Stage) -> dict:
+    from impactdyn.io import write_grid
+    from impactdyn.shield import bin_to_hydrogrid
+    from impactdyn.shield._io import read_particles
+    from impactdyn.whipple._case import binning_region
+
+    s.report("binning", 0, 1)
+    particles, _ = read_particles(s.folder.path / "shield" / "particles.h5")
+    region = binning_region(s.case, particles)
+    grid = bin_to_hydrogrid(particles, s.case.binning.cell_size_cm, region=region)
+    write_grid(s.folder.sub("binning").file("handoff_grid.h5"), grid)
+    bounds = np.array(region)
+    x = particles.position
+    inside = np.all((x >= bounds[:, 0]) & (x <= np.array([grid.x[-1], grid.y[-1], grid.z[-1]])), axis=1)
+    s.report("binning", 1, 1)
+    m_particles = float(particles.mass[inside].sum())
+    return {
+        "cell_size_cm": s.case.binning.cell_size_cm,
+        "shape": list(grid.shape),
+        "n_cells": int(np.prod(grid.shape)),
+        "n_cells_with_mass": int(np.count_nonzero(grid.mass)),
+        "region_cm": [[float(grid.x[0]), float(grid.x[-1])], [float(grid.y[0]), float(grid.y[-1])],
+                      [float(grid.z[0]), float(grid.z[-1])]],
+        "n_particles_binned": int(inside.sum()),
+        "mass_particles_g": m_particles,
+        "mass_grid_g": float(grid.mass.sum()),
+        "mass_error_rel": abs(float(grid.mass.sum()) - m_particles) / m_particles if m_particles else 0.0,
+        "momentum_grid_g_cm_us": grid.total_momentum().tolist(),
+    }
+
+
+def _debris(s: _Stage) -> dict:
+    from impactdyn.debris import build, run_debris
+    from impactdyn.debris._report import write_debris_files
+    from impactdyn.io import read_grid
+    from impactdyn.whipple._case import debris_case
+
+    case = debris_case(s.case, "../binning/handoff_grid.h5")
+    grid = read_grid(s.folder.path / "binning" / "handoff_grid.h5")
+    result = run_debris(**build(case, grid=grid), progress=lambda stage, done, total: s.report(stage, done, total))
+    summary = write_debris_files(s.folder.sub("debris"), result, case, decks=False)
+    return {key: summary[key] for key in (
+        "n_cells_seeded", "n_particles", "n_propagated", "n_arrived", "mass_seeded_g", "mass_arrived_g",
+        "momentum_in", "momentum_arrived", "momentum_deposited", "momentum_off_wall", "momentum_failed",
+        "arrival_time_us", "peak_areal_density_g_cm_us", "integrator", "timings_s")}
+
+
+def _decks(s: _Stage) -> dict:
+    from impactdyn.debris._report import read_deposition, write_decks
+    from impactdyn.debris._wall import wall_material
+
+    s.report("decks", 0, 1)
+    wall, deposition, impulse = read_deposition(s.folder.path / "debris" / "debris.h5")
+    files = write_decks(s.folder.sub("decks"), wall, deposition, impulse, s.case,
+                        material=wall_material(s.case.wall.material))
+    s.report("decks", 1, 1)
+    return {"files": [f"decks/{name}" for name in files], "n_records": int(deposition.element.size),
+            "n_loaded_elements": int(np.count_nonzero(np.abs(impulse).sum(axis=-1)))}
+
+
+def _report(s: _Stage) -> dict:
+    from impactdyn.whipple._report import write_report
+
+    s.report("report", 0, 1)
+    record = write_report(s.folder, s.case)
+    s.report("report", 1, 1)
+    return record
+
+
+_RUN = {"shield": _shield, "binning": _binning, "debris": _debris, "decks": _decks, "report": _report}
+
+
+def read_stage(folder: Path, stage: str) -> dict:
+    """The ``stage.json`` record of ``stage`` in a run folder."""
+    path = folder / stage / "stage.json"
+    if not path.is_file():
+        raise InputError(f"{folder}: has no completed {stage} stage ({path} missing); run from an earlier stage")
+    return json.loads(path.read_text())
+
+
+def run_whipple(case: WhippleCase, outdir: str | Path, *, start: str = "shield", force: bool = False,
+                progress: Progress | None = None) -> dict:
+    """Run the stages from ``start`` on into the run folder ``outdir``; returns the summary.
+
+    ``start`` other than "shield" restarts an existing run folder (module docstring);
+    ``force`` lets a full run replace an existing folder.
+    """
+    if start not in STAGES:
+        raise InputError(f"--from {start!r}: choose one of {', '.join(STAGES)}")
+    outdir = Path(outdir)
+    first = STAGES.index(start)
+    if first == 0:
+        check_target(outdir, force)
+    else:
+        if not outdir.is_dir():
+            raise InputError(f"{outdir}: no run folder to restart from (--from {start} reuses its earlier stages)")
+        for stage in STAGES[:first]:
+            if read_stage(outdir, stage).get("settings") != settings(case, stage):
+                raise InputError(f"{outdir}: its {stage} stage was run with other settings than this case "
+                                 f"({', '.join(_DEPENDS[stage])}); run from {stage} or earlier")
+    with RunFolder(outdir, force=True if first else force) as rf:
+        for stage in STAGES[:first]:
+            shutil.copytree(outdir / stage, rf.path / stage)
+        rf.write_text("case.toml", dump_toml(case))
+        for stage in STAGES[first:]:
+            tick = time.perf_counter()
+            record = _RUN[stage](_Stage(case, rf, progress))
+            record = {"stage": stage, "wall_time_s": time.perf_counter() - tick, "settings": settings(case, stage)
+                      } | record
+            rf.sub(stage).write_json("stage.json", record)
+        summary = json.loads((rf.path / "summary.json").read_text())
+    return summary

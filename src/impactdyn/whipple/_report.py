@@ -1,0 +1,254 @@
+"""The report stage of a Whipple run: ``summary.json``, the figures and a self-contained ``report.html``.
+
+Figures (``plots/``):
+
+``cloud_handoff.png``     the shield and the debris cloud at hand-off, side and top views
+                          coloured by speed, the cloud axis drawn (the report's Figures 9/12/15/18)
+``ballistic_limit.png``   the JSC ballistic-limit curve with this shot marked (Figure 8)
+``conservation.png``      the SPH run's energy and momentum against time
+
+and the debris stage's ``debris/plots/areal_density.png`` (Figures 10/13/16/19).
+``report.html`` embeds all four as PNG data, so it is one file to mail.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import json
+
+import numpy as np
+
+from impactdyn._runfolder import FolderWriter
+from impactdyn.whipple._case import WhippleCase, ble_shield
+
+#: g·cm/µs → N·s, and g/(cm·µs) → N·s/cm².
+N_S_PER_G_CM_US = 10.0
+
+
+def _records(folder: FolderWriter) -> dict:
+    from impactdyn.whipple._pipeline import STAGES, read_stage
+
+    return {stage: read_stage(folder.path, stage) for stage in STAGES[:-1]}
+
+
+def ble_verdict(case: WhippleCase) -> dict:
+    """The NASA JSC ballistic-limit check of the shot."""
+    from impactdyn.ble import critical_diameter, perforates, regime
+    from impactdyn.materials import get_material
+
+    p = case.projectile
+    rho_p = get_material(p.material).rho0
+    shield = ble_shield(case)
+    return {
+        "equation": "NASA JSC Whipple (Christiansen 1993; NASA/TM-2009-214785 §4)",
+        "shield": shield.as_dict(),
+        "projectile_density_g_cm3": rho_p,
+        "critical_diameter_cm": float(critical_diameter(shield, p.velocity_km_s, p.obliquity_deg, rho_p)),
+        "regime": str(regime(p.velocity_km_s, p.obliquity_deg)),
+        "verdict": "perforation" if perforates(shield, p.diameter_cm, p.velocity_km_s, p.obliquity_deg, rho_p)
+        else "no perforation",
+    }
+
+
+def deposition_figures(debris: dict) -> dict:
+    """Wall figures of the debris stage's record (half model; the full model doubles y and z)."""
+    p = np.array(debris["momentum_deposited"])
+    peak = debris["peak_areal_density_g_cm_us"]
+    return {
+        "peak_areal_momentum_g_cm_us": peak,
+        "peak_areal_momentum_N_s_cm2": N_S_PER_G_CM_US * peak,
+        "impulse_on_wall_g_cm_us": p.tolist(),
+        "impulse_on_wall_normal_N_s_full_model": 2.0 * N_S_PER_G_CM_US * float(p[1]),
+        "momentum_arrived_g_cm_us": debris["momentum_arrived"],
+        "mass_arrived_g": debris["mass_arrived_g"],
+        "arrival_time_us": debris["arrival_time_us"],
+    }
+
+
+def write_report(folder: FolderWriter, case: WhippleCase) -> dict:
+    """Write ``summary.json``, ``plots/`` and ``report.html`` into the run folder; returns the record."""
+    from impactdyn.shield._io import read_particles
+    from impactdyn.whipple._cloud import cloud_figures
+
+    records = _records(folder)
+    particles, history = read_particles(folder.path / "shield" / "particles.h5")
+    cloud = cloud_figures(particles, case.bumper.thickness_cm)
+    ble = ble_verdict(case)
+    deposition = deposition_figures(records["debris"])
+    plots = folder.sub("plots")
+    _plot_cloud(plots.file("cloud_handoff.png"), particles, case, cloud)
+    _plot_ble(plots.file("ballistic_limit.png"), case, ble)
+    _plot_conservation(plots.file("conservation.png"), history)
+    summary = {
+        "title": case.title,
+        "shot": {"projectile": case.projectile.model_dump(), "bumper": case.bumper.model_dump(),
+                 "wall": {k: v for k, v in case.wall.model_dump().items() if k in (
+                     "material", "thickness_cm", "spacing_cm", "yield_stress_ksi")}},
+        "ble": ble,
+        "cloud": cloud,
+        "deposition": deposition,
+        "stages": {name: {k: v for k, v in r.items() if k not in ("stage", "settings")}
+                   for name, r in records.items()},
+        "timings_s": {name: r["wall_time_s"] for name, r in records.items()},
+        "wall_time_s": float(sum(r["wall_time_s"] for r in records.values())),
+        "units": "cm, g, us, Mbar unless a key names its unit; momenta of the half model x >= 0",
+    }
+    folder.write_json("summary.json", summary)
+    folder.write_text("report.html", _html(folder, case, summary))
+    return {"files": ["summary.json", "report.html", "plots/cloud_handoff.png", "plots/ballistic_limit.png",
+                      "plots/conservation.png"]}
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _plot_cloud(path, particles, case: WhippleCase, cloud: dict) -> None:
+    plt = _pyplot()
+    x, speed = particles.position, 10.0 * np.linalg.norm(particles.velocity, axis=1)
+    order = np.argsort(speed)
+    fig, axes = plt.subplots(1, 2, figsize=(12, 5.5), constrained_layout=True)
+    for ax, (a, b, label) in zip(axes, ((1, 2, "z (cm)"), (1, 0, "x (cm), symmetry plane at 0"))):
+        sc = ax.scatter(x[order, a], x[order, b], c=speed[order], s=1.5, cmap="turbo", vmin=0.0)
+        for y in (0.0, case.bumper.thickness_cm):
+            ax.axvline(y, color="0.4", lw=0.6, ls="--")
+        if "centre_of_mass_velocity_km_s" in cloud and b == 2:
+            v = np.array(cloud["centre_of_mass_velocity_km_s"])
+            reach = x[:, 1].max()
+            ax.plot([0.0, reach], [0.0, reach * v[2] / v[1]], color="k", lw=1,
+                    label=f"cloud axis, {cloud['axis_angle_from_normal_deg']:.1f}° from the normal")
+            ax.legend(loc="upper left", fontsize=8)
+        ax.set_xlabel("y (cm), toward the wall")
+        ax.set_ylabel(label)
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.grid(alpha=0.3)
+    axes[0].set_title(f"side view at hand-off, t = {particles.time:g} µs")
+    axes[1].set_title("top view")
+    fig.colorbar(sc, ax=axes, label="speed (km/s)", shrink=0.8)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _plot_ble(path, case: WhippleCase, ble: dict) -> None:
+    from impactdyn.ble import ballistic_limit_curve, plot_ballistic_limit
+
+    p = case.projectile
+    curve = ballistic_limit_curve(ble_shield(case), None, p.obliquity_deg, ble["projectile_density_g_cm3"])
+    w, b = case.wall, case.bumper
+    plot_ballistic_limit([curve], path, shot=(p.velocity_km_s, p.diameter_cm, ble["verdict"] == "perforation"),
+                         title=f"Whipple shield t_b = {b.thickness_cm:g} cm, t_w = {w.thickness_cm:g} cm, "
+                               f"S = {w.spacing_cm:g} cm, σ = {w.yield_stress_ksi:g} ksi, θ = {p.obliquity_deg:g}°")
+
+
+def _plot_conservation(path, history) -> None:
+    plt = _pyplot()
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4), constrained_layout=True)
+    t = history.time
+    e0 = history.total_energy[0]
+    ax = axes[0]
+    ax.plot(t, history.kinetic / e0, label="kinetic")
+    ax.plot(t, history.internal / e0, label="internal")
+    ax.plot(t, history.total_energy / e0, "k", label="total")
+    ax.set_xlabel("t (µs)")
+    ax.set_ylabel("energy / initial energy")
+    ax.legend()
+    ax = axes[1]
+    p0 = np.linalg.norm(history.momentum[0])
+    for k, name in ((1, "y"), (2, "z")):
+        ax.plot(t, (history.momentum[:, k] - history.momentum[0, k]) / p0, label=f"p_{name}")
+    ax.set_xlabel("t (µs)")
+    ax.set_ylabel("(p − p₀)/|p₀|")
+    ax.legend()
+    for ax in axes:
+        ax.grid(alpha=0.3)
+    fig.suptitle("SPH shield stage: conservation (half model; p_x is exchanged with the mirror half)")
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def _img(path) -> str:
+    if not path.is_file():
+        return f"<p><em>{html.escape(path.name)} was not drawn (plots switched off).</em></p>"
+    data = base64.b64encode(path.read_bytes()).decode()
+    return f'<img alt="{html.escape(path.name)}" src="data:image/png;base64,{data}">'
+
+
+def _rows(pairs) -> str:
+    return "\n".join(f"<tr><th>{html.escape(k)}</th><td>{html.escape(v)}</td></tr>" for k, v in pairs)
+
+
+def _fmt(v, unit="", digits=4) -> str:
+    if v is None:
+        return "–"
+    if isinstance(v, (list, tuple)):
+        return "(" + ", ".join(f"{x:.{digits}g}" for x in v) + ")" + (f" {unit}" if unit else "")
+    return f"{v:.{digits}g}" + (f" {unit}" if unit else "")
+
+
+def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
+    p, ble, cloud, dep, st = case.projectile, s["ble"], s["cloud"], s["deposition"], s["stages"]
+    shot = _rows([
+        ("projectile", f"{p.material} sphere, d = {p.diameter_cm:g} cm, {p.velocity_km_s:g} km/s, "
+                       f"{p.obliquity_deg:g}° from the normal"),
+        ("bumper", f"{case.bumper.material}, {case.bumper.thickness_cm:g} cm"),
+        ("rear wall", f"{case.wall.material}, {case.wall.thickness_cm:g} cm, {case.wall.spacing_cm:g} cm behind "
+                      f"the bumper, σ = {case.wall.yield_stress_ksi:g} ksi"),
+    ])
+    verdict = _rows([
+        ("regime", ble["regime"]),
+        ("critical diameter d_c", _fmt(ble["critical_diameter_cm"], "cm")),
+        ("verdict (d vs d_c)", f"{ble['verdict']} (d = {p.diameter_cm:g} cm)"),
+    ])
+    figures = _rows([
+        ("cloud centre-of-mass velocity", _fmt(cloud.get("centre_of_mass_speed_km_s"), "km/s")
+         + f" at {_fmt(cloud.get('axis_angle_from_normal_deg'))}° from the normal"),
+        ("cloud leading-edge velocity", _fmt(cloud.get("leading_edge_velocity_km_s"), "km/s")),
+        ("cone half-angle (95 % of momentum)", _fmt(cloud.get("cone_half_angle_deg"), "°")),
+        ("debris mass (half model)", _fmt(cloud.get("debris_mass_g"), "g")),
+        ("peak areal momentum on the wall", _fmt(dep["peak_areal_momentum_N_s_cm2"], "N·s/cm²")),
+        ("impulse on the wall, normal (full model)", _fmt(dep["impulse_on_wall_normal_N_s_full_model"], "N·s")),
+        ("arrival times (first, median, last)", "–" if not dep["arrival_time_us"] else
+         _fmt([dep["arrival_time_us"][k] for k in ("first", "median", "last")], "µs after hand-off")),
+    ])
+    stages = _rows([
+        ("shield (SPH)", f"{st['shield']['n_particles']} particles, {st['shield']['steps']} steps to "
+                         f"{st['shield']['t_handoff_us']:g} µs; momentum error {st['shield']['momentum_error_rel']:.1e}, "
+                         f"energy error {st['shield']['energy_error_rel']:.1e}; "
+                         f"{st['shield']['wall_time_s']:.1f} s"),
+        ("binning", f"{st['binning']['n_cells_with_mass']} cells with mass of {st['binning']['n_cells']}, "
+                    f"mass error {st['binning']['mass_error_rel']:.1e}; {st['binning']['wall_time_s']:.1f} s"),
+        ("debris (DC3D)", f"{st['debris']['n_particles']} particles, {st['debris']['n_arrived']} arrived, "
+                          f"{st['debris']['integrator']['n_failed']} failed; {st['debris']['wall_time_s']:.1f} s"),
+        ("decks", ", ".join(st["decks"]["files"]) + f"; {st['decks']['wall_time_s']:.1f} s"),
+        ("total", f"{s['wall_time_s']:.1f} s"),
+    ])
+    plots = folder.path / "plots"
+    title = html.escape(case.title or "Whipple shield impact")
+    return f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>{title}</title>
+<style>body{{font-family:sans-serif;max-width:1150px;margin:2em auto;color:#222}}
+table{{border-collapse:collapse;margin:0.5em 0 1.5em}}th,td{{border:1px solid #ccc;padding:4px 10px;text-align:left}}
+th{{background:#f4f4f4;font-weight:normal}}img{{max-width:100%}}</style></head><body>
+<h1>{title}</h1>
+<p>impactdyn Whipple pipeline: SPH shield impact → debris cloud (DC3D) → momentum on the rear wall → wall decks.
+Half model (x ≥ 0); units as labelled.</p>
+<h2>Shot</h2><table>{shot}</table>
+<h2>Ballistic limit (NASA JSC)</h2><table>{verdict}</table>
+{_img(plots / "ballistic_limit.png")}
+<h2>Simulated debris cloud and wall loading</h2><table>{figures}</table>
+<h3>Cloud at hand-off</h3>{_img(plots / "cloud_handoff.png")}
+<h3>Areal momentum density on the wall</h3>{_img(folder.path / "debris" / "plots" / "areal_density.png")}
+<h2>Stages</h2><table>{stages}</table>
+{_img(plots / "conservation.png")}
+<h2>Files</h2><p><code>summary.json</code> (all numbers), <code>case.toml</code> (every setting used),
+<code>shield/particles.h5</code>, <code>binning/handoff_grid.h5</code>, <code>debris/</code> (an
+<code>impactdyn debris run</code> folder), <code>decks/</code> (LS-DYNA and DYNA3D wall decks).</p>
+<script type="application/json" id="summary">{html.escape(json.dumps(s, default=str))}</script>
+</body></html>
+"""

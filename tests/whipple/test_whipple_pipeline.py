@@ -1,0 +1,154 @@
+"""`impactdyn whipple run`: the end-to-end pipeline on a coarse shot, restarts, reports and bad input (issue 4)."""
+
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from impactdyn.ble import perforates
+from impactdyn.cli import main
+from impactdyn.debris._report import read_deposition
+from impactdyn.io import read_grid, read_lsdyna_deck
+from impactdyn.shield._io import read_particles
+from impactdyn.whipple import ble_verdict, load_whipple_case
+from impactdyn.whipple._case import ble_shield
+
+EXAMPLES = Path(__file__).parents[2] / "examples" / "whipple"
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory, make_case):
+    tmp = tmp_path_factory.mktemp("whipple")
+    case = make_case(tmp)
+    out = tmp / "run"
+    assert main(["whipple", "run", str(case), "-o", str(out)]) == 0
+    return case, out, json.loads((out / "summary.json").read_text())
+
+
+def test_run_folder_holds_every_stage(run):
+    _, out, s = run
+    for path in ("case.toml", "report.html", "summary.json", "shield/particles.h5", "shield/particles.vtu",
+                 "binning/handoff_grid.h5", "debris/debris.h5", "debris/areal_density.csv",
+                 "debris/plots/areal_density.png", "decks/wall.k", "decks/wall_dyna3d.inp",
+                 "plots/cloud_handoff.png", "plots/ballistic_limit.png", "plots/conservation.png"):
+        assert (out / path).is_file(), path
+    assert set(s["timings_s"]) == {"shield", "binning", "debris", "decks"}
+    assert s["wall_time_s"] == pytest.approx(sum(s["timings_s"].values()))
+    assert not list(out.parent.glob(".run.*"))  # no staging folder left
+
+
+def test_shield_stage_conserves_momentum_and_energy(run):
+    _, out, s = run
+    shield = s["stages"]["shield"]
+    assert shield["momentum_error_rel"] < 1e-10
+    assert shield["energy_error_rel"] < 0.01
+    particles, history = read_particles(out / "shield" / "particles.h5")
+    assert particles.time == pytest.approx(1.0)
+    assert particles.total_mass() == pytest.approx(history.mass[0], rel=1e-13)
+
+
+def test_binned_grid_holds_the_particle_mass_behind_the_bumper(run):
+    case, out, s = run
+    grid = read_grid(out / "binning" / "handoff_grid.h5")
+    particles, _ = read_particles(out / "shield" / "particles.h5")
+    t_b = load_whipple_case(case).bumper.thickness_cm
+    behind = particles.position[:, 1] >= t_b
+    assert grid.y[0] == pytest.approx(t_b) and grid.x[0] == 0.0
+    assert grid.mass.sum() == pytest.approx(particles.mass[behind].sum(), rel=1e-12)
+    assert s["stages"]["binning"]["mass_error_rel"] < 1e-12
+
+
+def test_wall_receives_the_momentum_of_the_arrived_debris(run):
+    _, out, s = run
+    d = s["stages"]["debris"]
+    arrived, deposited = np.array(d["momentum_arrived"]), np.array(d["momentum_deposited"])
+    off_wall = np.array(d["momentum_off_wall"])
+    np.testing.assert_allclose(deposited + off_wall, arrived, rtol=1e-12, atol=1e-14)
+    assert d["n_arrived"] > 0 and deposited[1] > 0
+    # the LS-DYNA deck's load curves carry the deposited impulse
+    deck = read_lsdyna_deck(out / "decks" / "wall.k")
+    total = np.zeros(3)
+    for (nid, dof, lcid), sf in zip(deck.point_loads, deck.point_load_scale):
+        t, f = deck.curves[lcid]
+        total[dof - 1] += sf * np.trapezoid(f, t)
+    np.testing.assert_allclose(total, deposited, rtol=1e-9)
+    _, _, impulse = read_deposition(out / "debris" / "debris.h5")
+    assert s["deposition"]["impulse_on_wall_normal_N_s_full_model"] == pytest.approx(20.0 * impulse[..., 1].sum())
+
+
+def test_summary_has_the_verdict_and_the_cloud_figures(run):
+    case, out, s = run
+    c = load_whipple_case(case)
+    p = c.projectile
+    assert s["ble"]["verdict"] == ("perforation" if perforates(
+        ble_shield(c), p.diameter_cm, p.velocity_km_s, p.obliquity_deg, 2.703) else "no perforation")
+    cloud = s["cloud"]
+    assert 0 < cloud["centre_of_mass_speed_km_s"] < cloud["leading_edge_velocity_km_s"] <= p.velocity_km_s
+    assert 0 < cloud["cone_half_angle_deg"] < 90
+    html = (out / "report.html").read_text()
+    assert html.count("data:image/png;base64,") == 4
+    assert s["ble"]["verdict"] in html
+
+
+def test_restart_from_a_stage_reuses_the_earlier_ones(run, tmp_path, make_case):
+    case, out, s = run
+    copy = tmp_path / "run"
+    shutil.copytree(out, copy)
+    before = (copy / "shield" / "particles.h5").read_bytes()
+    assert main(["whipple", "run", str(case), "-o", str(copy), "--from", "debris"]) == 0
+    assert (copy / "shield" / "particles.h5").read_bytes() == before
+    _, _, a = read_deposition(out / "debris" / "debris.h5")
+    _, _, b = read_deposition(copy / "debris" / "debris.h5")
+    np.testing.assert_array_equal(a, b)  # the same grid gives the same deposition
+    # a changed binning is fine from the binning stage on, not from a later one
+    rebinned = make_case(tmp_path, "rebinned.toml", binning__cell_size_cm=0.12)
+    assert main(["whipple", "run", str(rebinned), "-o", str(copy), "--from", "debris"]) == 2
+    assert main(["whipple", "run", str(rebinned), "-o", str(copy), "--from", "binning"]) == 0
+    assert read_grid(copy / "binning" / "handoff_grid.h5").x[1] == pytest.approx(0.12)
+
+
+def test_restart_needs_a_run_folder(tmp_path, capsys, make_case):
+    case = make_case(tmp_path)
+    assert main(["whipple", "run", str(case), "-o", str(tmp_path / "none"), "--from", "decks"]) == 2
+    assert "no run folder to restart from" in capsys.readouterr().err
+    assert main(["whipple", "run", str(case), "-o", str(tmp_path / "x"), "--from", "nowhere"]) == 2
+    assert not (tmp_path / "x").exists()
+
+
+@pytest.mark.parametrize("change, message", [
+    (dict(projectile__obliquity_deg=90.0), "projectile.obliquity_deg: must be less than 90"),
+    (dict(projectile__diameter_cm=0.0), "projectile.diameter_cm: must be greater than 0"),
+    (dict(projectile__material="unobtainium"), "projectile.material: unknown material 'unobtainium'"),
+    (dict(wall__material="balsa"), "wall.material: unknown material 'balsa'"),
+    (dict(wall__spacing_cm=-0.05), "wall.spacing_cm: -0.05: the wall's front face would lie inside the bumper"),
+    (dict(wall__spacing_cm=0.5), "wall.spacing_cm = 0.5 cannot hold the hand-off grid"),
+    (dict(shield__spacing_cm=0.2), "shield.spacing_cm = 0.2 is too coarse"),
+    (dict(binning__cell_size_cm=4.0), "binning.cell_size_cm = 4.0 does not fit"),
+    (dict(wall__nodes=[16, 1, 31]), "wall.nodes[1]: must be greater than or equal to 2"),
+    (dict(shield__handoff_us="4"), "shield.handoff_us: must be a valid number"),
+])
+def test_bad_input_exits_2_and_writes_nothing(tmp_path, capsys, make_case, change, message):
+    case = make_case(tmp_path, **change)
+    out = tmp_path / "out"
+    assert main(["whipple", "run", str(case), "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert message in err and "Traceback" not in err
+    assert not out.exists() and not list(tmp_path.glob(".out*"))
+
+
+def test_existing_run_folder_needs_force(run, capsys):
+    case, out, _ = run
+    stamp = (out / "summary.json").stat().st_mtime_ns
+    assert main(["whipple", "run", str(case), "-o", str(out)]) == 2
+    assert "pass --force" in capsys.readouterr().err
+    assert (out / "summary.json").stat().st_mtime_ns == stamp
+
+
+@pytest.mark.parametrize("name, verdict", [("7a", "perforation"), ("7b", "no perforation"),
+                                           ("10a", "perforation"), ("10b", "no perforation")])
+def test_table2_examples_load_and_get_the_jsc_verdicts(name, verdict):
+    case = load_whipple_case(EXAMPLES / f"table2_{name}.toml")
+    assert case.wall.spacing_cm == 10.16 and case.projectile.obliquity_deg == 25.0
+    assert ble_verdict(case)["verdict"] == verdict
