@@ -7,6 +7,7 @@ they finish, so callers can draw progress and keep results in order.
 
 from __future__ import annotations
 
+import multiprocessing
 import os
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -29,7 +30,9 @@ def run_tasks(fn: Callable[[Any], Any], tasks: Sequence[Any], *, scheduler: Sche
         for i, task in enumerate(tasks):
             yield i, fn(task)
     elif scheduler == "processes":
-        with ProcessPoolExecutor(max_workers=workers or os.cpu_count()) as pool:
+        # spawn, not fork: a process that has run numba's OpenMP kernels cannot fork safely
+        with ProcessPoolExecutor(max_workers=workers or os.cpu_count(),
+                                 mp_context=multiprocessing.get_context("spawn")) as pool:
             futures = {pool.submit(fn, t): i for i, t in enumerate(tasks)}
             for fut in as_completed(futures):
                 yield futures[fut], fut.result()

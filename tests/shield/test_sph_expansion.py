@@ -1,5 +1,6 @@
-"""Free homologous expansion of failed material: the continuity density follows ρ₀/(1 + kt)³ and stays
-positive however fast the debris expands (the linear density update went negative here; issue 4)."""
+"""Free homologous expansion of failed material: the continuity density follows ρ₀/(1 + kt)³ down to
+the floor ρ₀/h_max_factor³, and stays positive however fast the debris expands (the linear density
+update went negative in the fast case; issue 4)."""
 
 import numpy as np
 import pytest
@@ -19,10 +20,13 @@ def expanding_cube(k: float, n: int = 10, dx: float = 0.02) -> Problem:
     return Problem(particles=p.replace(failed=np.ones(len(x), dtype=bool)), materials=(AL,))
 
 
-@pytest.mark.parametrize("k, t, tolerance", [(5.0, 0.1, 0.03), (60.0, 0.05, 0.15)])
-def test_density_of_a_homologous_expansion(k, t, tolerance):
+def test_density_follows_a_homologous_expansion():
+    k, t = 5.0, 0.1  # to ρ₀/3.4, above the floor ρ₀/8
     state = run(expanding_cube(k), t).state
     centre = np.argsort(np.linalg.norm(state.position, axis=1))[:8]
-    exact = AL.rho0 / (1.0 + k * t) ** 3
-    assert np.all(state.density > 0)
-    assert state.density[centre].mean() == pytest.approx(exact, rel=tolerance)
+    assert state.density[centre].mean() == pytest.approx(AL.rho0 / (1.0 + k * t) ** 3, rel=0.03)
+
+
+def test_density_stays_positive_in_a_violent_expansion():
+    result = run(expanding_cube(60.0), 0.05)  # v up to 27 km/s at the corners; ρ₀/64 in the exact flow
+    assert np.all(result.state.density > 0) and np.all(np.isfinite(result.state.density))

@@ -36,7 +36,10 @@ x-momentum with the mirror half, as it must) and periodic axes conserve all thre
   (rate ρ̇ᵢ/ρᵢ, exponential update) under a step limit on the relative density
   change (below), which keeps ρ > 0 however fast failed debris expands: the
   linear update ρ + Δt ρ̇ drove a particle of the 10 km/s Table 2 shot to a
-  negative density.
+  negative density. Below ρ₀/h_max_factor³ (where h stops growing) the rate is
+  ρ̇ᵢ/(ρ₀/h_max_factor³): such a particle is failed debris in free flight with
+  p = 0, and ρ̇ᵢ/ρᵢ of a nearly empty particle meeting a neighbour collapsed the
+  step (Table 2 shot 10b, 2.8 µs).
 * Smoothing length hᵢ = κ (mᵢ/ρᵢ)^{1/3} — the exact integral of
   dh/dt = −(h/3)(dρ/dt)/ρ — with ρ floored at ρ₀/h_max_factor³ so that h grows
   at most h_max_factor-fold in expanding debris.
@@ -166,8 +169,8 @@ def update_particles(m, rho, e, S, failed, mat, params, h_factor, rho_floor, eps
 
 
 @njit(parallel=True, cache=True)
-def compute_rates(x, v, m, rho, c, h, S, sr, vol, R, tension, failed, mat, params, nbr, img, count, signs, offsets,
-                  alpha, beta, as_power, as_norm, cfl, force_cfl, grad_v, acc, dlnrho, de, dS, rate, dt_i):
+def compute_rates(x, v, m, rho, rho_floor, c, h, S, sr, vol, R, tension, failed, mat, params, nbr, img, count,
+                  signs, offsets, alpha, beta, as_power, as_norm, cfl, force_cfl, grad_v, acc, dlnrho, de, dS, rate, dt_i):
     """Rates of every particle (module docstring) and its stable time step dt_i.
 
     sr (N, 6): σ/ρ² of every particle; vol (N,): m/ρ.
@@ -244,7 +247,7 @@ def compute_rates(x, v, m, rho, c, h, S, sr, vol, R, tension, failed, mat, param
             l21 -= vj * dv2 * g1
             l22 -= vj * dv2 * g2
         acc[i, 0], acc[i, 1], acc[i, 2] = a0, a1, a2
-        dlnrho[i] = dr / rhoi
+        dlnrho[i] = dr / max(rhoi, params[mat[i], RHO0] * rho_floor)
         de[i] = du
         grad_v[i, 0, 0], grad_v[i, 0, 1], grad_v[i, 0, 2] = l00, l01, l02
         grad_v[i, 1, 0], grad_v[i, 1, 1], grad_v[i, 1, 2] = l10, l11, l12
@@ -392,9 +395,8 @@ class _Solver:
                            f"{self.domain.min_period():.4g} cm")
         nl.update(self.x, self.h)
         acc, dlnrho, de, dS = out
-        compute_rates(self.x, v, self.m, rho, self.c, self.h, S, self.sr, self.vol, self.R, self.tension, self.failed,
-                      self.mat,
-                      self.params, nl.neighbours, nl.image, nl.count, nl.signs, nl.offsets, o.alpha, o.beta,
+        compute_rates(self.x, v, self.m, rho, self.rho_floor, self.c, self.h, S, self.sr, self.vol, self.R,
+                      self.tension, self.failed, self.mat, self.params, nl.neighbours, nl.image, nl.count, nl.signs, nl.offsets, o.alpha, o.beta,
                       o.artificial_stress_power, self.as_norm, o.cfl, o.force_cfl, self.grad_v, acc, dlnrho, de, dS,
                       self.rate, self.dt_i)
         return float(self.dt_i.min())
