@@ -38,6 +38,7 @@ import argparse
 import multiprocessing as mp
 import os
 import platform
+import shutil
 import statistics
 import sys
 import tempfile
@@ -71,7 +72,7 @@ def _parse() -> argparse.Namespace:
     ap.add_argument("--steps", type=int, default=30, help="timed steps of each code")
     ap.add_argument("--rounds", type=int, default=6, help="timed blocks per code, interleaved between the codes")
     ap.add_argument("--warmup", type=int, default=3, help="untimed steps after compilation (each code); "
-                    "the projectile reaches the plate after about 320 steps")
+                    "the surfaces meet after about 160 steps, the particle layers after about 320")
     ap.add_argument("--threads", type=int, default=None, help="threads of each code (default: all CPUs)")
     ap.add_argument("--library-materials", action="store_true",
                     help="impactdyn side: al2024-t4 and ss304 from impactdyn.materials instead of the "
@@ -133,8 +134,9 @@ class PySPHRun:
         app = app_cls(fname="impact3d_bench")
         t0 = time.perf_counter()
         # --openmp is compyle's option: PySPH 1.0b2 runs serially without it
+        self.out_dir = tempfile.mkdtemp(prefix="bench_pysph_")  # PySPH's log and info files
         app.setup(["--openmp", "--kernel", "CubicSpline", "--disable-output", "-q",
-                   "-d", tempfile.mkdtemp(prefix="bench_pysph_"), "--max-steps", str(warmup)])
+                   "-d", self.out_dir, "--max-steps", str(warmup)])
         self.setup_s = time.perf_counter() - t0
         arrays = {pa.name: pa for pa in app.particles}
         props = ("x", "y", "z", "m", "u", "v", "w", "h")
@@ -172,6 +174,7 @@ class PySPHRun:
 
     def finish(self) -> dict:
         finite = all(np.isfinite(pa.get(p)).all() for pa in self.app.particles for p in ("x", "u", "rho", "p"))
+        shutil.rmtree(self.out_dir, ignore_errors=True)
         return dict(finite=finite, note=f"OpenMP threads in its parallel regions: {sorted(self.omp_threads_seen)}")
 
 
