@@ -290,13 +290,9 @@ def kick_drift_predict(x, v, acc, rho, dlnrho, e, de, S, dS, eps_p, rate, failed
 
 
 @njit(parallel=True, cache=True)
-def correct(v, acc, rho, dlnrho_old, dlnrho, e, de_old, de, S, dS_old, dS, eps_p, rate, failed, m, mat, params,
+def correct(v, acc, rho, dlnrho_old, dlnrho, e, de_old, de, S, dS_old, dS, eps_p, rate, failed, mat, params,
             johnson_cook, failure, dt):
-    """Corrector: second half kick, trapezoidal ln ρ, e, S, radial return (εₚ), failure check.
-
-    Returns the totals (Σm, Σm vₓ, Σm v_y, Σm v_z, Σ ½m|v|², Σ m e) of the new state.
-    """
-    mass = px = py = pz = kin = internal = 0.0
+    """Corrector: second half kick, trapezoidal ln ρ, e, S, radial return (εₚ), failure check."""
     for i in prange(rho.size):
         k = mat[i]
         for d in range(3):
@@ -314,13 +310,6 @@ def correct(v, acc, rho, dlnrho_old, dlnrho, e, de_old, de, S, dS_old, dS, eps_p
         if failed[i]:
             for d in range(6):
                 S[i, d] = 0.0
-        mass += m[i]
-        px += m[i] * v[i, 0]
-        py += m[i] * v[i, 1]
-        pz += m[i] * v[i, 2]
-        kin += 0.5 * m[i] * (v[i, 0] ** 2 + v[i, 1] ** 2 + v[i, 2] ** 2)
-        internal += m[i] * e[i]
-    return mass, px, py, pz, kin, internal
 
 
 @njit(parallel=True, cache=True)
@@ -418,16 +407,15 @@ class _Solver:
         self.domain.wrap(self.x)
         self.dt = self._rates(self.v_p, self.rho_p, self.S_p,
                               (self.acc_new, self.dlnrho_new, self.de_new, self.dS_new))
-        sums = correct(self.v, self.acc_new, self.rho, self.dlnrho, self.dlnrho_new, self.e, self.de, self.de_new,
-                       self.S,
-                       self.dS, self.dS_new, self.eps_p, self.rate, self.failed, self.m, self.mat, self.params,
-                       self.jc, o.failure, dt)
+        correct(self.v, self.acc_new, self.rho, self.dlnrho, self.dlnrho_new, self.e, self.de, self.de_new, self.S,
+                self.dS, self.dS_new, self.eps_p, self.rate, self.failed, self.mat, self.params, self.jc, o.failure,
+                dt)
         self.acc, self.acc_new = self.acc_new, self.acc
         self.dlnrho, self.dlnrho_new = self.dlnrho_new, self.dlnrho
         self.de, self.de_new = self.de_new, self.de
         self.dS, self.dS_new = self.dS_new, self.dS
         self.steps += 1
-        return sums
+        return self.totals()
 
     def particles(self, time: float) -> Particles:
         """The current state as :class:`Particles`, in the problem's particle order."""

@@ -23,6 +23,7 @@ from typing import Annotated, Literal
 from pydantic import Field, field_validator, model_validator
 
 from impactdyn._config import NonNegative, Positive, Section, load_toml, validate
+from impactdyn._errors import InputError
 from impactdyn.debris._case import (
     ComputeSection, DebrisCase, FilterSection, IntegratorSection, LegacySection, OutputSection, Range)
 from impactdyn.materials import Material, get_material
@@ -31,8 +32,6 @@ NodeCount = Annotated[int, Field(ge=2)]
 
 
 def _known_material(name: str) -> str:
-    from impactdyn._errors import InputError
-
     try:
         return get_material(name).name
     except InputError as err:

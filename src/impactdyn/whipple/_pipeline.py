@@ -87,11 +87,9 @@ def _shield(s: _Stage) -> dict:
     h = result.history
     p0 = h.momentum[0]
     e0 = h.total_energy[0]
-    n_proj = int(np.sum(result.state.material == 0)) if len(problem.materials) > 1 else None
     return {
         "problem": problem.name,
         "n_particles": len(result.state),
-        "n_projectile_particles": n_proj,
         "t_handoff_us": t_end,
         "steps": result.steps,
         "mass_g": float(h.mass[-1]),
@@ -129,9 +127,7 @@ def _binning(s: _Stage) -> dict:
     region = binning_region(s.case, particles)
     grid = bin_to_hydrogrid(particles, s.case.binning.cell_size_cm, region=region)
     write_grid(s.folder.sub("binning").file("handoff_grid.h5"), grid)
-    bounds = np.array(region)
-    x = particles.position
-    inside = np.all((x >= bounds[:, 0]) & (x <= np.array([grid.x[-1], grid.y[-1], grid.z[-1]])), axis=1)
+    inside = particles.position[:, 1] >= region[1][0]  # the region holds every particle behind the bumper
     s.report("binning", 1, 1)
     m_particles = float(particles.mass[inside].sum())
     return {
@@ -157,7 +153,7 @@ def _debris(s: _Stage) -> dict:
 
     case = debris_case(s.case, "../binning/handoff_grid.h5")
     grid = read_grid(s.folder.path / "binning" / "handoff_grid.h5")
-    result = run_debris(**build(case, grid=grid), progress=lambda stage, done, total: s.report(stage, done, total))
+    result = run_debris(**build(case, grid=grid), progress=s.report)
     summary = write_debris_files(s.folder.sub("debris"), result, case, decks=False)
     return {key: summary[key] for key in (
         "n_cells_seeded", "n_particles", "n_propagated", "n_arrived", "mass_seeded_g", "mass_arrived_g",
