@@ -7,20 +7,25 @@ from scipy.linalg import eigh, expm
 
 from impactdyn.debris import _particle as P
 from impactdyn.debris import _tets as T
-from impactdyn.debris._integrators import INTEGRATORS, Failure, propagate, register_integrator
+from impactdyn.debris._integrators import (
+    DEFAULT_STEPS_PER_PERIOD, INTEGRATORS, Failure, propagate, register_integrator)
 
 ELASTIC = P.Material(mu=0.276, lam=0.56, rho_ref=2.703)                         # Al, η = ∞, ζ = 0
+PLASTIC = P.Material(mu=0.276, lam=0.56, rho_ref=2.703, eta=0.05)               # ζ = 0
 DISSIPATIVE = P.Material(mu=0.276, lam=0.56, rho_ref=2.703, eta=0.05, zeta=0.002)
 METHODS = sorted(INTEGRATORS)
+SPLITTINGS = sorted(DEFAULT_STEPS_PER_PERIOD)
 
 # How each registered integrator is run against the DOP853 reference, and the stated
 # tolerance on the relative end-state error (max over the H, F, Eₚ, c blocks) after 10
-# periods 2π/ω̂. eps-controlled methods: 100·eps of global error. verlet: second order
-# (test_verlet_global_error_is_second_order), 3.6e-5 over 5 periods at 100 steps per
-# period on this particle, so ≲ 1e-6 over 10 periods at 1000.
+# periods 2π/ω̂. eps-controlled methods: 100·eps of global error. Splittings: the error
+# of their order (test_splitting_global_error_has_its_order); with ζ > 0 both are second
+# order, 4e-5 (verlet) and 2e-7 (splitting4) over 10 periods at 100 steps per period on
+# this particle, so ≲ 1e-6 at 1000 and 100.
 REFERENCE_RUNS = {
     "legacy": (dict(eps=1e-9), 1e-7),
     "rk45": (dict(eps=1e-9), 1e-7),
+    "splitting4": (dict(steps_per_period=100), 1e-6),
     "verlet": (dict(steps_per_period=1000), 1e-6),
 }
 
@@ -119,15 +124,19 @@ def test_matches_tight_reference(method):
         assert abs(np.trace(Ep)) <= 1e-12 * max(1.0, np.abs(Ep).max())
 
 
-def test_verlet_global_error_is_second_order():
-    y0, J, m = deforming_particle(DISSIPATIVE)
-    t_end = 5 * 2 * np.pi / omega_hat(J, m, DISSIPATIVE)
-    ref = reference_solution(y0, J, m, DISSIPATIVE, t_end)
-    spp = np.array([100.0, 200, 400, 800])
-    errors = [relative_error(propagate(y0[None], J[None], np.array([m]), t_end, DISSIPATIVE,
+@pytest.mark.parametrize("method, material, spp, order", [
+    ("verlet", DISSIPATIVE, [100.0, 200, 400, 800], 2),
+    ("splitting4", PLASTIC, [6.0, 12, 24, 48], 4),          # B is exact with plastic relaxation
+    ("splitting4", DISSIPATIVE, [12.0, 24, 48, 96], 2),     # the viscous half steps are Strang's
+], ids=["verlet", "splitting4", "splitting4-viscous"])
+def test_splitting_global_error_has_its_order(method, material, spp, order):
+    y0, J, m = deforming_particle(material)
+    t_end = 5 * 2 * np.pi / omega_hat(J, m, material)
+    ref = reference_solution(y0, J, m, material, t_end)
+    errors = [relative_error(propagate(y0[None], J[None], np.array([m]), t_end, material, method=method,
                                        steps_per_period=s)[0][0], ref) for s in spp]
-    slope = np.polyfit(np.log(1 / spp), np.log(errors), 1)[0]
-    assert 1.9 < slope < 2.1, (errors, slope)
+    slope = np.polyfit(np.log(1 / np.array(spp)), np.log(errors), 1)[0]
+    assert abs(slope - order) < 0.1, (errors, slope)
 
 
 @pytest.mark.parametrize("method", METHODS)
@@ -136,7 +145,7 @@ def test_small_vibrations_have_the_linearised_frequencies(method):
 
     Sampled every h = 1/10 of the fastest period. verlet is run with that step,
     where its frequency is the leapfrog's 2/h·arcsin(ωh/2) (0.15 % to 1.6 % above
-    ω); the adaptive methods at tight tolerance (eps is absolute on F ≈ I, so
+    ω); splitting4 with h/16 (fourth order: its frequency error is below 1e-6); the adaptive methods at tight tolerance (eps is absolute on F ≈ I, so
     a tiny vibration needs a tiny eps). The estimate carries a bias linear in the
     amplitude (nonlinear harmonics; 3e-7 for the slowest mode at 1e-5, 3e-6 at 1e-4).
     """
@@ -166,6 +175,9 @@ def test_small_vibrations_have_the_linearised_frequencies(method):
         if method == "verlet":
             y, stats = propagate(*copies(y0, J, m, n_samples), t, ELASTIC, method=method, dt=dt)
             expected = 2 / dt * np.arcsin(omega * dt / 2)
+        elif method == "splitting4":
+            y, stats = propagate(*copies(y0, J, m, n_samples), t, ELASTIC, method=method, dt=dt / 16)
+            expected = omega
         else:
             y, stats = propagate(*copies(y0, J, m, n_samples), t, ELASTIC, method=method, eps=1e-12)
             expected = omega
@@ -186,8 +198,9 @@ def energy_error(y0, J, m, t, **kwargs):
     return E / P.total_energy(y0, J, m, V0, ELASTIC) - 1
 
 
-def test_verlet_energy_has_no_secular_drift():
-    """Over 1000 periods of the slowest mode the energy error of verlet stays bounded.
+@pytest.mark.parametrize("method", SPLITTINGS)
+def test_splitting_energy_has_no_secular_drift(method):
+    """Over 1000 periods of the slowest mode the energy error of a splitting stays bounded.
 
     Drift measure: the least-squares linear trend of the error over the run,
     relative to its largest value. Bounded oscillation gives a small trend; the
@@ -202,33 +215,34 @@ def test_verlet_energy_has_no_secular_drift():
     def trend(e):
         return abs(np.polyfit(t, e, 1)[0] * t[-1]) / np.abs(e).max()
 
-    e = energy_error(y0, J, m, t)                                        # default 32 steps per period
+    e = energy_error(y0, J, m, t, method=method)                         # default steps per period
     assert np.abs(e).max() < 1e-2
     assert trend(e) < 0.25, trend(e)
     e_rk = energy_error(y0, J, m, t, method="rk45", eps=1e-5)
     assert trend(e_rk) > 0.75, trend(e_rk)
 
 
-def test_verlet_energy_error_is_second_order():
+@pytest.mark.parametrize("method, spp, order", [("verlet", [8.0, 16, 32, 64], 2),
+                                                ("splitting4", [4.0, 8, 16, 32], 4)])
+def test_splitting_energy_error_has_its_order(method, spp, order):
     y0, J, m = deforming_particle(ELASTIC, gradient=0.02, seed=3)
     y0[P.P_SLICE] = 0.0
     t = np.linspace(0.5, 50, 64) * 2 * np.pi / omega_hat(J, m, ELASTIC)
-    spp = np.array([8.0, 16, 32, 64])
-    errors = [np.abs(energy_error(y0, J, m, t, steps_per_period=s)).max() for s in spp]
-    slope = np.polyfit(np.log(1 / spp), np.log(errors), 1)[0]
-    assert 1.85 < slope < 2.15, (errors, slope)
+    errors = [np.abs(energy_error(y0, J, m, t, method=method, steps_per_period=s)).max() for s in spp]
+    slope = np.polyfit(np.log(1 / np.array(spp)), np.log(errors), 1)[0]
+    assert abs(slope - order) < 0.15, (errors, slope)
 
 
 @pytest.mark.parametrize("method", METHODS)
 def test_angular_momentum_is_conserved(method):
-    """skew(H Fᵀ) is constant for any η, ζ; verlet keeps it to rounding."""
+    """skew(H Fᵀ) is constant for any η, ζ; every flow of the splittings keeps it to rounding."""
     y0, J, m = deforming_particle(DISSIPATIVE)
     t_end = 10 * 2 * np.pi / omega_hat(J, m, DISSIPATIVE)
     y, stats = propagate(y0[None], J[None], np.array([m]), t_end, DISSIPATIVE, method=method, eps=1e-9)
     assert stats.code[0] == Failure.OK
     spin = lambda s: (lambda A: A - A.T)(s[P.H_SLICE].reshape(3, 3) @ s[P.F_SLICE].reshape(3, 3).T)
     drift = np.abs(spin(y[0]) - spin(y0)).max() / np.abs(spin(y0)).max()
-    assert drift < (1e-12 if method == "verlet" else 1e-7), drift
+    assert drift < (1e-12 if method in SPLITTINGS else 1e-7), drift
 
 
 @pytest.mark.parametrize("method", METHODS)

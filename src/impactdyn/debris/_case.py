@@ -124,9 +124,10 @@ class WallSection(Section):
 
 
 class IntegratorSection(Section):
-    method: str = "verlet"
+    method: str = "splitting4"
     eps: Annotated[float, Field(gt=0, lt=1)] = 1e-6
-    steps_per_period: Annotated[float, Field(gt=3.2)] = 32.0
+    steps_per_period: Annotated[float, Field(gt=3.2)] | None = None
+    """Splitting steps per period of the fastest vibration; default: the method's own."""
     max_steps: Annotated[int, Field(ge=1)] = 10_000_000
     ymxref: Positive = 1e-6
 
@@ -137,6 +138,18 @@ class IntegratorSection(Section):
         if self.method not in INTEGRATORS:
             raise ValueError(f"method = {self.method!r}: choose one of {sorted(INTEGRATORS)}")
         return self
+
+    @model_validator(mode="before")
+    @classmethod
+    def _method_step(cls, data):
+        """Fill in the method's own steps_per_period, so config.resolved.toml records the step used."""
+        from impactdyn.debris._integrators import DEFAULT_STEPS_PER_PERIOD
+
+        if isinstance(data, dict) and data.get("steps_per_period") is None:
+            method = data.get("method", cls.model_fields["method"].default)
+            if method in DEFAULT_STEPS_PER_PERIOD:
+                return {**data, "steps_per_period": DEFAULT_STEPS_PER_PERIOD[method]}
+        return data
 
 
 class ComputeSection(Section):

@@ -6,26 +6,23 @@ integrator is a compiled ``prange`` loop over particles: one particle per
 iteration, its state and scratch allocated once per particle, nothing allocated
 per step. Registered names:
 
-``verlet`` (default)
-    Strang splitting of the state equations, second order, symplectic and
-    time-reversible when η = ∞ and ζ = 0. The system is Hamiltonian in (F, H)
-    with T(H) = ½ tr(H J⁻¹ Hᵀ) and U(F; Eₚ), so position Störmer–Verlet applies;
-    the dissipative parts are solved exactly over the substeps in which F is
-    frozen::
-
-        D(h/2) · R(h/2) · V(h/2) · K(h) · V(h/2) · R(h/2) · D(h/2)
-
-    D (drift)   F ← F + τ H J⁻¹;
-    K (kick)    H ← H − τ F S(F, Eₚ);
-    R (relax)   Ėₚ = r (E' − Eₚ) with E' frozen: Eₚ ← E' + (Eₚ − E') e^{−rτ};
-    V (bulk viscosity) Ḣ = −a tr(H B) F⁻ᵀ, a = ζV₀J_F/3, B = J⁻¹F⁻¹, is linear in H
-    with F frozen: s = tr(HB) decays as e^{−κτ}, κ = a tr(F⁻ᵀB) ≥ 0, so
-    H ← H − a τ φ₁(κτ) s F⁻ᵀ, φ₁(x) = (1 − e^{−x})/x.
-    Fixed step: ``dt`` if given, else 2π/(ω̂ · steps_per_period) where
-    ω̂ = √(V₀ max(2μ, 3K_b) / λ_min(J)) bounds the particle's highest linear
-    vibration frequency (stiffness over mass operator, largest over smallest
-    eigenvalue); each particle takes ⌈t_end/dt⌉ equal steps that land on t_end.
-    The step size is independent of ``eps``.
+``splitting4`` (default), ``verlet``
+    Symmetric compositions of the exact flows of a drift (F moves, H frozen)
+    and of the frozen-F dynamics (H kicked by the time-integrated stress while
+    Eₚ relaxes exponentially), with the bulk viscosity as an exact substep of
+    half a step at each end (:mod:`._splitting`, where the equations are).
+    ``verlet``: Störmer–Verlet, order 2, one stress evaluation per step.
+    ``splitting4``: Blanes & Moan's S₆, order 4, six per step. Both are
+    symplectic and time-reversible when η = ∞ and ζ = 0 (no energy drift) and
+    keep the internal angular momentum to rounding; with ζ > 0 the viscous
+    coupling is second order. Fixed step: ``dt`` if given, else
+    2π/(ω̂ · steps_per_period) where ω̂ = √(V₀ max(2μ, 3K_b) / λ_min(J))
+    bounds the particle's highest linear vibration frequency (stiffness over
+    mass operator, largest over smallest eigenvalue); each particle takes
+    ⌈t_end/dt⌉ equal steps that land on t_end. steps_per_period defaults to
+    :data:`DEFAULT_STEPS_PER_PERIOD` of the method (6 for splitting4, 32 for
+    verlet). The step size is independent of ``eps``. The kernels run blocks
+    of particles in SIMD lanes.
 
 ``rk45``
     Dormand–Prince 5(4) with FSAL and local extrapolation (the ode45 / scipy
@@ -57,13 +54,16 @@ per step. Registered names:
     1e-9 g cm²/µs, far below the listing's ymxref = 1e-6, so H is held only to
     an absolute eps·1e-6; its errors are controlled through the F they drive.
 
-Choice of default (benchmarks/bench_debris_integrators.py, synthetic Al cloud,
-flights up to 15 µs): verlet at 32 steps per period is about 15× cheaper than
-legacy at eps = 1e-6 and 2–3× cheaper than rk45 at eps = 1e-6, with arrival
-vertices within ~3e-4 cm (1 % of a 0.03175 cm cell; the error is the phase of
-the particle's fast vibration, which stays bounded because the scheme does not
-drift in energy). Where vertex errors below ~1e-5 cm matter, use rk45 (1e-6:
-~1.5e-5 cm; 1e-8: ~1e-7 cm at 4–5× the cost of verlet).
+Choice of default (``benchmarks/bench_debris_integrators.py``, synthetic Al
+cloud, flights up to 15 µs, arrival vertices against DOP853 at rtol 1e-12):
+splitting4 at 6 steps per period lands the arrival vertices at least as
+accurately as the listing's legacy integrator at eps = 1e-6 (max ~7e-7 cm)
+for about a twentieth of its cost, and 100× more accurately than verlet at 32
+steps per period at about the same cost (verlet's error is the phase of the
+particle's fast vibration, ~1e-4 cm). Its negative substeps make it a poor
+choice only where the plastic relaxation is stiff on the step (2μ/η · h ≳ 1);
+there, or for the cheapest coarse runs (the Whipple examples' 8 steps per
+period), use verlet.
 
 Failure codes (:class:`Failure`) are per particle and never silent; a failed
 particle keeps the last state reached (``stats.t_reached``) and does not affect
@@ -82,10 +82,10 @@ import numpy as np
 from numba import prange
 
 from impactdyn.debris._particle import (
-    EP_SLICE, F_ROWS, H_SLICE, N_WORK, P_ZETA, STATE_ROWS, STATE_SIZE, Material, det3,
-    frobenius, inline_kernel, inv3, kernel, matmul3, rates_into, relaxation_rate, scratch_views,
-    state_views, strain_measures, stress_from_strain, trace_of_product,
+    EP_SLICE, F_ROWS, H_SLICE, N_WORK, P_RELAX, P_RELAX_PER_VOLUME, STATE_ROWS, STATE_SIZE,
+    Material, det3, inline_kernel, kernel, rates_into,
 )
+from impactdyn.debris._splitting import BLANES_MOAN_S6, VERLET, run_splitting
 
 
 class Failure(IntEnum):
@@ -109,16 +109,16 @@ _CHUNK = 8
 class StepControl:
     """Step-size control shared by all integrators (each reads what applies to it).
 
-    eps: tolerance of the adaptive methods; dt: verlet step, or first step of
+    eps: tolerance of the adaptive methods; dt: splitting step, or first step of
     rk45 (µs; scalar or ``(N,)``; None: from the particle's ω̂); steps_per_period:
-    verlet steps per 2π/ω̂ when dt is None; max_steps: accepted + rejected steps
+    splitting steps per 2π/ω̂ when dt is None (None: the method's own default); max_steps: accepted + rejected steps
     per particle before Failure.STEP_BUDGET; ymxref: legacy's floor of the
     running maxima.
     """
 
     eps: float = 1e-6
     dt: float | np.ndarray | None = None
-    steps_per_period: float = 32.0
+    steps_per_period: float | None = None
     max_steps: int = 10_000_000
     ymxref: float = 1e-6
 
@@ -209,131 +209,32 @@ def _f(Y, body, Ydot, w):
     rates_into(Y, body[0], body[1], body[2], body[3], Ydot, w)
 
 
-@inline_kernel
-def _phi1(x):
-    """φ₁(x) = (1 − e^{−x})/x, accurate for small x."""
-    if x < 1e-8:
-        return 1.0 - 0.5 * x
-    return -math.expm1(-x) / x
+# --- splittings (verlet, splitting4) ----------------------------------------------------
 
 
-# --- verlet ------------------------------------------------------------------------------
+DEFAULT_STEPS_PER_PERIOD: dict[str, float] = {}
+"""Steps per 2π/ω̂ of each splitting integrator when none is given."""
 
 
-@inline_kernel
-def _drift(F, H, Jinv, tau, tmp):
-    """D(τ): F ← F + τ H J⁻¹."""
-    matmul3(H, Jinv, tmp)
-    for i in range(3):
-        for j in range(3):
-            F[i, j] += tau * tmp[i, j]
+def _register_splitting(name: str, coefficients, steps_per_period: float) -> None:
+    """Register :func:`._splitting.run_splitting` with ``coefficients`` (a, b) as ``name``."""
+    @register_integrator(name)
+    def integrate(batch: ParticleBatch, control: StepControl):
+        if control.dt is None:
+            dt = 2.0 * np.pi / (batch.omega_hat * (control.steps_per_period or steps_per_period))
+        else:
+            dt = batch.per_particle(control.dt)
+        y, t_out, counts = _outputs(batch)
+        r = batch.params[P_RELAX] * (batch.V0 if batch.params[P_RELAX_PER_VOLUME] else 1.0)
+        t_out[:], counts[:, 0], counts[:, 2] = run_splitting(
+            y, batch.Jinv, batch.m, batch.V0, batch.per_particle(r), batch.params, batch.t_end, dt,
+            control.max_steps, coefficients)
+        return y, t_out, counts
+    DEFAULT_STEPS_PER_PERIOD[name] = steps_per_period
 
 
-@inline_kernel
-def _relax(Ep, Edev, decay):
-    """R(τ): Eₚ ← E' + (Eₚ − E') e^{−rτ}, with decay = e^{−rτ}."""
-    for i in range(3):
-        for j in range(3):
-            Ep[i, j] = Edev[i, j] + (Ep[i, j] - Edev[i, j]) * decay
-
-
-@inline_kernel
-def _bulk_viscosity(H, Finv, B, a, kappa, tau):
-    """V(τ): H ← H − a τ φ₁(κτ) tr(H B) F⁻ᵀ.
-
-    The exact flow of Ḣ = −a tr(HB) F⁻ᵀ for frozen F (module docstring).
-    """
-    factor = a * tau * _phi1(kappa * tau) * trace_of_product(H, B)
-    for i in range(3):
-        for j in range(3):
-            H[i, j] -= factor * Finv[j, i]
-
-
-@inline_kernel
-def verlet_step(Yv, Jinv, V0, params, h, decay, sc):
-    """One step D(h/2) R(h/2) V(h/2) K(h) V(h/2) R(h/2) D(h/2) (module docstring).
-
-    ``Yv``: state_views, advanced in place (c excepted); decay = e^{−r h/2};
-    ``sc``: scratch_views.
-    """
-    H, F, Ep = Yv[0], Yv[1], Yv[2]
-    _, _, Edev, S, Finv, B, tmp = sc
-    half = 0.5 * h
-
-    _drift(F, H, Jinv, half, tmp)
-    detF = strain_measures(F, sc)  # C⁻¹ and E' stay valid until the next drift
-    _relax(Ep, Edev, decay)
-    zeta = params[P_ZETA]
-    a = zeta * V0 * detF / 3.0
-    kappa = 0.0
-    if zeta > 0.0:
-        inv3(F, Finv)
-        matmul3(Jinv, Finv, B)
-        kappa = a * frobenius(Finv, B)  # a tr(F⁻ᵀ J⁻¹ F⁻¹)
-        _bulk_viscosity(H, Finv, B, a, kappa, half)
-    stress_from_strain(detF, Ep, V0, params, sc)
-    matmul3(F, S, tmp)
-    for i in range(3):
-        for j in range(3):
-            H[i, j] -= h * tmp[i, j]
-    if zeta > 0.0:
-        _bulk_viscosity(H, Finv, B, a, kappa, half)
-    _relax(Ep, Edev, decay)
-    _drift(F, H, Jinv, half, tmp)
-
-
-@kernel
-def steps_to_cover(t_end, dt):
-    """Number of equal steps ≤ dt covering t_end (a relative 1e-9 slack, so t_end = k·dt gives k)."""
-    return max(1, int(math.ceil(t_end / dt * (1.0 - 1e-9))))
-
-
-@kernel
-def _verlet_particle(y, Jinv, m, V0, t_end, dt, params, max_steps, w):
-    Y = y.reshape((STATE_ROWS, 3))
-    Yv, sc = state_views(Y), scratch_views(w)
-    code = state_failure(Y)
-    if code != _OK or t_end <= 0.0:
-        return 0.0, 0, code
-    n = steps_to_cover(t_end, dt)
-    h = t_end / n
-    decay = math.exp(-0.5 * h * relaxation_rate(V0, params))
-    done = 0
-    while done < n:
-        if done == max_steps:
-            code = _BUDGET
-            break
-        verlet_step(Yv, Jinv, V0, params, h, decay, sc)
-        done += 1
-        code = state_failure(Y)
-        if code != _OK:
-            break
-    t = t_end if done == n else done * h
-    p, c = Yv[3], Yv[4]
-    for k in range(3):  # c(t) = c(0) + t p/m, exact (ṗ = 0)
-        c[k] += t * p[k] / m
-    return t, done, code
-
-
-@kernel(parallel=True)
-def _verlet_all(y, Jinv, m, V0, t_end, dt, params, max_steps, t_out, counts):
-    for n in prange(y.shape[0]):
-        w = np.empty((N_WORK, 3, 3))
-        t_out[n], counts[n, 0], counts[n, 2] = _verlet_particle(
-            y[n], Jinv[n], m[n], V0[n], t_end[n], dt[n], params, max_steps, w)
-
-
-@register_integrator("verlet")
-def verlet(batch: ParticleBatch, control: StepControl):
-    """Störmer–Verlet splitting with exact relaxation and bulk-viscosity substeps (module docstring)."""
-    if control.dt is None:
-        dt = 2.0 * np.pi / (batch.omega_hat * control.steps_per_period)
-    else:
-        dt = batch.per_particle(control.dt)
-    y, t_out, counts = _outputs(batch)
-    _verlet_all(y, batch.Jinv, batch.m, batch.V0, batch.t_end, dt, batch.params,
-                control.max_steps, t_out, counts)
-    return y, t_out, counts
+_register_splitting("splitting4", BLANES_MOAN_S6, 6.0)
+_register_splitting("verlet", VERLET, 32.0)
 
 
 def _outputs(batch: ParticleBatch):
@@ -565,8 +466,8 @@ def _as_batch(states, J, m, t_end, material: Material, phi) -> ParticleBatch:
         omega_hat=np.sqrt(V0 * material.stiffness_bound() / eig[:, 0]), j_max=eig[:, 2].copy())
 
 
-def propagate(states, J, m, t_end, material: Material, *, phi=0.0, method: str = "verlet",
-              eps: float = 1e-6, dt=None, steps_per_period: float = StepControl.steps_per_period,
+def propagate(states, J, m, t_end, material: Material, *, phi=0.0, method: str = "splitting4",
+              eps: float = 1e-6, dt=None, steps_per_period: float | None = None,
               max_steps: int = StepControl.max_steps, ymxref: float = StepControl.ymxref):
     """Integrate N independent particles from t = 0 to their own end times.
 
@@ -586,7 +487,7 @@ def propagate(states, J, m, t_end, material: Material, *, phi=0.0, method: str =
         raise ValueError(f"eps must be > 0, got {eps}")
     if dt is not None and not np.all(np.asarray(dt, dtype=float) > 0):
         raise ValueError("dt must be > 0")
-    if not steps_per_period > math.pi:
+    if steps_per_period is not None and not steps_per_period > math.pi:
         raise ValueError(f"steps_per_period must exceed pi (leapfrog stability), got {steps_per_period}")
     if not (max_steps >= 1 and ymxref > 0):
         raise ValueError(f"max_steps must be >= 1 and ymxref > 0, got {max_steps}, {ymxref}")

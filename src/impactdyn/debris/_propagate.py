@@ -43,9 +43,9 @@ class ArrivalWindow:
 class IntegratorOptions:
     """Arguments of :func:`impactdyn.debris.propagate` (see :class:`._integrators.StepControl`)."""
 
-    method: str = "verlet"
+    method: str = "splitting4"
     eps: float = 1e-6
-    steps_per_period: float = 32.0
+    steps_per_period: float | None = None
     max_steps: int = 10_000_000
     ymxref: float = 1e-6
 
