@@ -20,7 +20,7 @@ per step. Registered names:
     bounds the particle's highest linear vibration frequency (stiffness over
     mass operator, largest over smallest eigenvalue); each particle takes
     ⌈t_end/dt⌉ equal steps that land on t_end. steps_per_period defaults to
-    :data:`DEFAULT_STEPS_PER_PERIOD` of the method (6 for splitting4, 32 for
+    :data:`DEFAULT_STEPS_PER_PERIOD` of the method (8 for splitting4, 32 for
     verlet). The step size is independent of ``eps``. The kernels run blocks
     of particles in SIMD lanes.
 
@@ -55,15 +55,17 @@ per step. Registered names:
     an absolute eps·1e-6; its errors are controlled through the F they drive.
 
 Choice of default (``benchmarks/bench_debris_integrators.py``, synthetic Al
-cloud, flights up to 15 µs, arrival vertices against DOP853 at rtol 1e-12):
-splitting4 at 6 steps per period lands the arrival vertices at least as
-accurately as the listing's legacy integrator at eps = 1e-6 (max ~7e-7 cm)
-for about a twentieth of its cost, and 100× more accurately than verlet at 32
-steps per period at about the same cost (verlet's error is the phase of the
-particle's fast vibration, ~1e-4 cm). Its negative substeps make it a poor
-choice only where the plastic relaxation is stiff on the step (2μ/η · h ≳ 1);
-there, or for the cheapest coarse runs (the Whipple examples' 8 steps per
-period), use verlet.
+cloud, flights up to 15 µs, arrival vertices against DOP853 at rtol 1e-12;
+numbers in ``benchmarks/BENCHMARKS.md``): splitting4 at 8 steps per period
+lands the arrival vertices more accurately than the listing's legacy integrator
+at eps = 1e-6 (max 2–5e-7 cm against 7–9e-7 cm) for about a twentieth of its
+CPU time, and several hundred times more accurately than verlet at 32 steps per
+period (whose error, ~1e-4 cm, is the phase of the particle's fast vibration)
+for about the same time. At 6 steps per period it is a quarter cheaper and
+still below legacy in the median, not always in the max. Its negative
+substeps make it a poor choice only where the plastic relaxation is stiff on
+the step (2μ/η · h ≳ 1); there, or for the cheapest coarse runs (the Whipple
+examples' 8 verlet steps per period), use verlet.
 
 Failure codes (:class:`Failure`) are per particle and never silent; a failed
 particle keeps the last state reached (``stats.t_reached``) and does not affect
@@ -233,7 +235,7 @@ def _register_splitting(name: str, coefficients, steps_per_period: float) -> Non
     DEFAULT_STEPS_PER_PERIOD[name] = steps_per_period
 
 
-_register_splitting("splitting4", BLANES_MOAN_S6, 6.0)
+_register_splitting("splitting4", BLANES_MOAN_S6, 8.0)
 _register_splitting("verlet", VERLET, 32.0)
 
 

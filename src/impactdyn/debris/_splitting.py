@@ -56,6 +56,7 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 from numba import prange
 
@@ -288,7 +289,11 @@ def run_splitting(y, Jinv, m, V0, relaxation_rate, params, t_end, dt, max_steps,
     done = np.zeros(len(y), dtype=np.int64)
     run = np.minimum(n, max_steps)
     order = np.argsort(-run, kind="stable")  # longest first: the big blocks start early
-    _advance_all(y, Jinv, V0, relaxation_rate, h, run, order, a, b, params, code, done)
+    previous = numba.set_parallel_chunksize(1)  # a block at a time: blocks cost up to t_max/t_min more
+    try:
+        _advance_all(y, Jinv, V0, relaxation_rate, h, run, order, a, b, params, code, done)
+    finally:
+        numba.set_parallel_chunksize(previous)
     code = np.where((code == _OK) & (done < n), _BUDGET, code)
     t_reached = np.where(done == n, t_end, done * h)
     y[:, C_SLICE] += t_reached[:, None] * y[:, P_SLICE] / m[:, None]  # c(t) = c(0) + t p/m, exact (ṗ = 0)
