@@ -49,6 +49,30 @@ def test_impactb_force_history_matches_listing_samples(make_case):
     assert max(r.contact_force) == pytest.approx(1411, rel=0.05)
 
 
+def test_impactb_contact_kinematics_match_listing_printout(make_case):
+    """Stop-point gap and velocity through the first contact against the listing's own printout.
+
+    Each "TIME= t FORCE= … WP= … WPP= …" line of the IMPACTB sample run prints WP and
+    WPP computed before its DDRIVE call, i.e. at the previous output time t − 5 µs,
+    and FORCE after it (listing, main loop). WP is printed to 1e-6 m. The printout's
+    first line puts the gap at +17 µm at 0.781080 s, closing at 3.9957 m/s: the
+    listing's own contact began at 0.781084 s, 6 µs before its TSTR flag.
+    """
+    printed = {  # TIME: (WP, WPP) of the line, belonging to TIME − 5 µs
+        0.781085: (0.000017, -3.995724), 0.781090: (-0.000003, -3.977030), 0.781095: (-0.000022, -3.137011),
+        0.781100: (-0.000034, -1.654186), 0.781105: (-0.000039, -0.395933), 0.781110: (-0.000038, 0.382752),
+        0.781115: (-0.000035, 0.791656), 0.781120: (-0.000031, 0.980241)}
+    case = make_case("impactb_sample.toml", time={"end_s": 0.78113, "output_step_s": 5e-6})
+    r = simulate(case)
+    gap, rate = r.model.gap(r.y), r.model.gap_rate(r.y)
+    for t, (wp, wpp) in printed.items():
+        k = int(np.argmin(np.abs(r.t - (t - 5e-6))))
+        assert abs(gap[k] - wp) < 0.6e-6, (t, gap[k], wp)
+        assert abs(rate[k] - wpp) < 0.01, (t, rate[k], wpp)
+    first = r.impacts[0]
+    assert abs(first.t_start - (0.781080 + 0.000017 / 3.995724)) < 2e-7
+
+
 def test_impactb_state_at_one_second(impactb_result):
     s = impactb_result.summary()["final_state"]
     assert s["theta_dot"] == pytest.approx(-5.200794, rel=0.05)
