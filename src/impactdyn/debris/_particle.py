@@ -65,6 +65,8 @@ from functools import partial
 import numpy as np
 from numba import njit
 
+from impactdyn.debris import _mat3 as m3
+
 STATE_SIZE = 33
 H_SLICE = slice(0, 9)
 F_SLICE = slice(9, 18)
@@ -169,58 +171,46 @@ def unpack_state(y: np.ndarray):
             y[..., EP_SLICE].reshape(lead + (3, 3)), y[..., P_SLICE], y[..., C_SLICE])
 
 
-# --- 3×3 algebra (outputs never alias inputs) ------------------------------------
+# --- 3×3 algebra on arrays (outputs never alias inputs), by the 9-tuple formulas of _mat3 ---
+
+
+@inline_kernel
+def _put(A, out):
+    for i in range(3):
+        for j in range(3):
+            out[i, j] = A[3 * i + j]
 
 
 @inline_kernel
 def det3(A):
     """det A of a 3×3 matrix."""
-    return (A[0, 0] * (A[1, 1] * A[2, 2] - A[1, 2] * A[2, 1])
-            - A[0, 1] * (A[1, 0] * A[2, 2] - A[1, 2] * A[2, 0])
-            + A[0, 2] * (A[1, 0] * A[2, 1] - A[1, 1] * A[2, 0]))
+    return m3.det(m3.mat(A))
 
 
 @inline_kernel
 def inv3(A, out):
     """out = A⁻¹ by cofactors; returns det A (inf/NaN entries when A is singular)."""
-    d = det3(A)
-    r = 1.0 / d
-    out[0, 0] = (A[1, 1] * A[2, 2] - A[1, 2] * A[2, 1]) * r
-    out[0, 1] = (A[0, 2] * A[2, 1] - A[0, 1] * A[2, 2]) * r
-    out[0, 2] = (A[0, 1] * A[1, 2] - A[0, 2] * A[1, 1]) * r
-    out[1, 0] = (A[1, 2] * A[2, 0] - A[1, 0] * A[2, 2]) * r
-    out[1, 1] = (A[0, 0] * A[2, 2] - A[0, 2] * A[2, 0]) * r
-    out[1, 2] = (A[0, 2] * A[1, 0] - A[0, 0] * A[1, 2]) * r
-    out[2, 0] = (A[1, 0] * A[2, 1] - A[1, 1] * A[2, 0]) * r
-    out[2, 1] = (A[0, 1] * A[2, 0] - A[0, 0] * A[2, 1]) * r
-    out[2, 2] = (A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]) * r
-    return d
+    a = m3.mat(A)
+    _put(m3.inv(a), out)
+    return m3.det(a)
 
 
 @inline_kernel
 def matmul3(A, B, out):
     """out = A B."""
-    for i in range(3):
-        for j in range(3):
-            out[i, j] = A[i, 0] * B[0, j] + A[i, 1] * B[1, j] + A[i, 2] * B[2, j]
+    _put(m3.mm(m3.mat(A), m3.mat(B)), out)
 
 
 @inline_kernel
 def matmul3_tn(A, B, out):
     """out = Aᵀ B."""
-    for i in range(3):
-        for j in range(3):
-            out[i, j] = A[0, i] * B[0, j] + A[1, i] * B[1, j] + A[2, i] * B[2, j]
+    _put(m3.mtm(m3.mat(A), m3.mat(B)), out)
 
 
 @inline_kernel
 def trace_of_product(A, B):
     """tr(A B) = Σᵢⱼ Aᵢⱼ Bⱼᵢ."""
-    s = 0.0
-    for i in range(3):
-        for j in range(3):
-            s += A[i, j] * B[j, i]
-    return s
+    return m3.trace_of_product(m3.mat(A), m3.mat(B))
 
 
 # --- views ------------------------------------------------------------------------------
@@ -240,16 +230,6 @@ def scratch_views(w):
     the integrators'.
     """
     return w[0], w[1], w[2], w[3], w[4], w[5], w[6]
-
-
-@inline_kernel
-def frobenius(A, B):
-    """A : B = Σᵢⱼ Aᵢⱼ Bᵢⱼ = tr(AᵀB)."""
-    s = 0.0
-    for i in range(3):
-        for j in range(3):
-            s += A[i, j] * B[i, j]
-    return s
 
 
 # --- constitutive kernels ----------------------------------------------------------
