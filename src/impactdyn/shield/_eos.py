@@ -121,7 +121,9 @@ def sound_speed(rho, p, rho0, c0, s, gamma0):
     return math.sqrt(max(c2, 0.01 * c0 * c0))
 
 
-@njit(cache=True)
+# inline="always": called per particle in the SPH kernels with array arguments; as calls, passing the
+# arrays cost about as much as the work (the predictor ran twice as long)
+@njit(cache=True, inline="always")
 def temperature(rho, e, params, k):
     """Temperature estimate of material k at (ρ, e), K (module docstring).
 

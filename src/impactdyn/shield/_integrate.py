@@ -11,7 +11,8 @@ hᵢⱼ = (hᵢ + hⱼ)/2, vᵢⱼ = vᵢ − vⱼ and the pair tensor::
     deᵢ/dt      = −½ Σⱼ mⱼ vᵢⱼ · Tᵢⱼ · ∇ᵢWᵢⱼ            (energy)
     ∂vᵢ^α/∂x^β  = −Σⱼ (mⱼ/ρⱼ) vᵢⱼ^α ∂_βWᵢⱼ               (velocity gradient, for the Jaumann rate)
 
-Tᵢⱼ = Tⱼᵢ and ∇ᵢWᵢⱼ = −∇ⱼWⱼᵢ, so pair forces are equal and opposite: the total
+Tᵢⱼ = Tⱼᵢ and ∇ᵢWᵢⱼ = −∇ⱼWⱼᵢ, so pair forces are equal and opposite (the force
+loop :func:`pair_sums` evaluates each pair once and applies it to both): the total
 momentum changes only by round-off, and d/dt Σ mᵢ(½vᵢ² + eᵢ) = 0 exactly in the
 semi-discrete equations (the energy equation is the compatible one). Boundary
 images (:mod:`._neighbours`) enter the sums as neighbours j with the mirrored or
@@ -50,8 +51,9 @@ x-momentum with the mirror half, as it must) and periodic axes conserve all thre
   it (the binning's mass and bulk density (1 − φ)ρ are unaffected by this).
 
 Time integration: kick–drift–kick leapfrog with a predicted state for the force
-evaluation, one neighbour search and one force pass per step (Springel 2005
-GADGET-2 §5 form)::
+evaluation, one neighbour-list update (a search only once the particles have
+moved through the list's skin, :mod:`._neighbours`) and one force pass per step
+(Springel 2005 GADGET-2 §5 form)::
 
     v^{n+½} = vⁿ + ½Δt aⁿ,    xⁿ⁺¹ = xⁿ + Δt v^{n+½}
     predictor:  v* = v^{n+½} + ½Δt aⁿ,
@@ -79,12 +81,12 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit, prange
+from numba import get_num_threads, get_thread_id, njit, prange
 
 from impactdyn._errors import InputError
 from impactdyn.shield._eos import (C0, EPS_FAIL, GAMMA0, P_SPALL, RHO0, SHEAR, SLOPE, pack_materials, pressure,
                                    sound_speed, temperature)
-from impactdyn.shield._kernel import gradient_factor, w_shape
+from impactdyn.shield._kernel import SIGMA_3D, g_shape, w_shape
 from impactdyn.shield._neighbours import NeighbourList, spatial_order
 from impactdyn.shield._state import History, Particles, RunResult
 from impactdyn.shield._strength import artificial_stress, flow_stress, jaumann_rate, radial_return
@@ -107,6 +109,10 @@ class SPHOptions:
     cfl, force_cfl : time-step factors.
     flow_stress : "perfectly_plastic" (Y = Y₀) or "johnson_cook".
     failure : apply the spall / plastic-strain failure criteria of the materials.
+    neighbour_skin : skin ℓ of the reused neighbour list as a fraction of the largest h
+        (:mod:`._neighbours`): the list is searched again only after the particles
+        have moved (or h grown) by ℓ/2. It changes the cost, not the interacting
+        pairs; 0 searches at every step.
     """
 
     alpha: float = 1.0
@@ -119,9 +125,10 @@ class SPHOptions:
     force_cfl: float = 0.25
     flow_stress: str = "perfectly_plastic"
     failure: bool = True
+    neighbour_skin: float = 0.15
 
     def __post_init__(self) -> None:
-        for name in ("alpha", "beta", "artificial_stress"):
+        for name in ("alpha", "beta", "artificial_stress", "neighbour_skin"):
             if not (math.isfinite(getattr(self, name)) and getattr(self, name) >= 0):
                 raise InputError(f"SPHOptions.{name}: must be ≥ 0, got {getattr(self, name)!r}")
         if not (isinstance(self.artificial_stress_power, int) and 1 <= self.artificial_stress_power <= 8):
@@ -138,10 +145,11 @@ class SPHOptions:
             raise InputError(f"SPHOptions.flow_stress: {self.flow_stress!r}, expected one of {FLOW_STRESS_MODELS}")
 
 
-@njit(cache=True)
-def _particle_eos(i, m, rho, e, S, failed, mat, params, h_factor, rho_floor, eps_as, p, c, h, R, tension,
-                  sr, vol, work_a, work_v):
-    """Pressure p, sound speed c, smoothing length h, artificial stress R, σ/ρ² (sr) and m/ρ (vol) of particle i."""
+# inline: a call passing this many arrays per particle costs more than the work (:mod:`._strength`)
+@njit(cache=True, inline="always")
+def _particle_eos(i, m, rho, e, S, failed, mat, params, h_factor, rho_floor, eps_as, p, c, h, R, tension, work_a,
+                  work_v):
+    """Pressure p, sound speed c, smoothing length h and artificial stress R of particle i."""
     k = mat[i]
     rho0 = params[k, RHO0]
     pi = pressure(rho[i], e[i], rho0, params[k, C0], params[k, SLOPE], params[k, GAMMA0])
@@ -150,36 +158,90 @@ def _particle_eos(i, m, rho, e, S, failed, mat, params, h_factor, rho_floor, eps
     p[i] = pi
     c[i] = sound_speed(rho[i], pi, rho0, params[k, C0], params[k, SLOPE], params[k, GAMMA0])
     h[i] = h_factor * (m[i] / max(rho[i], rho0 * rho_floor)) ** (1.0 / 3.0)
-    q = 1.0 / (rho[i] * rho[i])
-    for d in range(6):
-        sr[i, d] = (S[i, d] - pi * (d < 3)) * q
-    vol[i] = m[i] / rho[i]
     tension[i] = False
     if eps_as > 0.0:
         tension[i] = artificial_stress(S, pi, rho[i], eps_as, i, R, work_a, work_v)
 
 
 @njit(parallel=True, cache=True)
-def update_particles(m, rho, e, S, failed, mat, params, h_factor, rho_floor, eps_as, p, c, h, R, tension, sr, vol,
-                     work_a, work_v):
-    """p, c, h, R, σ/ρ² and m/ρ of every particle (:func:`_particle_eos`)."""
+def update_particles(m, rho, e, S, failed, mat, params, h_factor, rho_floor, eps_as, p, c, h, R, tension, work_a,
+                     work_v):
+    """p, c, h and R of every particle (:func:`_particle_eos`)."""
     for i in prange(m.size):
-        _particle_eos(i, m, rho, e, S, failed, mat, params, h_factor, rho_floor, eps_as, p, c, h, R, tension, sr,
-                      vol, work_a, work_v)
+        _particle_eos(i, m, rho, e, S, failed, mat, params, h_factor, rho_floor, eps_as, p, c, h, R, tension,
+                      work_a, work_v)
+
+
+#: Columns of the pair-loop rows ``st`` (:func:`pair_rows`).
+ST_V, ST_C, ST_RHO, ST_M, ST_VOL, ST_SR, ST_WIDTH = 0, 3, 4, 5, 6, 8, 16
+
+
+@njit(cache=True, inline="always")
+def _pair_row(i, x, h, v, c, rho, m, S, p, pos, st):
+    """Row i of the pair loop's particle data.
+
+    pos (N, 4): (x, y, z, h), what the support test reads for every listed pair;
+    st (N, 16): v (3), c, ρ, m, m/ρ, σ/ρ² (6; σ = −pI + S) in the columns
+    ``ST_*`` (7, 14, 15 unused), what an interacting pair reads. A neighbour j
+    costs the pair loop a 32-byte and a 128-byte row instead of a cache line in
+    each of nine per-quantity arrays, and σ/ρ² and m/ρ are formed once per
+    particle, not once per pair.
+    """
+    for a in range(3):
+        pos[i, a] = x[i, a]
+        st[i, ST_V + a] = v[i, a]
+    pos[i, 3] = h[i]
+    st[i, ST_C] = c[i]
+    st[i, ST_RHO] = rho[i]
+    st[i, ST_M] = m[i]
+    st[i, ST_VOL] = m[i] / rho[i]
+    q = 1.0 / (rho[i] * rho[i])
+    for d in range(6):
+        st[i, ST_SR + d] = (S[i, d] - p[i] * (d < 3)) * q
 
 
 @njit(parallel=True, cache=True)
-def compute_rates(x, v, m, rho, rho_floor, c, h, S, sr, vol, R, tension, failed, mat, params, nbr, img, count,
-                  signs, offsets, alpha, beta, as_power, as_norm, cfl, force_cfl, grad_v, acc, dlnrho, de, dS, rate, dt_i):
-    """Rates of every particle (module docstring) and its stable time step dt_i.
-
-    sr (N, 6): σ/ρ² of every particle; vol (N,): m/ρ.
-    """
+def pair_rows(x, h, v, c, rho, m, S, p, pos, st):
+    """The pair loop's rows (pos, st) of every particle (:func:`_pair_row`)."""
     for i in prange(m.size):
-        xi0, xi1, xi2 = x[i, 0], x[i, 1], x[i, 2]
-        vi0, vi1, vi2 = v[i, 0], v[i, 1], v[i, 2]
-        hi, ci, rhoi = h[i], c[i], rho[i]
-        axx, ayy, azz, axy, ayz, azx = sr[i, 0], sr[i, 1], sr[i, 2], sr[i, 3], sr[i, 4], sr[i, 5]
+        _pair_row(i, x, h, v, c, rho, m, S, p, pos, st)
+
+
+#: Columns of the per-thread pair sums (:func:`pair_sums`): Σ mⱼTᵢⱼ·∇ᵢWᵢⱼ (3), Σ mⱼvᵢⱼ·∇ᵢWᵢⱼ, ė,
+#: L (9, row-major), max μ.
+PS_A, PS_RHO, PS_E, PS_L, PS_MU, PS_WIDTH = 0, 3, 4, 5, 14, 16
+
+
+# fastmath "contract" only: a·b + c may be fused into one rounding (FMA), nothing reordered (results move by round-off)
+@njit(parallel=True, cache=True, fastmath={"contract"})
+def pair_sums(pos, st, R, tension, nbr, img, count, signs, offsets, alpha, beta, as_power, as_norm, sums):
+    """The neighbour sums of the rates (module docstring), each pair of real particles evaluated once.
+
+    pos (N, 4), st (N, 16): the rows of :func:`pair_rows`; R (N, 6), tension (N,):
+    artificial stress; nbr, img (N, cap), count (N,): the half neighbour list
+    (:class:`NeighbourList` with ``half``), whose pairs beyond the support 2hᵢⱼ
+    (its skin) are skipped. A pair of real particles (image 0) is listed once;
+    its terms for j follow from those for i, since ∇ⱼWⱼᵢ = −∇ᵢWᵢⱼ, vⱼᵢ = −vᵢⱼ,
+    Tⱼᵢ = Tᵢⱼ and μⱼᵢ = μᵢⱼ::
+
+        aⱼ −= mᵢ Tᵢⱼ·∇ᵢWᵢⱼ,   ρ̇ⱼ += mᵢ vᵢⱼ·∇ᵢWᵢⱼ,   ėⱼ −= ½ mᵢ vᵢⱼ·Tᵢⱼ·∇ᵢWᵢⱼ,   Lⱼ −= (mᵢ/ρᵢ) vᵢⱼ ⊗ ∇ᵢWᵢⱼ
+
+    An image pair (i, T(j)) is listed in i's row and its partner (j, T⁻¹(i)) in
+    j's, each adding to its own particle only.
+
+    sums (T, N, 16): per-thread partial sums (columns ``PS_*``), zero on entry;
+    :func:`_particle_rates` adds them up and zeroes them again. Thread t adds to sums[t] only, so
+    the scattered additions to j need no locks; prange gives each thread one
+    contiguous range of i, so the result is the same for the same thread count.
+    """
+    for i in prange(pos.shape[0]):
+        tid = get_thread_id()
+        xi0, xi1, xi2, hi = pos[i, 0], pos[i, 1], pos[i, 2], pos[i, 3]
+        vi0, vi1, vi2 = st[i, ST_V], st[i, ST_V + 1], st[i, ST_V + 2]
+        ci, rhoi, mi, voli = st[i, ST_C], st[i, ST_RHO], st[i, ST_M], st[i, ST_VOL]
+        axx, ayy, azz = st[i, ST_SR], st[i, ST_SR + 1], st[i, ST_SR + 2]
+        axy, ayz, azx = st[i, ST_SR + 3], st[i, ST_SR + 4], st[i, ST_SR + 5]
+        tension_i = tension[i]
         a0 = a1 = a2 = 0.0
         dr = du = 0.0
         l00 = l01 = l02 = l10 = l11 = l12 = l20 = l21 = l22 = 0.0
@@ -187,28 +249,36 @@ def compute_rates(x, v, m, rho, rho_floor, c, h, S, sr, vol, R, tension, failed,
         for k in range(count[i]):
             j = nbr[i, k]
             t = img[i, k]
-            s0, s1, s2 = signs[t, 0], signs[t, 1], signs[t, 2]
-            dx0 = xi0 - (s0 * x[j, 0] + offsets[t, 0])
-            dx1 = xi1 - (s1 * x[j, 1] + offsets[t, 1])
-            dx2 = xi2 - (s2 * x[j, 2] + offsets[t, 2])
+            xj0, xj1, xj2 = pos[j, 0], pos[j, 1], pos[j, 2]
+            if t != 0:  # the image T(xⱼ) = s ⊙ xⱼ + o
+                xj0 = signs[t, 0] * xj0 + offsets[t, 0]
+                xj1 = signs[t, 1] * xj1 + offsets[t, 1]
+                xj2 = signs[t, 2] * xj2 + offsets[t, 2]
+            dx0, dx1, dx2 = xi0 - xj0, xi1 - xj1, xi2 - xj2
             r2 = dx0 * dx0 + dx1 * dx1 + dx2 * dx2
-            hij = 0.5 * (hi + h[j])
-            r = math.sqrt(r2)
-            if r >= 2.0 * hij:
+            hij = 0.5 * (hi + pos[j, 3])
+            if r2 >= 4.0 * hij * hij:
                 continue
-            f = gradient_factor(r, hij)
+            # ∇ᵢWᵢⱼ = σ/h⁵ g(q) xᵢⱼ (:mod:`._kernel`), one division for 1/h
+            ih = 1.0 / hij
+            q = math.sqrt(r2) * ih
+            ih2 = ih * ih
+            f = SIGMA_3D * ih2 * ih2 * ih * g_shape(q)
             g0, g1, g2 = f * dx0, f * dx1, f * dx2
-            dv0 = vi0 - s0 * v[j, 0]
-            dv1 = vi1 - s1 * v[j, 1]
-            dv2 = vi2 - s2 * v[j, 2]
-            # σⱼ/ρⱼ² of the image: components (α, β) pick up s_α s_β
-            bxx, byy, bzz = sr[j, 0], sr[j, 1], sr[j, 2]
-            bxy, byz, bzx = s0 * s1 * sr[j, 3], s1 * s2 * sr[j, 4], s2 * s0 * sr[j, 5]
+            vj0, vj1, vj2 = st[j, ST_V], st[j, ST_V + 1], st[j, ST_V + 2]
+            bxx, byy, bzz = st[j, ST_SR], st[j, ST_SR + 1], st[j, ST_SR + 2]
+            bxy, byz, bzx = st[j, ST_SR + 3], st[j, ST_SR + 4], st[j, ST_SR + 5]
+            s01 = s12 = s20 = 1.0
+            if t != 0:  # the image's velocity s ⊙ vⱼ and σⱼ/ρⱼ², whose components (α, β) pick up s_α s_β
+                vj0, vj1, vj2 = signs[t, 0] * vj0, signs[t, 1] * vj1, signs[t, 2] * vj2
+                s01, s12, s20 = signs[t, 0] * signs[t, 1], signs[t, 1] * signs[t, 2], signs[t, 2] * signs[t, 0]
+                bxy, byz, bzx = s01 * bxy, s12 * byz, s20 * bzx
+            dv0, dv1, dv2 = vi0 - vj0, vi1 - vj1, vi2 - vj2
             vr = dv0 * dx0 + dv1 * dx1 + dv2 * dx2
-            visc = 0.0
+            visc = mu = 0.0
             if vr < 0.0:
                 mu = hij * vr / (r2 + 0.01 * hij * hij)
-                visc = (-alpha * 0.5 * (ci + c[j]) * mu + beta * mu * mu) / (0.5 * (rhoi + rho[j]))
+                visc = (-alpha * 0.5 * (ci + st[j, ST_C]) * mu + beta * mu * mu) / (0.5 * (rhoi + st[j, ST_RHO]))
                 mu_max = max(mu_max, -mu)
             txx = axx + bxx - visc
             tyy = ayy + byy - visc
@@ -216,62 +286,124 @@ def compute_rates(x, v, m, rho, rho_floor, c, h, S, sr, vol, R, tension, failed,
             txy = axy + bxy
             tyz = ayz + byz
             tzx = azx + bzx
-            if tension[i] or tension[j]:
+            if tension_i or tension[j]:
                 fn = 1.0
-                fij = w_shape(r / hij) * as_norm
+                fij = w_shape(q) * as_norm
                 for _ in range(as_power):
                     fn *= fij
                 txx += (R[i, 0] + R[j, 0]) * fn
                 tyy += (R[i, 1] + R[j, 1]) * fn
                 tzz += (R[i, 2] + R[j, 2]) * fn
-                txy += (R[i, 3] + s0 * s1 * R[j, 3]) * fn
-                tyz += (R[i, 4] + s1 * s2 * R[j, 4]) * fn
-                tzx += (R[i, 5] + s2 * s0 * R[j, 5]) * fn
-            mj = m[j]
+                txy += (R[i, 3] + s01 * R[j, 3]) * fn
+                tyz += (R[i, 4] + s12 * R[j, 4]) * fn
+                tzx += (R[i, 5] + s20 * R[j, 5]) * fn
             tg0 = txx * g0 + txy * g1 + tzx * g2
             tg1 = txy * g0 + tyy * g1 + tyz * g2
             tg2 = tzx * g0 + tyz * g1 + tzz * g2
+            vtg = dv0 * tg0 + dv1 * tg1 + dv2 * tg2
+            vg = dv0 * g0 + dv1 * g1 + dv2 * g2
+            mj, volj = st[j, ST_M], st[j, ST_VOL]
             a0 += mj * tg0
             a1 += mj * tg1
             a2 += mj * tg2
-            du -= 0.5 * mj * (dv0 * tg0 + dv1 * tg1 + dv2 * tg2)
-            dr += mj * (dv0 * g0 + dv1 * g1 + dv2 * g2)
-            vj = vol[j]
-            l00 -= vj * dv0 * g0
-            l01 -= vj * dv0 * g1
-            l02 -= vj * dv0 * g2
-            l10 -= vj * dv1 * g0
-            l11 -= vj * dv1 * g1
-            l12 -= vj * dv1 * g2
-            l20 -= vj * dv2 * g0
-            l21 -= vj * dv2 * g1
-            l22 -= vj * dv2 * g2
-        acc[i, 0], acc[i, 1], acc[i, 2] = a0, a1, a2
-        dlnrho[i] = dr / max(rhoi, params[mat[i], RHO0] * rho_floor)
-        de[i] = du
-        grad_v[i, 0, 0], grad_v[i, 0, 1], grad_v[i, 0, 2] = l00, l01, l02
-        grad_v[i, 1, 0], grad_v[i, 1, 1], grad_v[i, 1, 2] = l10, l11, l12
-        grad_v[i, 2, 0], grad_v[i, 2, 1], grad_v[i, 2, 2] = l20, l21, l22
-        ds, rate[i] = jaumann_rate(S[i, 0], S[i, 1], S[i, 2], S[i, 3], S[i, 4], S[i, 5], grad_v, i,
-                                   params[mat[i], SHEAR])
-        for k in range(6):
-            dS[i, k] = 0.0 if failed[i] else ds[k]
-        amag = math.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
-        dt_i[i] = cfl * hi / (ci + 1.2 * (alpha * ci + beta * mu_max))
-        if amag > 0.0:
-            dt_i[i] = min(dt_i[i], force_cfl * math.sqrt(hi / amag))
-        if dlnrho[i] != 0.0:
-            dt_i[i] = min(dt_i[i], cfl / abs(dlnrho[i]))
+            du -= 0.5 * mj * vtg
+            dr += mj * vg
+            l00 -= volj * dv0 * g0
+            l01 -= volj * dv0 * g1
+            l02 -= volj * dv0 * g2
+            l10 -= volj * dv1 * g0
+            l11 -= volj * dv1 * g1
+            l12 -= volj * dv1 * g2
+            l20 -= volj * dv2 * g0
+            l21 -= volj * dv2 * g1
+            l22 -= volj * dv2 * g2
+            if t == 0:  # the pair's terms for j
+                sums[tid, j, PS_A] -= mi * tg0
+                sums[tid, j, PS_A + 1] -= mi * tg1
+                sums[tid, j, PS_A + 2] -= mi * tg2
+                sums[tid, j, PS_RHO] += mi * vg
+                sums[tid, j, PS_E] -= 0.5 * mi * vtg
+                sums[tid, j, PS_L] -= voli * dv0 * g0
+                sums[tid, j, PS_L + 1] -= voli * dv0 * g1
+                sums[tid, j, PS_L + 2] -= voli * dv0 * g2
+                sums[tid, j, PS_L + 3] -= voli * dv1 * g0
+                sums[tid, j, PS_L + 4] -= voli * dv1 * g1
+                sums[tid, j, PS_L + 5] -= voli * dv1 * g2
+                sums[tid, j, PS_L + 6] -= voli * dv2 * g0
+                sums[tid, j, PS_L + 7] -= voli * dv2 * g1
+                sums[tid, j, PS_L + 8] -= voli * dv2 * g2
+                sums[tid, j, PS_MU] = max(sums[tid, j, PS_MU], -mu)
+        sums[tid, i, PS_A] += a0
+        sums[tid, i, PS_A + 1] += a1
+        sums[tid, i, PS_A + 2] += a2
+        sums[tid, i, PS_RHO] += dr
+        sums[tid, i, PS_E] += du
+        sums[tid, i, PS_L] += l00
+        sums[tid, i, PS_L + 1] += l01
+        sums[tid, i, PS_L + 2] += l02
+        sums[tid, i, PS_L + 3] += l10
+        sums[tid, i, PS_L + 4] += l11
+        sums[tid, i, PS_L + 5] += l12
+        sums[tid, i, PS_L + 6] += l20
+        sums[tid, i, PS_L + 7] += l21
+        sums[tid, i, PS_L + 8] += l22
+        sums[tid, i, PS_MU] = max(sums[tid, i, PS_MU], mu_max)
+
+
+@njit(cache=True, inline="always")
+def _particle_rates(i, pos, st, S, failed, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v, acc,
+                    dlnrho, de, dS, rate, dt_i):
+    """The rates of particle i from the pair sums (T, N, 16) of :func:`pair_sums`, whose rows of i it zeroes.
+
+    Writes acc[i] (3), dlnrho[i] = ρ̇/ρ, de[i], grad_v[i] = L (3, 3), dS[i] = Ṡ (6, Jaumann),
+    rate[i] = ε̇_eq and the stable step dt_i[i] (module docstring).
+    """
+    for t in range(1, sums.shape[0]):  # the other threads' partial sums into sums[0, i]
+        for c in range(PS_MU):
+            sums[0, i, c] += sums[t, i, c]
+            sums[t, i, c] = 0.0
+        sums[0, i, PS_MU] = max(sums[0, i, PS_MU], sums[t, i, PS_MU])
+        sums[t, i, PS_MU] = 0.0
+    hi, ci, rhoi = pos[i, 3], st[i, ST_C], st[i, ST_RHO]
+    a0, a1, a2 = sums[0, i, PS_A], sums[0, i, PS_A + 1], sums[0, i, PS_A + 2]
+    acc[i, 0], acc[i, 1], acc[i, 2] = a0, a1, a2
+    dlnrho[i] = sums[0, i, PS_RHO] / max(rhoi, params[mat[i], RHO0] * rho_floor)
+    de[i] = sums[0, i, PS_E]
+    for r in range(3):
+        for c in range(3):
+            grad_v[i, r, c] = sums[0, i, PS_L + 3 * r + c]
+    mu_max = sums[0, i, PS_MU]
+    for c in range(PS_WIDTH):
+        sums[0, i, c] = 0.0
+    ds, rate[i] = jaumann_rate(S[i, 0], S[i, 1], S[i, 2], S[i, 3], S[i, 4], S[i, 5], grad_v, i,
+                               params[mat[i], SHEAR])
+    for k in range(6):
+        dS[i, k] = 0.0 if failed[i] else ds[k]
+    amag = math.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
+    dt_i[i] = cfl * hi / (ci + 1.2 * (alpha * ci + beta * mu_max))
+    if amag > 0.0:
+        dt_i[i] = min(dt_i[i], force_cfl * math.sqrt(hi / amag))
+    if dlnrho[i] != 0.0:
+        dt_i[i] = min(dt_i[i], cfl / abs(dlnrho[i]))
+
+
+@njit(parallel=True, cache=True)
+def particle_rates(pos, st, S, failed, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v, acc, dlnrho,
+                   de, dS, rate, dt_i):
+    """The rates of every particle from the pair sums (:func:`_particle_rates`)."""
+    for i in prange(pos.shape[0]):
+        _particle_rates(i, pos, st, S, failed, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v, acc,
+                        dlnrho, de, dS, rate, dt_i)
 
 
 @njit(parallel=True, cache=True)
 def kick_drift_predict(x, v, acc, rho, dlnrho, e, de, S, dS, eps_p, rate, failed, m, mat, params, johnson_cook,
-                       h_factor, rho_floor, eps_as, dt, v_p, rho_p, e_p, S_p, p, c, h, R, tension, sr, vol, work_a,
-                       work_v):
+                       h_factor, rho_floor, eps_as, dt, v_p, rho_p, e_p, S_p, p, c, h, R, tension, work_a, work_v, pos,
+                       st):
     """Half kick v ← v + ½Δt a, drift x ← x + Δt v, and the predicted state at the step's end.
 
     Predicted: v_p = v + ½Δt a, (e, S)_p = (e, S) + Δt (ė, Ṡ), ρ_p = ρ exp(Δt ρ̇/ρ), S_p returned to the
-    yield surface; then its p, c, h and R (:func:`_particle_eos`).
+    yield surface; then its p, c, h and R (:func:`_particle_eos`) and its pair-loop rows (:func:`_pair_row`).
     """
     for i in prange(m.size):
         k = mat[i]
@@ -286,21 +418,30 @@ def kick_drift_predict(x, v, acc, rho, dlnrho, e, de, S, dS, eps_p, rate, failed
         Y = flow_stress(params, k, johnson_cook, eps_p[i], rate[i], temperature(rho_p[i], e_p[i], params, k))
         radial_return(S_p, i, Y, params[k, SHEAR])
         _particle_eos(i, m, rho_p, e_p, S_p, failed, mat, params, h_factor, rho_floor, eps_as, p, c, h, R,
-                      tension, sr, vol, work_a, work_v)
+                      tension, work_a, work_v)
+        _pair_row(i, x, h, v_p, c, rho_p, m, S_p, p, pos, st)
 
 
 @njit(parallel=True, cache=True)
-def correct(v, acc, rho, dlnrho_old, dlnrho, e, de_old, de, S, dS_old, dS, eps_p, rate, failed, mat, params,
-            johnson_cook, failure, dt):
-    """Corrector: second half kick, trapezoidal ln ρ, e, S, radial return (εₚ), failure check."""
-    for i in prange(rho.size):
+def finish_step(pos, st, S_p, failed, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v, acc_new,
+                dlnrho_new, de_new, dS_new, rate, dt_i, v, m, rho, dlnrho, e, de, S, dS, eps_p, johnson_cook, failure,
+                dt):
+    """The rates at the step's end (:func:`_particle_rates` of the predicted state S_p), then the corrector.
+
+    Corrector: second half kick with acc_new, trapezoidal ln ρ, e, S of the old and new rates, radial return
+    (εₚ), failure check. Returns the totals of the corrected state (:func:`totals`).
+    """
+    mass = px = py = pz = kin = internal = 0.0
+    for i in prange(m.size):
+        _particle_rates(i, pos, st, S_p, failed, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v,
+                        acc_new, dlnrho_new, de_new, dS_new, rate, dt_i)
         k = mat[i]
         for d in range(3):
-            v[i, d] += 0.5 * dt * acc[i, d]
-        rho[i] *= math.exp(0.5 * dt * (dlnrho_old[i] + dlnrho[i]))
-        e[i] += 0.5 * dt * (de_old[i] + de[i])
+            v[i, d] += 0.5 * dt * acc_new[i, d]
+        rho[i] *= math.exp(0.5 * dt * (dlnrho[i] + dlnrho_new[i]))
+        e[i] += 0.5 * dt * (de[i] + de_new[i])
         for d in range(6):
-            S[i, d] += 0.5 * dt * (dS_old[i, d] + dS[i, d])
+            S[i, d] += 0.5 * dt * (dS[i, d] + dS_new[i, d])
         Y = flow_stress(params, k, johnson_cook, eps_p[i], rate[i], temperature(rho[i], e[i], params, k))
         eps_p[i] += radial_return(S, i, Y, params[k, SHEAR])
         if failure and not failed[i]:
@@ -310,6 +451,13 @@ def correct(v, acc, rho, dlnrho_old, dlnrho, e, de_old, de, S, dS_old, dS, eps_p
         if failed[i]:
             for d in range(6):
                 S[i, d] = 0.0
+        mass += m[i]
+        px += m[i] * v[i, 0]
+        py += m[i] * v[i, 1]
+        pz += m[i] * v[i, 2]
+        kin += 0.5 * m[i] * (v[i, 0] ** 2 + v[i, 1] ** 2 + v[i, 2] ** 2)
+        internal += m[i] * e[i]
+    return mass, px, py, pz, kin, internal
 
 
 @njit(parallel=True, cache=True)
@@ -339,8 +487,9 @@ class _Solver:
     """The arrays of one run and the step sequence (module docstring), allocated once.
 
     Particles are kept in spatial (cell-key) order for cache locality: every
-    ``REORDER_EVERY`` steps the state and its rates are permuted; ``ids`` maps
-    the stored order back to the problem's particle order.
+    ``REORDER_EVERY`` steps the state, its rates and the neighbour list are
+    permuted; ``ids`` maps the stored order back to the problem's particle order.
+    The neighbour list is reused across steps within its skin (:mod:`._neighbours`).
     """
 
     REORDER_EVERY = 10
@@ -357,38 +506,42 @@ class _Solver:
         self.mat, self.ids = init.material.copy(), np.arange(n)
         z1, z3, z6 = (lambda: np.zeros(n)), (lambda: np.zeros((n, 3))), (lambda: np.zeros((n, 6)))
         self.p, self.c, self.h, self.rate, self.dt_i = z1(), z1(), z1(), z1(), z1()
-        self.R, self.tension, self.sr, self.vol = z6(), np.zeros(n, dtype=np.bool_), z6(), z1()
+        self.R, self.tension = z6(), np.zeros(n, dtype=np.bool_)
+        self.pos, self.st = np.zeros((n, 4)), np.zeros((n, ST_WIDTH))
+        self.sums = np.zeros((0, n, PS_WIDTH))  # per-thread pair sums, sized at the first force pass
         self.work_a, self.work_v, self.grad_v = np.zeros((n, 3, 3)), np.zeros((n, 3, 3)), np.zeros((n, 3, 3))
         self.acc, self.dlnrho, self.de, self.dS = z3(), z1(), z1(), z6()
         self.acc_new, self.dlnrho_new, self.de_new, self.dS_new = z3(), z1(), z1(), z6()
         self.v_p, self.rho_p, self.e_p, self.S_p = z3(), z1(), z1(), z6()
-        self.neighbours = NeighbourList(n, problem.domain)
+        self.neighbours = NeighbourList(n, problem.domain, skin=options.neighbour_skin, half=True)
         self.jc = options.flow_stress == "johnson_cook"
         self.rho_floor = options.h_max_factor ** -3.0
         self.as_norm = 1.0 / float(w_shape(1.0 / options.h_factor))
         self.steps = 0
         self._eos(self.rho, self.e, self.S)
-        self.dt = self._rates(self.v, self.rho, self.S, (self.acc, self.dlnrho, self.de, self.dS))
+        pair_rows(self.x, self.h, self.v, self.c, self.rho, self.m, self.S, self.p, self.pos, self.st)
+        self._pair_sums()
+        particle_rates(self.pos, self.st, self.S, self.failed, self.mat, self.params, self.rho_floor, options.alpha,
+                       options.beta, options.cfl, options.force_cfl, self.sums, self.grad_v, self.acc, self.dlnrho,
+                       self.de, self.dS, self.rate, self.dt_i)
+        self.dt = float(self.dt_i.min())
 
     def _eos(self, rho, e, S) -> None:
         o = self.options
         update_particles(self.m, rho, e, S, self.failed, self.mat, self.params, o.h_factor, self.rho_floor,
-                         o.artificial_stress, self.p, self.c, self.h, self.R, self.tension, self.sr, self.vol,
-                         self.work_a, self.work_v)
+                         o.artificial_stress, self.p, self.c, self.h, self.R, self.tension, self.work_a, self.work_v)
 
-    def _rates(self, v, rho, S, out) -> float:
-        """Neighbour search at the current positions and the rates of state (x, v, ρ, S) into ``out``; Δt."""
+    def _pair_sums(self) -> None:
+        """Neighbour list at the current positions and the pair sums of the pair-loop rows (pos, st)."""
         o, nl = self.options, self.neighbours
         if 2.0 * self.h.max() > self.domain.min_period():
             raise SPHError(f"kernel support 2h = {2 * self.h.max():.4g} cm exceeds the periodic length "
                            f"{self.domain.min_period():.4g} cm")
         nl.update(self.x, self.h)
-        acc, dlnrho, de, dS = out
-        compute_rates(self.x, v, self.m, rho, self.rho_floor, self.c, self.h, S, self.sr, self.vol, self.R,
-                      self.tension, self.failed, self.mat, self.params, nl.neighbours, nl.image, nl.count, nl.signs, nl.offsets, o.alpha, o.beta,
-                      o.artificial_stress_power, self.as_norm, o.cfl, o.force_cfl, self.grad_v, acc, dlnrho, de, dS,
-                      self.rate, self.dt_i)
-        return float(self.dt_i.min())
+        if self.sums.shape[0] != get_num_threads():
+            self.sums = np.zeros((get_num_threads(), self.m.size, PS_WIDTH))
+        pair_sums(self.pos, self.st, self.R, self.tension, nl.neighbours, nl.image, nl.count, nl.signs, nl.offsets,
+                  o.alpha, o.beta, o.artificial_stress_power, self.as_norm, self.sums)
 
     def totals(self) -> tuple[float, ...]:
         return totals(self.m, self.v, self.e)
@@ -399,23 +552,28 @@ class _Solver:
             order = spatial_order(self.x, self.h)
             for name in self.STATE:
                 setattr(self, name, getattr(self, name)[order])
+            self.neighbours.permute(order)
         o = self.options
         kick_drift_predict(self.x, self.v, self.acc, self.rho, self.dlnrho, self.e, self.de, self.S, self.dS,
                            self.eps_p, self.rate, self.failed, self.m, self.mat, self.params, self.jc, o.h_factor,
                            self.rho_floor, o.artificial_stress, dt, self.v_p, self.rho_p, self.e_p, self.S_p,
-                           self.p, self.c, self.h, self.R, self.tension, self.sr, self.vol, self.work_a, self.work_v)
-        self.domain.wrap(self.x)
-        self.dt = self._rates(self.v_p, self.rho_p, self.S_p,
-                              (self.acc_new, self.dlnrho_new, self.de_new, self.dS_new))
-        correct(self.v, self.acc_new, self.rho, self.dlnrho, self.dlnrho_new, self.e, self.de, self.de_new, self.S,
-                self.dS, self.dS_new, self.eps_p, self.rate, self.failed, self.mat, self.params, self.jc, o.failure,
-                dt)
+                           self.p, self.c, self.h, self.R, self.tension, self.work_a, self.work_v, self.pos, self.st)
+        if self.domain.wrap(self.x):
+            self.neighbours.invalidate()
+            pair_rows(self.x, self.h, self.v_p, self.c, self.rho_p, self.m, self.S_p, self.p, self.pos, self.st)
+        self._pair_sums()
+        new_totals = finish_step(self.pos, self.st, self.S_p, self.failed, self.mat, self.params, self.rho_floor,
+                                 o.alpha, o.beta, o.cfl, o.force_cfl, self.sums, self.grad_v, self.acc_new,
+                                 self.dlnrho_new, self.de_new, self.dS_new, self.rate, self.dt_i, self.v, self.m,
+                                 self.rho, self.dlnrho, self.e, self.de, self.S, self.dS, self.eps_p, self.jc,
+                                 o.failure, dt)
+        self.dt = float(self.dt_i.min())
         self.acc, self.acc_new = self.acc_new, self.acc
         self.dlnrho, self.dlnrho_new = self.dlnrho_new, self.dlnrho
         self.de, self.de_new = self.de_new, self.de
         self.dS, self.dS_new = self.dS_new, self.dS
         self.steps += 1
-        return self.totals()
+        return new_totals
 
     def particles(self, time: float) -> Particles:
         """The current state as :class:`Particles`, in the problem's particle order."""

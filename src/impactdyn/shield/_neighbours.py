@@ -11,9 +11,10 @@ particles are stored, only (j, image) pairs.
 Neighbours: i and the image T(xⱼ) interact when |xᵢ − T(xⱼ)| < 2hᵢⱼ with
 hᵢⱼ = (hᵢ + hⱼ)/2 (the symmetric smoothing length of the pair, which keeps the
 pair forces antisymmetric). Search: particles are counting-sorted into cubic
-cells of edge max h (cell key (ix·n_y + iy)·n_z + iz, a start index per cell);
-for each particle and image the query point T⁻¹(xᵢ) = s ⊙ (xᵢ − o) is looked up
-in the cells within reach hᵢ + max h, each z-run of cells being one contiguous
+cells of edge max h + ℓ/2 (ℓ the skin, below; cell key (ix·n_y + iy)·n_z + iz, a
+start index per cell); for each particle and image the query point
+T⁻¹(xᵢ) = s ⊙ (xᵢ − o) is looked up in the cells within reach
+hᵢ + max h + ℓ, each z-run of cells being one contiguous
 slice of the sorted particles. Pairs (i, T(j)) with T(j) found from T⁻¹(xᵢ) are
 exactly those of the definition, since |xᵢ − T(xⱼ)| = |T⁻¹(xᵢ) − xⱼ| for these
 isometries.
@@ -21,6 +22,28 @@ isometries.
 The list is stored per particle with a fixed capacity (``neighbours`` (N, cap)
 int32, ``image`` (N, cap) int8, ``count`` (N,)); :class:`NeighbourList` grows
 the capacity when a particle overflows it and keeps the arrays between steps.
+A half list holds a pair of real particles (image 0) in one of its two rows only,
+for a force loop that applies each such pair to both particles; image pairs are
+in both rows.
+
+Reuse (a Verlet list with a skin ℓ ≥ 0): the list is built with the pairs
+|xᵢ − T(xⱼ)| < hᵢ + hⱼ + ℓ, at positions x⁰ and smoothing lengths h⁰, and kept
+while every particle satisfies
+
+    2 δ_max ≤ ℓ,   δᵢ = |xᵢ − xᵢ⁰| + max(hᵢ − hᵢ⁰, 0).
+
+It then still holds every interacting pair: |xᵢ − T(xⱼ)| ≥ |xᵢ⁰ − T(xⱼ⁰)| −
+|xᵢ − xᵢ⁰| − |xⱼ − xⱼ⁰| (T is an isometry), so a pair left out at the build
+(distance ≥ hᵢ⁰ + hⱼ⁰ + ℓ) is now at least
+
+    hᵢ⁰ + hⱼ⁰ + ℓ − (δᵢ + δⱼ) + max(hᵢ − hᵢ⁰, 0) + max(hⱼ − hⱼ⁰, 0) ≥ hᵢ + hⱼ + ℓ − 2δ_max ≥ hᵢ + hⱼ
+
+apart. The list may hold pairs beyond the support; the force loop skips them
+by the same test as the search (|xᵢ − T(xⱼ)| < hᵢ + hⱼ), so the pairs that
+interact, and the results, are those of a search at every step up to the order
+of summation. ℓ = 0 searches again whenever anything moved. A particle crossing a periodic boundary changes the
+image of its pairs, so the wrap (:meth:`Domain.wrap`) reports crossings and the
+caller discards the list (:meth:`NeighbourList.invalidate`).
 """
 
 from __future__ import annotations
@@ -67,10 +90,18 @@ class Domain:
         offsets = np.array([[o[1] for o in combo] for combo in combos])
         return signs, offsets
 
-    def wrap(self, x: np.ndarray) -> None:
-        """Map positions (N, 3) back into the periodic box, in place."""
+    def wrap(self, x: np.ndarray) -> bool:
+        """Map positions (N, 3) back into the periodic box, in place; whether any particle crossed a boundary.
+
+        Only the particles outside [lo, hi) move, so that the others keep their positions bit for bit.
+        """
+        crossed = False
         for axis, lo, hi in self.periodic:
-            x[:, axis] = lo + np.mod(x[:, axis] - lo, hi - lo)
+            out = np.flatnonzero((x[:, axis] < lo) | (x[:, axis] >= hi))
+            if out.size:
+                x[out, axis] = lo + np.mod(x[out, axis] - lo, hi - lo)
+                crossed = True
+        return crossed
 
     def min_period(self) -> float:
         return min((hi - lo for _, lo, hi in self.periodic), default=math.inf)
@@ -131,20 +162,22 @@ def _cell_range(q, reach, lo, cell, dim):
 
 
 @njit(parallel=True, cache=True)
-def find_neighbours(x, h, signs, offsets, neighbours, image, count):
-    """Fill the neighbour list of positions x (N, 3) with smoothing lengths h (N,).
+def find_neighbours(x, h, skin, half, signs, offsets, neighbours, image, count):
+    """Fill the neighbour list of positions x (N, 3) with smoothing lengths h (N,) and skin ℓ ≥ 0.
 
-    Writes up to ``neighbours.shape[1]`` pairs per particle into ``neighbours``
-    (j) and ``image`` (image index); ``count[i]`` is the true number of
-    neighbours of i (it may exceed the capacity). Returns max(count).
+    Lists the pairs |xᵢ − T(xⱼ)| < hᵢ + hⱼ + ℓ; with ``half``, a pair of real
+    particles (image 0) in the row of the lower index only (image pairs stay in
+    both rows). Writes up to ``neighbours.shape[1]`` pairs per particle into
+    ``neighbours`` (j) and ``image`` (image index); ``count[i]`` is the true
+    number of neighbours of i (it may exceed the capacity). Returns max(count).
     """
     n = x.shape[0]
     cap = neighbours.shape[1]
     hmax = h.max()
-    lo, cell, dims, start, order = _cell_grid(x, hmax)
+    lo, cell, dims, start, order = _cell_grid(x, hmax + 0.5 * skin)
     for i in prange(n):
         c = 0
-        reach = h[i] + hmax
+        reach = h[i] + hmax + skin
         for t in range(signs.shape[0]):
             q0 = signs[t, 0] * (x[i, 0] - offsets[t, 0])
             q1 = signs[t, 1] * (x[i, 1] - offsets[t, 1])
@@ -159,12 +192,12 @@ def find_neighbours(x, h, signs, offsets, neighbours, image, count):
                     row = (cx * dims[1] + cy) * dims[2]
                     for s in range(start[row + z0], start[row + z1 + 1]):
                         j = order[s]
-                        if t == 0 and j == i:
+                        if t == 0 and (j == i or (half and j < i)):
                             continue
                         d0 = q0 - x[j, 0]
                         d1 = q1 - x[j, 1]
                         d2 = q2 - x[j, 2]
-                        support = h[i] + h[j]
+                        support = h[i] + h[j] + skin
                         if d0 * d0 + d1 * d1 + d2 * d2 < support * support:
                             if c < cap:
                                 neighbours[i, c] = j
@@ -174,6 +207,40 @@ def find_neighbours(x, h, signs, offsets, neighbours, image, count):
     return count.max()
 
 
+@njit(parallel=True, cache=True)
+def list_drift(x, h, x_built, h_built):
+    """δ_max = maxᵢ |xᵢ − xᵢ⁰| + max(hᵢ − hᵢ⁰, 0) of positions x (N, 3) and h (N,) since the list's build."""
+    drift = 0.0
+    for i in prange(x.shape[0]):
+        d0 = x[i, 0] - x_built[i, 0]
+        d1 = x[i, 1] - x_built[i, 1]
+        d2 = x[i, 2] - x_built[i, 2]
+        drift = max(drift, math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) + max(h[i] - h_built[i], 0.0))
+    return drift
+
+
+@njit(parallel=True, cache=True)
+def _permute_rows(order, neighbours, image, count, x_built, h_built):
+    """The list of the particles renumbered so that new i is old order[i] (rows moved, j renamed)."""
+    n = order.size
+    new_index = np.empty(n, dtype=np.int32)
+    for i in range(n):
+        new_index[order[i]] = i
+    nb, im, ct = np.empty_like(neighbours), np.empty_like(image), np.empty_like(count)
+    xb, hb = np.empty_like(x_built), np.empty_like(h_built)
+    cap = neighbours.shape[1]
+    for i in prange(n):
+        o = order[i]
+        ct[i] = count[o]
+        for k in range(min(count[o], cap)):
+            nb[i, k] = new_index[neighbours[o, k]]
+            im[i, k] = image[o, k]
+        for a in range(3):
+            xb[i, a] = x_built[o, a]
+        hb[i] = h_built[o]
+    return nb, im, ct, xb, hb
+
+
 @njit(cache=True)
 def spatial_order(x, h):
     """Permutation of particles x (N, 3) that sorts them by the key of their search cell (edge 2 max h)."""
@@ -181,24 +248,56 @@ def spatial_order(x, h):
 
 
 class NeighbourList:
-    """Per-particle neighbour list kept between steps; grows when a particle overflows it."""
+    """Per-particle neighbour list kept between steps (module docstring): grows when a particle overflows it,
+    and is searched again only when the particles have moved or h has grown by more than the skin allows.
 
-    def __init__(self, n: int, domain: Domain, capacity: int = 96):
+    skin : ℓ as a fraction of the largest smoothing length at the build (0: search whenever anything moved).
+    half : list each pair of real particles once (in one of the two rows; image pairs in both), for a
+        force loop that applies each such pair to both particles.
+    """
+
+    def __init__(self, n: int, domain: Domain, capacity: int = 96, skin: float = 0.0, half: bool = False):
         self.signs, self.offsets = domain.transforms()
+        self.skin_factor, self.half = skin, half
+        self.skin = 0.0
         self.neighbours = np.empty((n, capacity), dtype=np.int32)
         self.image = np.empty((n, capacity), dtype=np.int8)
         self.count = np.zeros(n, dtype=np.int64)
+        self.x_built = np.empty((n, 3))
+        self.h_built = np.empty(n)
+        self.valid = False
+        self.builds = 0
 
-    def update(self, x: np.ndarray, h: np.ndarray) -> None:
+    def update(self, x: np.ndarray, h: np.ndarray) -> bool:
+        """Make the list hold every interacting pair of (x, h); returns whether it was searched again."""
+        if self.valid and 2.0 * list_drift(x, h, self.x_built, self.h_built) <= self.skin:
+            return False
+        self.skin = self.skin_factor * float(h.max())
         most = self._search(x, h)
         if most > self.neighbours.shape[1]:
             capacity = int(1.25 * most) + 8
             self.neighbours = np.empty((x.shape[0], capacity), dtype=np.int32)
             self.image = np.empty((x.shape[0], capacity), dtype=np.int8)
             self._search(x, h)
+        self.x_built[:] = x
+        self.h_built[:] = h
+        self.valid = True
+        self.builds += 1
+        return True
+
+    def invalidate(self) -> None:
+        """Search again at the next update (a particle changed its periodic image)."""
+        self.valid = False
+
+    def permute(self, order: np.ndarray) -> None:
+        """Follow a renumbering of the particles: new particle i is old particle order[i]."""
+        if self.valid:
+            (self.neighbours, self.image, self.count, self.x_built,
+             self.h_built) = _permute_rows(order, self.neighbours, self.image, self.count, self.x_built, self.h_built)
 
     def _search(self, x: np.ndarray, h: np.ndarray) -> int:
-        return find_neighbours(x, h, self.signs, self.offsets, self.neighbours, self.image, self.count)
+        return find_neighbours(x, h, self.skin, self.half, self.signs, self.offsets, self.neighbours, self.image,
+                               self.count)
 
 
 def neighbour_pairs(x: np.ndarray, h: np.ndarray, domain: Domain = Domain()) -> np.ndarray:

@@ -29,6 +29,8 @@ from numba import njit
 from impactdyn.shield._eos import HAS_JC, JC_A, JC_B, JC_C, JC_M, JC_N, JC_RATE0, JC_TMELT, JC_TROOM, YIELD
 
 
+# not inlined (unlike the functions below): inlined into a prange loop, its nested-tuple result trips numba's
+# parfor array analysis (numba 0.68)
 @njit(cache=True)
 def jaumann_rate(sxx, syy, szz, sxy, syz, szx, L, i, G):
     """dS/dt of particle i from its velocity gradient L[i] (3×3) and shear modulus G.
@@ -56,14 +58,16 @@ def jaumann_rate(sxx, syy, szz, sxy, syz, szx, L, i, G):
              2.0 * G * dxy + rxy, 2.0 * G * dyz + ryz, 2.0 * G * dzx + rzx), rate)
 
 
-@njit(cache=True)
+# inline="always": called per particle in the parallel kernels with array arguments; as calls, passing the
+# arrays cost about as much as the work (the predictor ran twice as long)
+@njit(cache=True, inline="always")
 def von_mises(S, i):
     """σ_eq = √(3/2 S:S) of S[i] (6 components)."""
     return math.sqrt(1.5 * (S[i, 0] ** 2 + S[i, 1] ** 2 + S[i, 2] ** 2)
                      + 3.0 * (S[i, 3] ** 2 + S[i, 4] ** 2 + S[i, 5] ** 2))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def radial_return(S, i, Y, G):
     """Scale S[i] back onto σ_eq = Y when it lies outside; returns the plastic-strain increment."""
     seq = von_mises(S, i)
@@ -75,7 +79,7 @@ def radial_return(S, i, Y, G):
     return (seq - Y) / (3.0 * G)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def flow_stress(params, k, johnson_cook, eps_p, rate, T):
     """Flow stress Y, Mbar, of material k of the table ``params`` (:mod:`._eos` columns).
 
@@ -92,7 +96,7 @@ def flow_stress(params, k, johnson_cook, eps_p, rate, T):
     return hardening * rate_term * (1.0 - tstar ** params[k, JC_M])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _jacobi_eigh(a, v, i):
     """Eigen-decomposition of the symmetric 3×3 a[i] in place: a[i] → diag(λ), v[i] → eigenvectors (columns)."""
     for r in range(3):
@@ -124,7 +128,7 @@ def _jacobi_eigh(a, v, i):
                 v[i, k, q] = s * vkp + c * vkq
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def artificial_stress(S, p, rho, eps, i, R, a, v):
     """R[i] = −ε/ρ² · (tensile part of σ = −pI + S[i]) (Gray, Monaghan & Swift 2001).
 
