@@ -104,9 +104,12 @@ class ShieldSection(Section):
 
 
 class BinningSection(Section):
-    """The hand-off HydroGrid: cubic cells (the report's DC3D cells are 0.03175 cm)."""
+    """The hand-off HydroGrid: cubic cells (the report's DC3D cells are 0.03175 cm) and how the SPH
+    particles are assigned to them: each with its own SPH kernel (``"kernel"``) or cloud-in-cell
+    (``"cic"``), :func:`impactdyn.shield.bin_to_hydrogrid`."""
 
     cell_size_cm: Positive = 0.03175
+    method: Literal["kernel", "cic"] = "kernel"
 
 
 class DebrisMaterialSection(Section):

@@ -125,13 +125,14 @@ def _binning(s: _Stage) -> dict:
     s.report("binning", 0, 1)
     particles, _ = read_particles(s.folder.path / "shield" / "particles.h5")
     region = binning_region(s.case, particles)
-    grid = bin_to_hydrogrid(particles, s.case.binning.cell_size_cm, region=region)
+    grid = bin_to_hydrogrid(particles, s.case.binning.cell_size_cm, region=region, method=s.case.binning.method)
     write_grid(s.folder.sub("binning").file("handoff_grid.h5"), grid)
     inside = particles.position[:, 1] >= region[1][0]  # the region holds every particle behind the bumper
     s.report("binning", 1, 1)
     m_particles = float(particles.mass[inside].sum())
     return {
         "cell_size_cm": s.case.binning.cell_size_cm,
+        "method": s.case.binning.method,
         "shape": list(grid.shape),
         "n_cells": int(np.prod(grid.shape)),
         "n_cells_with_mass": int(np.count_nonzero(grid.mass)),
