@@ -162,24 +162,23 @@ def failure_code(H, F, Ep):
 
 
 # Rows of a block's constants ``K (rows·BLOCK,)``, after the 9 of J⁻¹: V₀, h, the live
-# flag of the current step (1.0 or 0.0), φ₁(κh/2) of the current viscous half step, then
+# flag of the current step (1.0 or 0.0), τ and φ₁(κτ) of the current viscous substep, then
 # e^{−r bᵢh} and φ₁(r bᵢh) per stage i. One array for all of them keeps the SIMD loops to
 # two memory streams: LLVM vectorises a loop only if it can rule out aliasing with a few
 # runtime checks.
-_V0, _STEP, _LIVE, _PHI_V, _DECAY = 9, 10, 11, 12, 13
+_V0, _STEP, _LIVE, _TAU_V, _PHI_V, _DECAY = 9, 10, 11, 12, 13, 14
 
 
 @kernel
-def _viscous_half_step(Y, K, zeta):
-    """V(h/2) on every live lane of a block (module docstring)."""
-    for k in range(BLOCK):  # φ₁(κh/2), a libm call per lane: kept out of the SIMD loop below
-        Jinv, h = _load(K, 0, k), K[_STEP * BLOCK + k]
-        K[_PHI_V * BLOCK + k] = _phi1(0.5 * h * viscous_rate(_load(Y, _F, k), Jinv, K[_V0 * BLOCK + k], zeta))
+def _viscous_step(Y, K, zeta):
+    """V(τ) on every live lane of a block, τ = K[_TAU_V] per lane (module docstring)."""
+    for k in range(BLOCK):  # φ₁(κτ), a libm call per lane: kept out of the SIMD loop below
+        Jinv, tau = _load(K, 0, k), K[_TAU_V * BLOCK + k]
+        K[_PHI_V * BLOCK + k] = _phi1(tau * viscous_rate(_load(Y, _F, k), Jinv, K[_V0 * BLOCK + k], zeta))
     for k in range(BLOCK):
         live = K[_LIVE * BLOCK + k] > 0.0
         H, F, Jinv = _load(Y, _H, k), _load(Y, _F, k), _load(K, 0, k)
-        H1 = bulk_viscosity_flow(H, F, Jinv, K[_V0 * BLOCK + k], zeta, 0.5 * K[_STEP * BLOCK + k],
-                                 K[_PHI_V * BLOCK + k])
+        H1 = bulk_viscosity_flow(H, F, Jinv, K[_V0 * BLOCK + k], zeta, K[_TAU_V * BLOCK + k], K[_PHI_V * BLOCK + k])
         _store(Y, _H, k, m3.select(live, H1, H))
 
 
@@ -187,9 +186,12 @@ def _viscous_half_step(Y, K, zeta):
 def _advance_block(Y, K, n, code, done, a, b, mu, kb, zeta):
     """Advance one block ``Y (27·BLOCK,)`` by each lane's n steps; update code, done ``(BLOCK,)``.
 
-    K ``((13 + 2 len(b))·BLOCK,)``: the lanes' constants (rows ``_V0`` …); a, b the
+    K ``((14 + 2 len(b))·BLOCK,)``: the lanes' constants (rows ``_V0`` …); a, b the
     coefficients. The loops over the lanes that carry the work are free of calls and
-    branches, so that LLVM can vectorise them.
+    branches, so that LLVM can vectorise them. With ζ > 0 the closing V(h/2) of a step
+    and the opening V(h/2) of the next act on the same F, so they are taken as one
+    V(h), exactly; a lane's last step (or the step it fails in) closes with V(h/2)
+    only when it ends by n (a failed particle's H may have had the other half).
     """
     n_b = b.shape[0]
     phi_row = _DECAY + n_b
@@ -199,8 +201,10 @@ def _advance_block(Y, K, n, code, done, a, b, mu, kb, zeta):
     for s in range(n_max):
         for k in range(BLOCK):
             K[_LIVE * BLOCK + k] = 1.0 if (s < n[k]) & (code[k] == _OK) else 0.0
-        if zeta > 0.0:
-            _viscous_half_step(Y, K, zeta)
+        if zeta > 0.0 and s == 0:
+            for k in range(BLOCK):
+                K[_TAU_V * BLOCK + k] = 0.5 * K[_STEP * BLOCK + k]
+            _viscous_step(Y, K, zeta)
         for i in range(n_b):
             a_i, b_i = a[i], b[i]
             for k in range(BLOCK):  # A(aᵢh) then B₀(bᵢh)
@@ -219,7 +223,9 @@ def _advance_block(Y, K, n, code, done, a, b, mu, kb, zeta):
             H, F, Jinv = _load(Y, _H, k), _load(Y, _F, k), _load(K, 0, k)
             _store(Y, _F, k, m3.select(live, drift(F, H, Jinv, a_last * K[_STEP * BLOCK + k]), F))
         if zeta > 0.0:
-            _viscous_half_step(Y, K, zeta)
+            for k in range(BLOCK):  # V(h/2) closing the last step, V(h) = V(h/2)·V(h/2) between steps
+                K[_TAU_V * BLOCK + k] = K[_STEP * BLOCK + k] * (0.5 if s + 1 >= n[k] else 1.0)
+            _viscous_step(Y, K, zeta)
         for k in range(BLOCK):  # the failure check
             live = K[_LIVE * BLOCK + k] > 0.0
             c = failure_code(_load(Y, _H, k), _load(Y, _F, k), _load(Y, _EP, k))
