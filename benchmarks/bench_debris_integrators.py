@@ -44,8 +44,8 @@ CONFIGURATIONS = [
     ("verlet", {"steps_per_period": 32}),
     ("verlet", {"steps_per_period": 128}),
     ("splitting4", {"steps_per_period": 4}),
+    ("splitting4", {"steps_per_period": 6}),
     DEFAULT,
-    ("splitting4", {"steps_per_period": 8}),
     ("splitting4", {"steps_per_period": 16}),
 ]
 
