@@ -76,7 +76,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from enum import IntEnum
 from typing import Callable
 
 import numba
@@ -84,24 +83,15 @@ import numpy as np
 from numba import prange
 
 from impactdyn.debris._particle import (
-    EP_SLICE, F_ROWS, H_SLICE, N_WORK, P_RELAX, P_RELAX_PER_VOLUME, STATE_ROWS, STATE_SIZE,
-    Material, det3, inline_kernel, kernel, rates_into,
+    EP_SLICE, H_SLICE, N_WORK, P_RELAX, P_RELAX_PER_VOLUME, STATE_ROWS, STATE_SIZE,
+    Material, inline_kernel, kernel, rates_into,
 )
+from impactdyn.debris._failure import BUDGET, OK, UNDERFLOW, Failure, state_failure
 from impactdyn.debris._splitting import BLANES_MOAN_S6, VERLET, run_splitting
 
 
-class Failure(IntEnum):
-    """Per-particle outcome of an integration."""
-
-    OK = 0
-    STEP_UNDERFLOW = 1   # adaptive step fell below its minimum
-    NAN = 2              # a state component is NaN or infinite
-    INVERTED = 3         # det F ≤ 0: the tetrahedron turned inside out
-    STEP_BUDGET = 4      # max_steps reached before t_end
-
-
-# The codes as plain ints, compile-time constants in the kernels.
-_OK, _UNDERFLOW, _NAN, _INVERTED, _BUDGET = (int(c) for c in Failure)
+# The failure codes as plain ints, compile-time constants in the kernels.
+_OK, _UNDERFLOW, _BUDGET = OK, UNDERFLOW, BUDGET
 
 # Particles handed to a thread at a time (numba.set_parallel_chunksize), see propagate.
 _CHUNK = 8
@@ -191,18 +181,6 @@ def register_integrator(name: str):
 # --- shared kernels ------------------------------------------------------------------
 # Per particle, a kernel gets the flat state ``y (33,)`` for vector algebra, and
 # makes the views it needs once, before the step loop (see _particle).
-
-
-@inline_kernel
-def state_failure(Y):
-    """Failure code of a state ``Y (11, 3)``: NAN if a component is not finite, INVERTED if det F ≤ 0."""
-    for r in range(STATE_ROWS):
-        for k in range(3):
-            if not math.isfinite(Y[r, k]):
-                return _NAN
-    if det3(Y[F_ROWS]) <= 0.0:
-        return _INVERTED
-    return _OK
 
 
 @inline_kernel

@@ -64,7 +64,8 @@ import numpy as np
 from numba import prange
 
 from impactdyn.debris import _mat3 as m3
-from impactdyn.debris._particle import C_SLICE, F_SLICE, P_KB, P_MU, P_SLICE, P_ZETA, kernel
+from impactdyn.debris._failure import BUDGET, INVERTED, NAN, OK, state_failure
+from impactdyn.debris._particle import C_SLICE, P_KB, P_MU, P_SLICE, P_ZETA, STATE_ROWS, kernel
 
 BLOCK = 16
 """Particles per vectorised block (a multiple of the SIMD width)."""
@@ -72,8 +73,7 @@ BLOCK = 16
 _STATE = 27  # H, F, Eₚ: the components a step changes (p is constant, c is advanced exactly at the end)
 _H, _F, _EP = 0, 9, 18
 
-# Failure codes (see _integrators.Failure), compile-time constants here.
-_OK, _NAN, _INVERTED, _BUDGET = 0, 2, 3, 4
+_OK, _NAN, _INVERTED, _BUDGET = OK, NAN, INVERTED, BUDGET  # failure codes as compile-time constants
 
 VERLET = (np.array([0.5, 0.5]), np.array([1.0]))
 """(a, b) of Störmer–Verlet: A(h/2) B(h) A(h/2)."""
@@ -259,7 +259,7 @@ def _advance_all(y, Jinv, V0, rate, h, n, order, a, b, params, code, done):
                     x = rate[p] * b[i] * h[p]
                     K[(_DECAY + i) * BLOCK + k] = math.exp(-x)
                     K[(_DECAY + n_b + i) * BLOCK + k] = _phi1(x)
-                nb[k], cb[k] = n[p], code[p]
+                nb[k], cb[k] = n[p], state_failure(y[p].reshape((STATE_ROWS, 3)))
             else:  # an idle lane: a unit tetrahedron that takes no step
                 for c in range(9):
                     K[c * BLOCK + k] = 1.0 if c % 4 == 0 else 0.0
@@ -275,13 +275,6 @@ def _advance_all(y, Jinv, V0, rate, h, n, order, a, b, params, code, done):
                 code[p], done[p] = cb[k], db[k]
 
 
-def initial_failure(y: np.ndarray) -> np.ndarray:
-    """Failure codes ``(N,)`` of packed states ``(N, 33)``: NAN if not finite, INVERTED if det F ≤ 0."""
-    finite = np.all(np.isfinite(y), axis=1)
-    F = np.where(finite[:, None], y[:, F_SLICE], 0.0).reshape(-1, 3, 3)
-    return np.where(~finite, _NAN, np.where(np.linalg.det(F) > 0.0, _OK, _INVERTED)).astype(np.int64)
-
-
 def run_splitting(y, Jinv, m, V0, relaxation_rate, params, t_end, dt, max_steps, coefficients):
     """Integrate particles ``y (N, 33)`` in place by the splitting ``coefficients = (a, b)``.
 
@@ -294,7 +287,7 @@ def run_splitting(y, Jinv, m, V0, relaxation_rate, params, t_end, dt, max_steps,
     a, b = (np.ascontiguousarray(c, dtype=np.float64) for c in coefficients)
     n = np.where(t_end > 0.0, np.maximum(1, np.ceil(t_end / dt * (1.0 - 1e-9))), 0).astype(np.int64)
     h = np.divide(t_end, n, out=np.zeros_like(t_end), where=n > 0)
-    code = initial_failure(y)
+    code = np.zeros(len(y), dtype=np.int64)  # the kernel checks the initial states first
     done = np.zeros(len(y), dtype=np.int64)
     run = np.minimum(n, max_steps)
     order = np.argsort(-run, kind="stable")  # longest first: the big blocks start early
