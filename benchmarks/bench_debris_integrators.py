@@ -4,7 +4,7 @@ A synthetic aluminium debris cloud: N tetrahedral particles cut from cells of
 edge 0.03175 cm (the five tetrahedra of each cell), each with its own random
 affine velocity field — a bulk 0.7 cm/µs along y, perturbed by a few per cent in
 its mean and across the particle — and a flight time uniform in
-[0.5, t_max] µs. Material: ρ_ref 2.703 g/cm³, μ 0.276 Mbar, λ 0.56 Mbar,
+[0.5, t_max] µs. ParticleMaterial: ρ_ref 2.703 g/cm³, μ 0.276 Mbar, λ 0.56 Mbar,
 η 1 Mbar·µs (the value DC3D's ELDATA hard-codes), ζ 0.
 
 Each configuration propagates all N particles (after a warm-up that compiles it);
@@ -29,10 +29,10 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from impactdyn.debris._integrators import propagate
-from impactdyn.debris._particle import F_SLICE, Material, C_SLICE, state_rates
+from impactdyn.debris._particle import F_SLICE, ParticleMaterial, C_SLICE, state_rates
 from impactdyn.debris._tets import initial_state, tet_vertices
 
-ALUMINIUM = Material(mu=0.276, lam=0.56, rho_ref=2.703, eta=1.0, zeta=0.0)
+ALUMINIUM = ParticleMaterial(mu=0.276, lam=0.56, rho_ref=2.703, eta=1.0, zeta=0.0)
 CELL = 0.03175
 BULK_VELOCITY = np.array([0.0, 0.7, 0.0])
 DEFAULT = ("splitting4", {})

@@ -1,6 +1,8 @@
-"""Run folders written atomically.
+"""Files and run folders written atomically.
 
-A run is assembled in a hidden staging folder beside the target and renamed into
+:func:`atomic_output` gives a writer a temporary name beside its target that replaces
+the target only when the writer returns; every file writer of the package goes through
+it.  A run is assembled in a hidden staging folder beside the target and renamed into
 place only when every file is written, so an interrupted run never leaves a folder
 that looks complete. An existing run folder is replaced only with ``force=True``.
 """
@@ -12,11 +14,32 @@ import json
 import os
 import shutil
 import tempfile
-from collections.abc import Iterable, Sequence
+import uuid
+from collections.abc import Iterable, Iterator, Sequence
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
 from impactdyn._errors import InputError
+
+
+@contextmanager
+def atomic_output(path: str | os.PathLike) -> Iterator[Path]:
+    """Yield a temporary path beside ``path`` (same suffix); it replaces ``path`` on success.
+
+    On an exception the temporary file is removed and ``path`` is left as it was.
+    """
+    target = Path(path)
+    if target.is_dir():
+        raise InputError(f"{target}: is a folder")
+    if not target.parent.is_dir():
+        raise InputError(f"{target}: folder {target.parent} does not exist")
+    tmp = target.with_name(f".{target.stem}.{uuid.uuid4().hex[:8]}.tmp{target.suffix}")
+    try:
+        yield tmp
+        os.replace(tmp, target)
+    finally:
+        tmp.unlink(missing_ok=True)
 
 
 def check_target(path: Path, force: bool) -> None:
@@ -47,7 +70,8 @@ class FolderWriter:
 
     def write_text(self, name: str, text: str) -> Path:
         p = self.file(name)
-        p.write_text(text)
+        with atomic_output(p) as tmp:
+            tmp.write_text(text)
         return p
 
     def write_json(self, name: str, obj: Any) -> Path:
@@ -55,7 +79,7 @@ class FolderWriter:
 
     def write_csv(self, name: str, header: Sequence[str], rows: Iterable[Sequence[Any]]) -> Path:
         p = self.file(name)
-        with p.open("w", newline="") as fh:
+        with atomic_output(p) as tmp, tmp.open("w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow(header)
             w.writerows(rows)

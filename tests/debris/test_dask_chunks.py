@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from impactdyn.debris import ComputeOptions, HydroGrid, Material, WallGrid, run_debris
+from impactdyn.debris import ComputeOptions, HydroGrid, ParticleMaterial, WallGrid, run_debris
 
 distributed = pytest.importorskip("dask.distributed")
 
@@ -18,7 +18,7 @@ def test_dask_equals_local_bit_for_bit():
                      pressure=0 * ones, temperature=300 * ones, specific_energy=0 * ones,
                      sound_speed=0.5 * ones, velocity=v)
     wall = WallGrid.uniform((-0.5, 1.0), (0.0, 0.3), (-0.5, 1.0), (7, 2, 7))
-    material = Material(mu=0.276, lam=0.56, rho_ref=2.703, eta=1.0)
+    material = ParticleMaterial(mu=0.276, lam=0.56, rho_ref=2.703, eta=1.0)
     local = run_debris(grid, wall, material)
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   dashboard_address=None) as cluster:

@@ -167,7 +167,7 @@ def legacy_inputs(tmp_path, itype=2, jtype=1):
     x, y, z = layout.nodes()
     shape = layout.shape
     ones = np.ones(shape)
-    from impactdyn.debris import HydroGrid
+    from impactdyn.hydrogrid import HydroGrid
 
     grid = HydroGrid(x, y, z, density=2.7 * ones, void_fraction=0.0 * ones, mass=2.7e-3 * ones,
                      pressure=0 * ones, temperature=300 * ones, specific_energy=0 * ones, sound_speed=0.5 * ones,

@@ -10,9 +10,9 @@ from impactdyn.debris import _tets as T
 from impactdyn.debris._integrators import (
     DEFAULT_STEPS_PER_PERIOD, INTEGRATORS, Failure, propagate, register_integrator)
 
-ELASTIC = P.Material(mu=0.276, lam=0.56, rho_ref=2.703)                         # Al, η = ∞, ζ = 0
-PLASTIC = P.Material(mu=0.276, lam=0.56, rho_ref=2.703, eta=0.05)               # ζ = 0
-DISSIPATIVE = P.Material(mu=0.276, lam=0.56, rho_ref=2.703, eta=0.05, zeta=0.002)
+ELASTIC = P.ParticleMaterial(mu=0.276, lam=0.56, rho_ref=2.703)                         # Al, η = ∞, ζ = 0
+PLASTIC = P.ParticleMaterial(mu=0.276, lam=0.56, rho_ref=2.703, eta=0.05)               # ζ = 0
+DISSIPATIVE = P.ParticleMaterial(mu=0.276, lam=0.56, rho_ref=2.703, eta=0.05, zeta=0.002)
 METHODS = sorted(INTEGRATORS)
 SPLITTINGS = sorted(DEFAULT_STEPS_PER_PERIOD)
 

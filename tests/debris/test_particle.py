@@ -6,7 +6,7 @@ import pytest
 from impactdyn.debris import _particle as P
 from impactdyn.debris import _tets as T
 
-AL = P.Material(mu=0.276, lam=0.56, rho_ref=2.703)
+AL = P.ParticleMaterial(mu=0.276, lam=0.56, rho_ref=2.703)
 
 
 def random_state(rng, n, strain=0.05):
@@ -38,8 +38,8 @@ def test_material_validation():
     for bad in [dict(mu=0.0), dict(mu=np.nan), dict(lam=-1.0), dict(rho_ref=0.0),
                 dict(eta=0.0), dict(zeta=-1.0), dict(zeta=np.inf)]:
         with pytest.raises(ValueError):
-            P.Material(**{**dict(mu=0.276, lam=0.56, rho_ref=2.703), **bad})
-    assert P.Material(mu=1.0, lam=1.0, rho_ref=1.0, eta=np.inf).relaxation_rate == 0.0
+            P.ParticleMaterial(**{**dict(mu=0.276, lam=0.56, rho_ref=2.703), **bad})
+    assert P.ParticleMaterial(mu=1.0, lam=1.0, rho_ref=1.0, eta=np.inf).relaxation_rate == 0.0
 
 
 def test_pack_unpack_roundtrip():
@@ -118,7 +118,7 @@ def test_rates_are_hamiltonian():
 
 @pytest.mark.parametrize("legacy", [False, True])
 def test_relaxation_rate_and_trace(legacy):
-    mat = P.Material(mu=0.276, lam=0.56, rho_ref=2.703, eta=0.7, legacy_eta_per_volume=legacy)
+    mat = P.ParticleMaterial(mu=0.276, lam=0.56, rho_ref=2.703, eta=0.7, legacy_eta_per_volume=legacy)
     rng = np.random.default_rng(5)
     J, m = particle(rng, 3)
     y = random_state(rng, 3)
@@ -134,7 +134,7 @@ def test_relaxation_rate_and_trace(legacy):
 
 def test_dissipation_rates():
     """dE/dt along the flow = −(2μ/η)·2μV₀|E' − Eₚ|² − ζ V₀ J_F (tr D)²/3."""
-    mat = P.Material(mu=0.276, lam=0.56, rho_ref=2.703, eta=0.3, zeta=0.05)
+    mat = P.ParticleMaterial(mu=0.276, lam=0.56, rho_ref=2.703, eta=0.3, zeta=0.05)
     rng = np.random.default_rng(6)
     J, m = particle(rng, 3)
     y = random_state(rng, 3, strain=0.1)

@@ -4,11 +4,11 @@ import numpy as np
 import pytest
 
 from impactdyn.debris import (
-    POINTS_PER_PARTICLE, AL_6061_T6, ArrivalWindow, ComputeOptions, HydroGrid, Material, SeedFilter, WallGrid,
+    POINTS_PER_PARTICLE, AL_6061_T6_MAT13, ArrivalWindow, ComputeOptions, HydroGrid, ParticleMaterial, SeedFilter, WallGrid,
     areal_density, arrival_times, deposit, element_impulse, element_records, face_areas, face_element,
     propagate_chunked, remap_impulse, run_debris, seed_cells, seed_particles, signed_volume)
 
-AL = Material(mu=0.276, lam=0.536, rho_ref=2.703, eta=1.0)
+AL = ParticleMaterial(mu=0.276, lam=0.536, rho_ref=2.703, eta=1.0)
 
 
 def slab_grid(shape=(4, 3, 4), spacing=0.1, velocity=(0.0, 0.5, 0.0), origin=(0.0, -1.0, 0.0),
@@ -159,4 +159,4 @@ def test_chunks_give_bit_identical_states():
 
 def test_wall_material_of_the_report():
     # the wall the decks describe (App. D); E and nu follow from G and K
-    assert AL_6061_T6.youngs_modulus == pytest.approx(0.734, abs=1e-3)
+    assert AL_6061_T6_MAT13.youngs_modulus == pytest.approx(0.734, abs=1e-3)

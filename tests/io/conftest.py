@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from impactdyn import units
-from impactdyn.debris._grid import HydroGrid
+from impactdyn.hydrogrid import HydroGrid
 
 
 def _three_digits(rng: np.random.Generator, shape, lo_exp: int, hi_exp: int, signed: bool = True) -> np.ndarray:

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 from impactdyn._errors import InputError
-from impactdyn.debris._wall import AL_6061_T6, WallDeposition, WallGrid
+from impactdyn.materials import AL_6061_T6_MAT13
+from impactdyn.wallgrid import WallDeposition, WallGrid
 from impactdyn.io._dyna3d import write_dyna3d_deck
 from impactdyn.io._legacy_dc3din import read_dc3din
 from impactdyn.io._lsdyna import read_lsdyna_deck, write_lsdyna_deck
@@ -216,9 +217,9 @@ def test_material_card(tmp_path):
     at = lines.index("*MAT_PLASTIC_KINEMATIC")
     card1 = [float(v) for v in cut(lines[at + 2], [10] * 7)]
     card2 = cut(lines[at + 3], [10] * 4)
-    g, k = AL_6061_T6.shear_modulus, AL_6061_T6.bulk_modulus
+    g, k = AL_6061_T6_MAT13.shear_modulus, AL_6061_T6_MAT13.bulk_modulus
     e, nu = 9 * k * g / (3 * k + g), (3 * k - 2 * g) / (2 * (3 * k + g))
-    eh = AL_6061_T6.hardening_modulus
+    eh = AL_6061_T6_MAT13.hardening_modulus
     np.testing.assert_allclose(card1, [1, 2.703, e, nu, 2.9e-3, e * eh / (e + eh), 1.0], rtol=1e-6)
     assert e / (2 * (1 + nu)) == pytest.approx(g, rel=1e-12)
     assert float(card2[2]) == 1.5

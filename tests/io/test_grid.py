@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from impactdyn._errors import InputError
-from impactdyn.debris._grid import CELL_FIELDS, UNITS, HydroGrid
+from impactdyn.hydrogrid import CELL_FIELDS, UNITS, HydroGrid
 
 
 def make_grid(shape=(3, 4, 5), *, velocity=None, mass=None, staggered=False, x=None, y=None, z=None,

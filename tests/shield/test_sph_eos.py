@@ -5,7 +5,7 @@ import pytest
 
 from impactdyn._errors import InputError
 from impactdyn.materials import AL_6061_T6, MATERIALS, get_material
-from impactdyn.shield import _eos, _strength
+from impactdyn.constitutive import _eos, _strength
 from impactdyn.units import cm_us_to_km_s, mbar_to_gpa
 
 VOIGT = [(0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (2, 0)]

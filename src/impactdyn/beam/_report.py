@@ -80,10 +80,9 @@ def write_run(result: Result, outdir: str | Path, force: bool = False, extra_sum
 
 def write_plots(result: Result, folder: Path) -> None:
     """θ and θ̇; deflection and strain; stop point; contact force with a zoom; energy balance."""
-    import matplotlib
+    from impactdyn._plotting import pyplot, save_figure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     folder.mkdir(parents=True, exist_ok=True)
     ts = timeseries(result)
@@ -98,8 +97,7 @@ def write_plots(result: Result, folder: Path) -> None:
         axes[1].set_xlabel("time (s)")
         for ax in axes:
             ax.grid(alpha=0.3)
-        fig.savefig(folder / name, dpi=110)
-        plt.close(fig)
+        save_figure(fig, folder / name, dpi=110)
 
     two_panel("hub.png", ts[:, 3], ts[:, 2], "θ (rad)", "θ̇ (rad/s)")
     xr = result.case.output.response_point_m
@@ -129,8 +127,7 @@ def write_plots(result: Result, folder: Path) -> None:
         axes[1].set_title("first impact")
     for ax in axes:
         ax.grid(alpha=0.3)
-    fig.savefig(folder / "contact_force.png", dpi=110)
-    plt.close(fig)
+    save_figure(fig, folder / "contact_force.png", dpi=110)
 
     terms = result.energy_terms()
     fig, ax = plt.subplots(figsize=(7, 4.5), constrained_layout=True)
@@ -143,5 +140,4 @@ def write_plots(result: Result, folder: Path) -> None:
     ax.set_ylabel("energy (J)")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
-    fig.savefig(folder / "energy.png", dpi=110)
-    plt.close(fig)
+    save_figure(fig, folder / "energy.png", dpi=110)

@@ -80,10 +80,9 @@ def _execute(cases, workers, dask_address):
 
 
 def _plot(rows, key, path):
-    import matplotlib
+    from impactdyn._plotting import pyplot, save_figure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     x = [r[1] for r in rows]
     fig, axes = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
@@ -96,5 +95,4 @@ def _plot(rows, key, path):
     for ax in axes:
         ax.set_xlabel(key)
         ax.grid(alpha=0.3)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path, dpi=110)

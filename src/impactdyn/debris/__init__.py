@@ -10,9 +10,9 @@ from impactdyn.debris._case import DebrisCase, build, load_debris_case, remap_gr
 from impactdyn.debris._deposit import (
     POINTS_PER_PARTICLE, areal_density, arrival_points, deposit, element_impulse, element_records, face_areas,
     face_element, momentum_enhancement, remap_impulse)
-from impactdyn.debris._grid import HydroGrid
+from impactdyn.hydrogrid import HydroGrid
 from impactdyn.debris._integrators import INTEGRATORS, Failure, PropagationStats, propagate, register_integrator
-from impactdyn.debris._particle import Material, pack_state, state_rates, total_energy, unpack_state
+from impactdyn.debris._particle import ParticleMaterial, pack_state, state_rates, total_energy, unpack_state
 from impactdyn.debris._propagate import (
     ArrivalWindow, ComputeOptions, DebrisResult, DepositionOptions, IntegratorOptions, propagate_chunked,
     run_debris, seed_and_select)
@@ -20,7 +20,8 @@ from impactdyn.debris._report import write_debris_run
 from impactdyn.debris._seed import ParticleCloud, SeedFilter, SeedOptions, arrival_times, seed_cells, seed_particles
 from impactdyn.debris._tets import (
     affine_velocity_fit, cell_nodes, gather_tets, inertia_tensor, initial_state, signed_volume, tet_vertices)
-from impactdyn.debris._wall import AL_6061_T6, WallDeposition, WallGrid, WallMaterial
+from impactdyn.materials import AL_6061_T6_MAT13, Mat13Card
+from impactdyn.wallgrid import WallDeposition, WallGrid
 
 
 def run_case(case: DebrisCase, progress=None, source: str = "<case>") -> DebrisResult:
@@ -29,9 +30,9 @@ def run_case(case: DebrisCase, progress=None, source: str = "<case>") -> DebrisR
 
 
 __all__ = [
-    "AL_6061_T6", "ArrivalWindow", "ComputeOptions", "DebrisCase", "DebrisResult", "DepositionOptions", "Failure",
-    "HydroGrid", "INTEGRATORS", "IntegratorOptions", "Material", "POINTS_PER_PARTICLE", "ParticleCloud",
-    "PropagationStats", "SeedFilter", "SeedOptions", "ShellCloud", "WallDeposition", "WallGrid", "WallMaterial",
+    "AL_6061_T6_MAT13", "ArrivalWindow", "ComputeOptions", "DebrisCase", "DebrisResult", "DepositionOptions", "Failure",
+    "HydroGrid", "INTEGRATORS", "IntegratorOptions", "ParticleMaterial", "POINTS_PER_PARTICLE", "ParticleCloud",
+    "PropagationStats", "SeedFilter", "SeedOptions", "ShellCloud", "WallDeposition", "WallGrid", "Mat13Card",
     "affine_velocity_fit", "areal_density", "arrival_points", "arrival_times", "build", "cell_nodes", "deposit",
     "element_impulse", "element_records", "face_areas", "face_element", "gather_tets", "inertia_tensor",
     "initial_state", "load_debris_case", "momentum_enhancement", "pack_state", "propagate", "propagate_chunked",

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from impactdyn._errors import InputError
-from impactdyn.debris._grid import HydroGrid
+from impactdyn.hydrogrid import HydroGrid
 
 
 @dataclass(frozen=True)

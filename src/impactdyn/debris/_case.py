@@ -235,16 +235,16 @@ def build(case: DebrisCase, source: str = "<case>", grid=None) -> dict:
 
     ``grid``: a HydroGrid already in hand, used instead of reading ``case.grid``.
     """
-    from impactdyn.debris._particle import Material
+    from impactdyn.debris._particle import ParticleMaterial
     from impactdyn.debris._propagate import (
         ArrivalWindow, ComputeOptions, DepositionOptions, IntegratorOptions)
     from impactdyn.debris._seed import SeedFilter, SeedOptions
-    from impactdyn.debris._wall import WallGrid
+    from impactdyn.wallgrid import WallGrid
 
     grid = hand_off_grid(case, source) if grid is None else grid
     w, m, f, lg = case.wall, case.material, case.filter, case.legacy
     wall = WallGrid.uniform(w.x_cm, w.y_cm, w.z_cm, w.nodes)
-    material = Material(mu=m.mu_Mbar, lam=m.lambda_Mbar, rho_ref=m.rho_ref_g_cm3,
+    material = ParticleMaterial(mu=m.mu_Mbar, lam=m.lambda_Mbar, rho_ref=m.rho_ref_g_cm3,
                         eta=float("inf") if m.eta_Mbar_us is None else m.eta_Mbar_us, zeta=m.zeta_Mbar_us,
                         legacy_eta_per_volume=lg.eta_per_volume)
     i, c = case.integrator, case.compute
@@ -266,7 +266,7 @@ def build(case: DebrisCase, source: str = "<case>", grid=None) -> dict:
 
 def remap_grid(case: DebrisCase):
     """The remap face grid as a one-element-thick WallGrid, or None."""
-    from impactdyn.debris._wall import WallGrid
+    from impactdyn.wallgrid import WallGrid
 
     r = case.wall.remap
     if r is None:

@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from impactdyn.debris._particle import C_SLICE, F_SLICE, P_SLICE
-from impactdyn.debris._wall import WallDeposition, WallGrid
+from impactdyn.wallgrid import WallDeposition, WallGrid
 
 POINTS_PER_PARTICLE = 5
 

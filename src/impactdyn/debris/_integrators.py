@@ -84,7 +84,7 @@ from numba import prange
 
 from impactdyn.debris._particle import (
     EP_SLICE, H_SLICE, N_WORK, P_RELAX, P_RELAX_PER_VOLUME, STATE_ROWS, STATE_SIZE,
-    Material, inline_kernel, kernel, rates_into,
+    ParticleMaterial, inline_kernel, kernel, rates_into,
 )
 from impactdyn.debris._failure import BUDGET, OK, UNDERFLOW, Failure, state_failure
 from impactdyn.debris._splitting import BLANES_MOAN_S6, VERLET, run_splitting
@@ -416,7 +416,7 @@ def legacy(batch: ParticleBatch, control: StepControl):
 # --- public entry point -------------------------------------------------------------
 
 
-def _as_batch(states, J, m, t_end, material: Material, phi) -> ParticleBatch:
+def _as_batch(states, J, m, t_end, material: ParticleMaterial, phi) -> ParticleBatch:
     y0 = np.ascontiguousarray(np.asarray(states, dtype=float))
     if y0.ndim != 2 or y0.shape[1] != STATE_SIZE:
         raise ValueError(f"states must have shape (N, {STATE_SIZE}), got {y0.shape}")
@@ -446,7 +446,7 @@ def _as_batch(states, J, m, t_end, material: Material, phi) -> ParticleBatch:
         omega_hat=np.sqrt(V0 * material.stiffness_bound() / eig[:, 0]), j_max=eig[:, 2].copy())
 
 
-def propagate(states, J, m, t_end, material: Material, *, phi=0.0, method: str = "splitting4",
+def propagate(states, J, m, t_end, material: ParticleMaterial, *, phi=0.0, method: str = "splitting4",
               eps: float = 1e-6, dt=None, steps_per_period: float | None = None,
               max_steps: int = StepControl.max_steps, ymxref: float = StepControl.ymxref):
     """Integrate N independent particles from t = 0 to their own end times.

@@ -25,9 +25,12 @@ from pathlib import Path
 
 import numpy as np
 
+from impactdyn import units
 from impactdyn._config import validate
 from impactdyn._errors import InputError
 from impactdyn._runfolder import RunFolder, check_target
+from impactdyn.debris._deposit import arrival_points
+from impactdyn.debris._particle import F_SLICE, P_SLICE
 from impactdyn.io import RunType, read_avsout, read_dc3din
 
 #: Propagation time of itype 1 (CTH rezone), µs (DCELEM: delt = 0.2).
@@ -93,14 +96,14 @@ def run_legacy(dc3din: Path, avsout: Path | None, out: Path, *, force: bool = Fa
 def _decks_only(d, case, out: Path, force: bool, echo) -> dict:
     """Run types 2/2 and 2/3: DYNGEN's wall deck (and the keyword deck) on the old or new wall grid."""
     from impactdyn._config import dump_toml
-    from impactdyn.debris._wall import AL_6061_T6
+    from impactdyn.materials import AL_6061_T6_MAT13
     from impactdyn.io import write_dyna3d_deck, write_lsdyna_deck
 
     wall = d.dyngen_wall
     with RunFolder(out, force=force) as rf:
         rf.write_text("config.resolved.toml", dump_toml(case))
-        write_dyna3d_deck(rf.file("wall_dyna3d.inp"), wall, AL_6061_T6)
-        write_lsdyna_deck(rf.file("wall.k"), wall, AL_6061_T6, clamped_edges=False)
+        write_dyna3d_deck(rf.file("wall_dyna3d.inp"), wall, AL_6061_T6_MAT13)
+        write_lsdyna_deck(rf.file("wall.k"), wall, AL_6061_T6_MAT13, clamped_edges=False)
         summary = {"title": case.title, "run_type": f"{d.itype}/{d.jtype}", "wall_nodes": wall.n_nodes,
                    "wall_elements": wall.n_elements,
                    "files": ["config.resolved.toml", "summary.json", "wall.k", "wall_dyna3d.inp"]}
@@ -108,6 +111,23 @@ def _decks_only(d, case, out: Path, force: bool, echo) -> dict:
     echo(f"wall deck only ({d.itype}/{d.jtype}): {wall.n_nodes + 8} nodes, {wall.n_elements + 1} elements "
          f"(DYNA3D, with the backing element); results in {out}")
     return summary
+
+
+def cth_packages(cloud, states: np.ndarray, rho_ref: float) -> dict[str, np.ndarray]:
+    """The rezone packages of CTHOUT (itype = 1) for particles ``cloud`` in ``states (N, 33)``.
+
+    ρ_out = ρ_ref / det F, velocity p/m in cm/s, and the corners c + s F (x_k⁰ − c⁰) with
+    s = ((1 − φ) ρ/ρ_ref)^{1/3}, which shrinks the tetrahedron so that ρ_out times its volume
+    is the particle's mass (the listing's c3).  (The listing skips the ``+ c`` with a ``go to
+    301`` whose label is commented out in the OCR; a pyramid about the origin is meaningless,
+    so the centroid is added.)  Keyword arguments of :func:`impactdyn.io.write_cth_packages`.
+    """
+    detF = np.linalg.det(states[:, F_SLICE].reshape(-1, 3, 3))
+    return {"index": np.column_stack([cloud.cell + 1, cloud.tet + 1]),
+            "density": rho_ref / detF,
+            "velocity_cm_s": units.cm_us_to_cm_s(states[:, P_SLICE] / cloud.mass[:, None]),
+            "corners": arrival_points(states, cloud.vertices,
+                                      np.cbrt((1.0 - cloud.void_fraction) * cloud.density_ratio))[:, :4]}
 
 
 def _rezone(args: dict, case, out: Path, force: bool, start: float, echo) -> dict:
@@ -124,7 +144,7 @@ def _rezone(args: dict, case, out: Path, force: bool, start: float, echo) -> dic
     with RunFolder(out, force=force) as rf:
         rf.write_text("config.resolved.toml", dump_toml(case))
         write_grid(rf.file("handoff_grid.h5"), args["grid"])
-        write_cth_packages(rf.file("cth_packages.txt"), moving, states, args["material"].rho_ref)
+        write_cth_packages(rf.file("cth_packages.txt"), **cth_packages(moving, states, args["material"].rho_ref))
         summary = {"title": case.title, "run_type": "1/1", "n_particles": len(cloud), "n_packages": len(moving),
                    "rezone_time_us": REZONE_TIME_US, "n_failed": stats.n_failed,
                    "failures": stats.failure_counts(), "wall_time_s": time.perf_counter() - start,

@@ -44,7 +44,7 @@ Units cm, g, µs: moduli in Mbar, η and ζ in Mbar·µs, energy g·cm²/µs².
 
 Listing deviations (the default is the model; each is behind an explicit option):
 
-* ``Material.legacy_eta_per_volume`` — FCN's epd = −(1/η)·rkp gives
+* ``ParticleMaterial.legacy_eta_per_volume`` — FCN's epd = −(1/η)·rkp gives
   Ėₚ = V₀·(2μ/η)(E' − Eₚ): its η is per unit volume.
 * ``legacy_fdot_scaling`` of :func:`impactdyn.debris._tets.initial_state` —
   IVCALC multiplies the fitted velocity gradient by (ρ_ref/ρ)/3 before forming
@@ -76,7 +76,7 @@ C_SLICE = slice(30, 33)
 STATE_ROWS = 11
 H_ROWS, F_ROWS, EP_ROWS, P_ROW, C_ROW = slice(0, 3), slice(3, 6), slice(6, 9), 9, 10
 
-# Packed material parameters (``Material.packed()``), read by every kernel.
+# Packed material parameters (``ParticleMaterial.packed()``), read by every kernel.
 P_MU, P_KB, P_RELAX, P_RELAX_PER_VOLUME, P_ZETA = range(5)
 N_PARAMS = 5
 
@@ -92,7 +92,7 @@ inline_kernel = partial(njit, cache=True, error_model="numpy", inline="always")
 
 
 @dataclass(frozen=True)
-class Material:
+class ParticleMaterial:
     """Elastic–viscoplastic debris material of DC3D (listing common /props/).
 
     mu, lam: Lamé constants μ, λ (Mbar); rho_ref: reference density ρ_ref
@@ -119,7 +119,7 @@ class Material:
         )
         for ok, message in checks:
             if not ok:
-                raise ValueError(f"Material: {message}, got {self}")
+                raise ValueError(f"ParticleMaterial: {message}, got {self}")
 
     @property
     def bulk_modulus(self) -> float:
@@ -381,7 +381,7 @@ def _per_particle(a, n: int) -> np.ndarray:
     return np.ascontiguousarray(np.broadcast_to(np.asarray(a, dtype=float).reshape(-1), (n,)))
 
 
-def stress(F, Ep, V0, material: Material) -> np.ndarray:
+def stress(F, Ep, V0, material: ParticleMaterial) -> np.ndarray:
     """Second Piola–Kirchhoff-type stress S = ∂U/∂E (energy units, g cm²/µs²).
 
     F, Eₚ ``(..., 3, 3)``; V₀ ``(...)`` (cm³); returns S ``(..., 3, 3)``.
@@ -392,7 +392,7 @@ def stress(F, Ep, V0, material: Material) -> np.ndarray:
     return S.reshape(np.shape(F))
 
 
-def stored_energy(F, Ep, V0, material: Material) -> np.ndarray:
+def stored_energy(F, Ep, V0, material: ParticleMaterial) -> np.ndarray:
     """U(F, Eₚ) = V₀ [μ |E' − Eₚ|² + K_b (J_F − 1)²/(2J_F²)] (g cm²/µs²).
 
     Shapes as :func:`stress`; returns ``(...)``.
@@ -414,13 +414,13 @@ def kinetic_energy(states, J, m) -> np.ndarray:
     return T.reshape(np.shape(states)[:-1])
 
 
-def total_energy(states, J, m, V0, material: Material) -> np.ndarray:
+def total_energy(states, J, m, V0, material: ParticleMaterial) -> np.ndarray:
     """T + U, conserved when η = ∞ and ζ = 0; shapes as :func:`kinetic_energy`."""
     H, F, Ep, _, _ = unpack_state(states)
     return kinetic_energy(states, J, m) + stored_energy(F, Ep, V0, material)
 
 
-def state_rates(states, J, m, V0, material: Material) -> np.ndarray:
+def state_rates(states, J, m, V0, material: ParticleMaterial) -> np.ndarray:
     """ẏ = f(y) of the state equations (module docstring).
 
     states ``(..., 33)``; J ``(..., 3, 3)``; m, V₀ ``(...)``; returns ``(..., 33)``.

@@ -23,11 +23,11 @@ from impactdyn._errors import InputError
 from impactdyn._parallel import run_tasks
 from impactdyn.debris._deposit import (
     POINTS_PER_PARTICLE, areal_density, arrival_points, deposit, element_impulse, momentum_enhancement)
-from impactdyn.debris._grid import HydroGrid
+from impactdyn.hydrogrid import HydroGrid
 from impactdyn.debris._integrators import PropagationStats, propagate
-from impactdyn.debris._particle import STATE_SIZE, Material
+from impactdyn.debris._particle import STATE_SIZE, ParticleMaterial
 from impactdyn.debris._seed import ParticleCloud, SeedFilter, SeedOptions, arrival_times, seed_particles
-from impactdyn.debris._wall import WallDeposition, WallGrid
+from impactdyn.wallgrid import WallDeposition, WallGrid
 
 
 @dataclass(frozen=True)
@@ -150,7 +150,7 @@ class DebrisResult:
         }
 
 
-def propagate_chunked(cloud: ParticleCloud, t_end: np.ndarray, material: Material,
+def propagate_chunked(cloud: ParticleCloud, t_end: np.ndarray, material: ParticleMaterial,
                       integrator: IntegratorOptions = IntegratorOptions(),
                       compute: ComputeOptions = ComputeOptions(),
                       progress: Callable[[int], None] | None = None):
@@ -186,7 +186,7 @@ class _Chunk:
     mass: np.ndarray
     phi: np.ndarray
     t_end: np.ndarray
-    material: Material
+    material: ParticleMaterial
     integrator: IntegratorOptions
 
 
@@ -197,7 +197,7 @@ def _run_chunk(chunk: _Chunk):
                      ymxref=o.ymxref)
 
 
-def seed_and_select(grid: HydroGrid, wall: WallGrid, material: Material, seed_filter: SeedFilter,
+def seed_and_select(grid: HydroGrid, wall: WallGrid, material: ParticleMaterial, seed_filter: SeedFilter,
                     seed_options: SeedOptions, window: ArrivalWindow):
     """Particles of ``grid``, their arrival times at the wall plane and the indices in the window.
 
@@ -213,7 +213,7 @@ def seed_and_select(grid: HydroGrid, wall: WallGrid, material: Material, seed_fi
     return cloud, t_arr, np.nonzero((t_arr >= window.t_min) & (t_arr <= window.t_cut))[0]
 
 
-def run_debris(grid: HydroGrid, wall: WallGrid, material: Material, *,
+def run_debris(grid: HydroGrid, wall: WallGrid, material: ParticleMaterial, *,
                seed_filter: SeedFilter = SeedFilter(), seed_options: SeedOptions = SeedOptions(),
                window: ArrivalWindow = ArrivalWindow(), integrator: IntegratorOptions = IntegratorOptions(),
                compute: ComputeOptions = ComputeOptions(), deposition: DepositionOptions = DepositionOptions(),

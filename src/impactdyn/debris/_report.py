@@ -27,12 +27,13 @@ import numpy as np
 
 from impactdyn._config import dump_toml
 from impactdyn._errors import InputError
-from impactdyn._runfolder import FolderWriter, RunFolder
+from impactdyn._runfolder import FolderWriter, RunFolder, atomic_output
 from impactdyn.debris._deposit import areal_density, element_records, face_areas, remap_impulse
 from impactdyn.debris._particle import P_SLICE
 from impactdyn.debris._propagate import DebrisResult
 from impactdyn.debris._tets import signed_volume
-from impactdyn.debris._wall import AL_6061_T6, WallDeposition, WallGrid, WallMaterial
+from impactdyn.materials import AL_6061_T6_MAT13, Mat13Card
+from impactdyn.wallgrid import WallDeposition, WallGrid
 
 AREAL_HEADER = ["i", "k", "element", "x_cm", "z_cm", "px_g_cm_us", "py_g_cm_us", "pz_g_cm_us",
                 "areal_density_g_cm_us"]
@@ -58,7 +59,7 @@ def write_debris_run(result: DebrisResult, case, outdir: str | Path, *, force: b
 
 def write_debris_files(folder: FolderWriter, result: DebrisResult, case, *, remap: WallGrid | None = None,
                        dcpost_factor: float = 1.0, extra_summary: dict | None = None,
-                       wall_material: WallMaterial = AL_6061_T6, decks: bool = True) -> dict:
+                       wall_material: Mat13Card = AL_6061_T6_MAT13, decks: bool = True) -> dict:
     """Every file of the module docstring into ``folder``; returns the summary (also ``summary.json``).
 
     ``decks=False`` leaves the wall decks out (the Whipple pipeline writes them in a stage of their own).
@@ -94,7 +95,7 @@ def write_debris_files(folder: FolderWriter, result: DebrisResult, case, *, rema
 
 
 def write_decks(folder: FolderWriter, wall: WallGrid, deposition: WallDeposition, impulse: np.ndarray, case,
-                dcpost_factor: float = 1.0, material: WallMaterial = AL_6061_T6) -> list[str]:
+                dcpost_factor: float = 1.0, material: Mat13Card = AL_6061_T6_MAT13) -> list[str]:
     """The wall decks ``case.output`` asks for: LS-DYNA (time-resolved loads) and DYNA3D (DCPOST's cards)."""
     o, written = case.output, []
     if o.lsdyna_deck:
@@ -120,7 +121,7 @@ def write_hdf5(result: DebrisResult, path: Path) -> None:
     import h5py
 
     r, c = result, result.cloud
-    with h5py.File(path, "w") as f:
+    with atomic_output(path) as tmp, h5py.File(tmp, "w") as f:
         f.attrs["units"] = "cm, g, us; momentum g*cm/us; times after hand-off"
         f.attrs["t_handoff_us"] = r.t_handoff
         p = f.create_group("particles")
@@ -172,12 +173,14 @@ def write_vtk(result: DebrisResult, folder: Path, max_particles: int) -> list[st
     """Particles at hand-off and at arrival, and the wall's deposition, as VTK unstructured grids."""
     import meshio
 
+    from impactdyn.io import write_mesh
+
     r, c = result, result.cloud
     written = []
     if 0 < len(c) <= max_particles:
         pts, cells = _tet_mesh(c.vertices)
         velocity = c.momentum / c.mass[:, None]
-        meshio.write(folder / "particles_handoff.vtu", meshio.Mesh(pts, [("tetra", cells)], cell_data={
+        write_mesh(folder / "particles_handoff.vtu", meshio.Mesh(pts, [("tetra", cells)], cell_data={
             "mass_g": [c.mass], "velocity_cm_us": [velocity], "speed_km_s": [10.0 * np.linalg.norm(velocity, axis=1)],
             "t_arrival_us": [np.where(np.isfinite(r.t_arrival), r.t_arrival, -1.0)],
             "density_ratio": [c.density_ratio], "void_fraction": [c.void_fraction]}))
@@ -185,7 +188,7 @@ def write_vtk(result: DebrisResult, folder: Path, max_particles: int) -> list[st
     if 0 < len(r.propagated) <= max_particles:
         pts, cells = _tet_mesh(r.points[:, :4])
         sel = r.propagated
-        meshio.write(folder / "particles_arrival.vtu", meshio.Mesh(pts, [("tetra", cells)], cell_data={
+        write_mesh(folder / "particles_arrival.vtu", meshio.Mesh(pts, [("tetra", cells)], cell_data={
             "mass_g": [c.mass[sel]], "velocity_cm_us": [c.momentum[sel] / c.mass[sel, None]],
             "t_arrival_us": [r.t_arrival[sel]], "failure_code": [r.stats.code.astype(np.int32)],
             "steps": [r.stats.steps.astype(np.int64)]}))
@@ -197,7 +200,7 @@ def write_vtk(result: DebrisResult, folder: Path, max_particles: int) -> list[st
     i, k = np.meshgrid(np.arange(nx), np.arange(nz), indexing="ij")
     n0 = (i * (nz + 1) + k).ravel()
     quads = np.stack([n0, n0 + nz + 1, n0 + nz + 2, n0 + 1], axis=-1)
-    meshio.write(folder / "wall_deposition.vtu", meshio.Mesh(pts, [("quad", quads)], cell_data={
+    write_mesh(folder / "wall_deposition.vtu", meshio.Mesh(pts, [("quad", quads)], cell_data={
         "impulse_g_cm_us": [r.impulse.reshape(-1, 3)], "areal_density_g_cm_us": [r.areal.ravel()],
         "area_cm2": [face_areas(w).ravel()]}))
     return written + ["wall_deposition.vtu"]
@@ -205,10 +208,9 @@ def write_vtk(result: DebrisResult, folder: Path, max_particles: int) -> list[st
 
 def write_plots(result: DebrisResult, folder: Path) -> None:
     """DCMPLT's contour map of the areal density, and the cloud at hand-off and arrival."""
-    import matplotlib
+    from impactdyn._plotting import pyplot, save_figure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     folder.mkdir(parents=True, exist_ok=True)
     w, r = result.wall, result
@@ -228,8 +230,7 @@ def write_plots(result: DebrisResult, folder: Path) -> None:
     ax.set_xlabel("x (cm), symmetry plane at x = %.3g" % w.x[0])
     ax.set_ylabel("z (cm)")
     ax.set_title("Momentum deposited on the rear wall (DCPOST)")
-    fig.savefig(folder / "areal_density.png", dpi=120)
-    plt.close(fig)
+    save_figure(fig, folder / "areal_density.png", dpi=120)
 
     c = r.cloud
     speed = 10.0 * np.linalg.norm(c.states[:, P_SLICE] / c.mass[:, None], axis=1)  # km/s
@@ -254,5 +255,4 @@ def write_plots(result: DebrisResult, folder: Path) -> None:
     ax.set_title("centroids at arrival on the wall plane (wall outlined)")
     for ax in axes:
         ax.grid(alpha=0.3)
-    fig.savefig(folder / "cloud.png", dpi=120)
-    plt.close(fig)
+    save_figure(fig, folder / "cloud.png", dpi=120)

@@ -32,8 +32,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from impactdyn.debris._grid import HydroGrid
-from impactdyn.debris._particle import P_SLICE, Material
+from impactdyn.hydrogrid import HydroGrid
+from impactdyn.debris._particle import P_SLICE, ParticleMaterial
 from impactdyn.debris._tets import NODE_OFFSETS, TET_NODES, initial_state
 
 
@@ -107,7 +107,7 @@ def seed_cells(grid: HydroGrid, rho_ref: float, filt: SeedFilter = SeedFilter())
     return keep
 
 
-def seed_particles(grid: HydroGrid, material: Material, filt: SeedFilter = SeedFilter(),
+def seed_particles(grid: HydroGrid, material: ParticleMaterial, filt: SeedFilter = SeedFilter(),
                    options: SeedOptions = SeedOptions()) -> ParticleCloud:
     """Five tetrahedral particles per selected cell of ``grid`` (DCELEM → NDDATA → JCALC → IVCALC)."""
     keep = seed_cells(grid, material.rho_ref, filt)

@@ -13,12 +13,9 @@ One package per particle, inserted into a CTH mesh as a pyramid (tetrahedron)::
        endinsert
      endpackage
 
-ρ_out = ρ_ref / det F, and the vertices are c + s F (x_k⁰ − c⁰) with
-s = ((1 − φ) ρ/ρ_ref)^{1/3}, which shrinks the tetrahedron so that ρ_out times
-its volume is the particle's mass (the listing's c3).  (The listing skips the
-``+ c`` with a ``go to 301`` whose label is commented out in the OCR; a pyramid
-about the origin is meaningless, so the centroid is added.)  Indices i, j, k
-are 1-based cell indices of the grid, l the tetrahedron 1…5.
+Indices i, j, k are 1-based cell indices of the grid, l the tetrahedron 1…5.  The
+writer takes the packages' arrays; :func:`impactdyn.debris.cth_packages` computes
+them from the particles (density, velocity and the shrunk tetrahedron of CTHOUT).
 """
 
 from __future__ import annotations
@@ -27,32 +24,39 @@ from pathlib import Path
 
 import numpy as np
 
-from impactdyn import units
-from impactdyn.debris._deposit import arrival_points
-from impactdyn.debris._particle import F_SLICE, P_SLICE
-from impactdyn.io._registry import atomic_output
+from impactdyn._errors import InputError
+from impactdyn._runfolder import atomic_output
+from impactdyn.io._fortran import parse_real, read_lines
 
 
-def write_cth_packages(path: str | Path, cloud, states: np.ndarray, rho_ref: float, *,
-                       material: int = 1, numsub: int = 49) -> None:
-    """Write one package per particle of ``cloud`` (a :class:`ParticleCloud`) in ``states (N, 33)``."""
-    detF = np.linalg.det(states[:, F_SLICE].reshape(-1, 3, 3))
-    v = units.cm_us_to_cm_s(states[:, P_SLICE] / cloud.mass[:, None])
-    corners = arrival_points(states, cloud.vertices, np.cbrt((1.0 - cloud.void_fraction) * cloud.density_ratio))
+def write_cth_packages(path: str | Path, index: np.ndarray, density: np.ndarray, velocity_cm_s: np.ndarray,
+                       corners: np.ndarray, *, material: int = 1, numsub: int = 49) -> None:
+    """Write one package per row, the layout :func:`read_cth_packages` reads back.
+
+    index : (n, 4) int — 1-based cell indices i, j, k and tetrahedron l (1…5).
+    density : (n,) — ρ_out, g/cm³.
+    velocity_cm_s : (n, 3) — cm/s, CTH's unit.
+    corners : (n, 4, 3) — the three base points and the vertex of the pyramid, cm.
+    """
+    index, density = np.asarray(index), np.asarray(density)
+    velocity_cm_s, corners = np.asarray(velocity_cm_s), np.asarray(corners)
+    n = len(index)
+    if index.shape != (n, 4) or density.shape != (n,) or velocity_cm_s.shape != (n, 3) or corners.shape != (n, 4, 3):
+        raise ValueError(f"write_cth_packages: shapes index {index.shape}, density {density.shape}, velocity "
+                         f"{velocity_cm_s.shape}, corners {corners.shape}; expected (n, 4), (n,), (n, 3), (n, 4, 3)")
 
     def xyz(p) -> str:
         return ", ".join(f"{q:15.6e}" for q in p)
 
     lines = []
-    for n in range(len(cloud)):
-        i, j, k = cloud.cell[n] + 1
-        lines += [f"     package {i:3d}, {j:3d}, {k:3d}, {cloud.tet[n] + 1:3d}",
+    for (i, j, k, tet), rho, v, c in zip(index, density, velocity_cm_s, corners):
+        lines += [f"     package {i:3d}, {j:3d}, {k:3d}, {tet:3d}",
                   f"       material {material:3d}", f"       numsub {numsub:3d}",
-                  f"       density = {rho_ref / detF[n]:20.8e}",
-                  f"       xvel = {v[n, 0]:20.8e}", f"       yvel = {v[n, 1]:20.8e}", f"       zvel = {v[n, 2]:20.8e}",
+                  f"       density = {rho:20.8e}",
+                  f"       xvel = {v[0]:20.8e}", f"       yvel = {v[1]:20.8e}", f"       zvel = {v[2]:20.8e}",
                   "       insert pyramid",
-                  *(f"         point = {xyz(corners[n, m])}" for m in range(3)),
-                  f"         vertex = {xyz(corners[n, 3])}",
+                  *(f"         point = {xyz(c[m])}" for m in range(3)),
+                  f"         vertex = {xyz(c[3])}",
                   "       endinsert", "     endpackage"]
     with atomic_output(path) as tmp:
         tmp.write_text("\n".join(lines) + "\n", encoding="ascii")
@@ -61,9 +65,6 @@ def write_cth_packages(path: str | Path, cloud, states: np.ndarray, rho_ref: flo
 def read_cth_packages(path: str | Path) -> dict[str, np.ndarray]:
     """Read packages written by :func:`write_cth_packages`: index ``(n, 4)``, density ``(n,)``,
     velocity ``(n, 3)`` (cm/s) and corners ``(n, 4, 3)`` (cm)."""
-    from impactdyn._errors import InputError
-    from impactdyn.io._fortran import parse_real, read_lines
-
     path = Path(path)
     index, density, velocity, corners = [], [], [], []
     for no, line in enumerate(read_lines(path), start=1):

@@ -58,9 +58,10 @@ from pathlib import Path
 
 import numpy as np
 
-from impactdyn.debris._wall import AL_6061_T6, WallDeposition, WallGrid, WallMaterial
+from impactdyn.materials import AL_6061_T6_MAT13, Mat13Card
+from impactdyn.wallgrid import WallDeposition, WallGrid
 from impactdyn.io._fortran import format_e, format_i
-from impactdyn.io._registry import atomic_output
+from impactdyn._runfolder import atomic_output
 
 #: DYNA3D translational constraint code for fixed (x, y, z), indexed by 4 fx + 2 fy + fz.
 _CODE = np.array([0, 3, 2, 5, 1, 6, 4, 7])
@@ -69,7 +70,7 @@ _BACKING = np.array([[0, -1, 0], [1, -1, 0], [1, -1, 1], [0, -1, 1],
                      [0, -2, 0], [1, -2, 0], [1, -2, 1], [0, -2, 1]], dtype=float)
 
 
-def write_dyna3d_deck(path: str | Path, wall: WallGrid, material: WallMaterial = AL_6061_T6,
+def write_dyna3d_deck(path: str | Path, wall: WallGrid, material: Mat13Card = AL_6061_T6_MAT13,
                       deposition: WallDeposition | None = None, *,
                       title: str = "Debris Cloud Wall Impact Model", control_cards: Sequence[str] = (),
                       clamped_edges: bool = False, legacy_origin: bool = False) -> None:

@@ -14,7 +14,7 @@ import h5py
 import numpy as np
 
 from impactdyn._errors import InputError
-from impactdyn.debris._grid import CELL_FIELDS, UNITS, HydroGrid
+from impactdyn.hydrogrid import CELL_FIELDS, UNITS, HydroGrid
 from impactdyn.io._registry import in_file, open_hdf5, register_format
 
 FORMAT = "impactdyn.HydroGrid"

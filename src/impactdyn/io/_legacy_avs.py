@@ -39,9 +39,10 @@ import numpy as np
 
 from impactdyn import units
 from impactdyn._errors import InputError
-from impactdyn.debris._grid import HydroGrid
+from impactdyn.hydrogrid import HydroGrid
 from impactdyn.io._fortran import format_e, parse_real, read_lines, record_fields
-from impactdyn.io._registry import atomic_output, in_file, register_format
+from impactdyn._runfolder import atomic_output
+from impactdyn.io._registry import in_file, register_format
 
 HEADER_LINES = 27
 FIELD_WIDTH = 11

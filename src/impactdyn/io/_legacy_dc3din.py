@@ -49,7 +49,7 @@ from enum import Enum
 from pathlib import Path
 
 from impactdyn._errors import InputError
-from impactdyn.debris._wall import WallGrid
+from impactdyn.wallgrid import WallGrid
 from impactdyn.io._fortran import read_lines, read_record
 from impactdyn.io._legacy_avs import AvsLayout
 

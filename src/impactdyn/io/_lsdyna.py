@@ -11,11 +11,11 @@ Deck: *KEYWORD, *TITLE, *CONTROL_TERMINATION, *DATABASE_BINARY_D3PLOT, *PART,
 *SECTION_SOLID (ELFORM 1), *MAT_PLASTIC_KINEMATIC, *NODE, *ELEMENT_SOLID
 (numbering of :class:`WallGrid`, DYNGEN's), *BOUNDARY_SPC_NODE, the loads, *END.
 
-Material: *MAT_PLASTIC_KINEMATIC (MAT_003) from a :class:`WallMaterial` — RO, E
+Material: *MAT_PLASTIC_KINEMATIC (MAT_003) from a :class:`Mat13Card` — RO, E
 and ν from G and K, SIGY, ETAN = E E_h/(E + E_h) (the bilinear slope; E_h is
 DYNA3D's plastic hardening modulus), BETA = 1 (isotropic hardening, as DYNA3D
 material 13), FS = the failure strain (blank if 0: no erosion).  The default is
-the report's wall, :data:`AL_6061_T6`.
+the report's wall, :data:`AL_6061_T6_MAT13`.
 
 Supports: :meth:`WallGrid.constrained_dofs` — x fixed on the symmetry plane
 x = x[0], and by default (``clamped_edges=True``) all translations fixed on the
@@ -49,9 +49,10 @@ from pathlib import Path
 import numpy as np
 
 from impactdyn._errors import InputError
-from impactdyn.debris._wall import AL_6061_T6, WallDeposition, WallGrid, WallMaterial
+from impactdyn.materials import AL_6061_T6_MAT13, Mat13Card
+from impactdyn.wallgrid import WallDeposition, WallGrid
 from impactdyn.io._fortran import parse_int, parse_real, read_lines
-from impactdyn.io._registry import atomic_output
+from impactdyn._runfolder import atomic_output
 
 
 @dataclass(frozen=True, eq=False)
@@ -76,7 +77,7 @@ class LsDynaDeck:
     point_load_scale: np.ndarray
 
 
-def write_lsdyna_deck(path: str | Path, wall: WallGrid, material: WallMaterial = AL_6061_T6,
+def write_lsdyna_deck(path: str | Path, wall: WallGrid, material: Mat13Card = AL_6061_T6_MAT13,
                       deposition: WallDeposition | None = None, *, pulse_width: float = 0.05,
                       end_time: float = 30.0, clamped_edges: bool = True,
                       title: str = "impactdyn rear wall under debris-cloud deposition") -> None:

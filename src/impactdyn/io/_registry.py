@@ -8,7 +8,7 @@ Each format module registers itself by a call at its bottom (as meshio does)::
 the file name: an extension starting with ``.`` matches the end of the name, one
 without (``avsout``) matches the whole name.  Writers write to a temporary file
 in the target's folder that replaces the target only when complete
-(:func:`atomic_output`), so an interrupted write never leaves a file that looks
+(:func:`impactdyn._runfolder.atomic_output`), so an interrupted write never leaves a file that looks
 complete.
 """
 
@@ -16,14 +16,14 @@ from __future__ import annotations
 
 import importlib
 import os
-import uuid
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
 from impactdyn._errors import InputError
-from impactdyn.debris._grid import HydroGrid
+from impactdyn._runfolder import atomic_output
+from impactdyn.hydrogrid import HydroGrid
 
 Reader = Callable[[Path], HydroGrid]
 Writer = Callable[[Path, HydroGrid], None]
@@ -84,25 +84,6 @@ def open_hdf5(path: str | os.PathLike):
         return h5py.File(path, "r")
     except OSError as err:
         raise InputError(f"{path}: not an HDF5 file ({err})") from None
-
-
-@contextmanager
-def atomic_output(path: str | os.PathLike) -> Iterator[Path]:
-    """Yield a temporary path beside ``path`` (same suffix); it replaces ``path`` on success.
-
-    On an exception the temporary file is removed and ``path`` is left as it was.
-    """
-    target = Path(path)
-    if target.is_dir():
-        raise InputError(f"{target}: is a folder")
-    if not target.parent.is_dir():
-        raise InputError(f"{target}: folder {target.parent} does not exist")
-    tmp = target.with_name(f".{target.stem}.{uuid.uuid4().hex[:8]}.tmp{target.suffix}")
-    try:
-        yield tmp
-        os.replace(tmp, target)
-    finally:
-        tmp.unlink(missing_ok=True)
 
 
 @contextmanager

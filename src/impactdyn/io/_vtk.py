@@ -20,7 +20,8 @@ from pathlib import Path
 import numpy as np
 
 from impactdyn._errors import InputError
-from impactdyn.debris._grid import CELL_FIELDS, UNITS, HydroGrid
+from impactdyn._runfolder import atomic_output
+from impactdyn.hydrogrid import CELL_FIELDS, UNITS, HydroGrid
 from impactdyn.io._registry import in_file, register_format
 
 _HEADER_TYPES = {"UInt32": np.dtype("<u4"), "UInt64": np.dtype("<u8")}
@@ -138,3 +139,12 @@ def _decode(path: Path, el: ET.Element, header: np.dtype, big: bool) -> np.ndarr
 
 
 register_format("vtk-rectilinear", (".vtr",), reader=read_vtr, writer=write_vtr)
+
+
+def write_mesh(path: str | Path, mesh) -> None:
+    """Write a :class:`meshio.Mesh` atomically, format from the suffix of ``path`` (``.vtu``, ``.vtk`` …)."""
+    import meshio
+
+    path = Path(path)
+    with atomic_output(path) as tmp:
+        meshio.write(tmp, mesh, file_format=meshio.extension_to_filetypes[path.suffix.lower()][0])

@@ -57,7 +57,7 @@ import numpy as np
 from numba import njit
 
 from impactdyn._errors import InputError
-from impactdyn.debris import HydroGrid
+from impactdyn.hydrogrid import HydroGrid
 from impactdyn.shield._kernel import SUPPORT, w_shape
 from impactdyn.shield._state import Particles
 

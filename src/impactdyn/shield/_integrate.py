@@ -84,12 +84,12 @@ import numpy as np
 from numba import get_num_threads, get_thread_id, njit, prange
 
 from impactdyn._errors import InputError
-from impactdyn.shield._eos import (C0, EPS_FAIL, GAMMA0, P_SPALL, RHO0, SHEAR, SLOPE, pack_materials, pressure,
+from impactdyn.constitutive import (C0, EPS_FAIL, GAMMA0, P_SPALL, RHO0, SHEAR, SLOPE, pack_materials, pressure,
                                    sound_speed, temperature)
 from impactdyn.shield._kernel import SIGMA_3D, g_shape, w_shape
 from impactdyn.shield._neighbours import NeighbourList, spatial_order
 from impactdyn.shield._state import History, Particles, RunResult
-from impactdyn.shield._strength import artificial_stress, flow_stress, jaumann_rate, radial_return
+from impactdyn.constitutive import artificial_stress, flow_stress, jaumann_rate, radial_return
 
 FLOW_STRESS_MODELS = ("perfectly_plastic", "johnson_cook")
 
@@ -462,7 +462,7 @@ def finish_step(pos, st, S_p, failed, mat, params, rho_floor, alpha, beta, cfl, 
 
 @njit(parallel=True, cache=True)
 def temperatures(rho, e, mat, params):
-    """Temperature estimate of every particle (:func:`impactdyn.shield._eos.temperature`), K."""
+    """Temperature estimate of every particle (:func:`impactdyn.constitutive.temperature`), K."""
     T = np.empty(rho.size)
     for i in prange(rho.size):
         T[i] = temperature(rho[i], e[i], params, mat[i])

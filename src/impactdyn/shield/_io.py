@@ -31,7 +31,7 @@ def write_particles(path: str | Path, particles: Particles, history: History | N
     """Write ``particles`` (and ``history``) to ``path``; written under a temporary name, then renamed."""
     import h5py
 
-    from impactdyn.io import atomic_output
+    from impactdyn._runfolder import atomic_output
 
     with atomic_output(path) as tmp, h5py.File(tmp, "w") as f:
         f.attrs["format"] = FORMAT

@@ -16,7 +16,7 @@ import numpy as np
 
 from impactdyn._errors import InputError
 from impactdyn.materials import Material, get_material
-from impactdyn.shield._eos import T_ROOM
+from impactdyn.constitutive import T_ROOM
 from impactdyn.shield._neighbours import Domain
 from impactdyn.shield._state import Particles
 from impactdyn.units import km_s_to_cm_us

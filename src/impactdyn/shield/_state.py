@@ -45,7 +45,7 @@ class Particles:
     sound_speed : (N,)
         cm/µs.
     temperature : (N,)
-        K, estimated from (ρ, e) with a constant specific heat (:mod:`impactdyn.shield._eos`).
+        K, estimated from (ρ, e) with a constant specific heat (:mod:`impactdyn.constitutive`).
     material : (N,) int
         Index into ``materials``.
     materials : tuple[str, ...]

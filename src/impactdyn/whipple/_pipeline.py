@@ -108,8 +108,10 @@ def _shield(s: _Stage) -> dict:
 def _write_points_vtk(path: Path, particles) -> None:
     import meshio
 
+    from impactdyn.io import write_mesh
+
     n = len(particles)
-    meshio.write(path, meshio.Mesh(particles.position, [("vertex", np.arange(n).reshape(-1, 1))], point_data={
+    write_mesh(path, meshio.Mesh(particles.position, [("vertex", np.arange(n).reshape(-1, 1))], point_data={
         "velocity_cm_us": particles.velocity, "speed_km_s": 10.0 * np.linalg.norm(particles.velocity, axis=1),
         "density_g_cm3": particles.density, "pressure_Mbar": particles.pressure,
         "plastic_strain": particles.plastic_strain, "failed": particles.failed.astype(np.int8),
@@ -164,12 +166,12 @@ def _debris(s: _Stage) -> dict:
 
 def _decks(s: _Stage) -> dict:
     from impactdyn.debris._report import read_deposition, write_decks
-    from impactdyn.debris._wall import wall_material
+    from impactdyn.materials import mat13_card
 
     s.report("decks", 0, 1)
     wall, deposition, impulse = read_deposition(s.folder.path / "debris" / "debris.h5")
     files = write_decks(s.folder.sub("decks"), wall, deposition, impulse, s.case,
-                        material=wall_material(s.case.wall.material))
+                        material=mat13_card(s.case.wall.material))
     s.report("decks", 1, 1)
     return {"files": [f"decks/{name}" for name in files], "n_records": int(deposition.element.size),
             "n_loaded_elements": int(np.count_nonzero(np.abs(impulse).sum(axis=-1)))}

@@ -19,6 +19,7 @@ import json
 
 import numpy as np
 
+from impactdyn._plotting import pyplot, save_figure
 from impactdyn._runfolder import FolderWriter
 from impactdyn.whipple._case import WhippleCase, ble_shield
 
@@ -100,17 +101,8 @@ def write_report(folder: FolderWriter, case: WhippleCase) -> dict:
                       "plots/conservation.png"]}
 
 
-def _pyplot():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
 def _plot_cloud(path, particles, case: WhippleCase, cloud: dict) -> None:
-    plt = _pyplot()
+    plt = pyplot()
     x, speed = particles.position, 10.0 * np.linalg.norm(particles.velocity, axis=1)
     order = np.argsort(speed)
     fig, axes = plt.subplots(1, 2, figsize=(12, 5.5), constrained_layout=True)
@@ -131,8 +123,7 @@ def _plot_cloud(path, particles, case: WhippleCase, cloud: dict) -> None:
     axes[0].set_title(f"side view at hand-off, t = {particles.time:g} µs")
     axes[1].set_title("top view")
     fig.colorbar(sc, ax=axes, label="speed (km/s)", shrink=0.8)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path, dpi=110)
 
 
 def _plot_ble(path, case: WhippleCase, ble: dict) -> None:
@@ -147,7 +138,7 @@ def _plot_ble(path, case: WhippleCase, ble: dict) -> None:
 
 
 def _plot_conservation(path, history) -> None:
-    plt = _pyplot()
+    plt = pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(11, 4), constrained_layout=True)
     t = history.time
     e0 = history.total_energy[0]
@@ -168,8 +159,7 @@ def _plot_conservation(path, history) -> None:
     for ax in axes:
         ax.grid(alpha=0.3)
     fig.suptitle("SPH shield stage: conservation (half model; p_x is exchanged with the mirror half)")
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
+    save_figure(fig, path, dpi=100)
 
 
 def _img(path) -> str:

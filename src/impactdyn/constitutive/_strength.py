@@ -26,7 +26,7 @@ import math
 
 from numba import njit
 
-from impactdyn.shield._eos import HAS_JC, JC_A, JC_B, JC_C, JC_M, JC_N, JC_RATE0, JC_TMELT, JC_TROOM, YIELD
+from impactdyn.constitutive._eos import HAS_JC, JC_A, JC_B, JC_C, JC_M, JC_N, JC_RATE0, JC_TMELT, JC_TROOM, YIELD
 
 
 # not inlined (unlike the functions below): inlined into a prange loop, its nested-tuple result trips numba's

@@ -1,0 +1,24 @@
+"""Material physics shared by the solvers: Mie–Grüneisen EOS and deviatoric strength kernels.
+
+Part of the data model below every solver package: the SPH shield stage and the wall's
+finite elements evaluate the same equation of state and the same stress update from the
+packed material table of :mod:`impactdyn.materials` entries.  Units cm, g, µs, Mbar, K.
+
+* :mod:`._eos` — ``p(ρ, e)`` about a linear Us–up Hugoniot, sound speed, temperature,
+  and :func:`pack_materials`, the float64 table the compiled kernels read (column
+  indices ``RHO0`` … ``HAS_JC``).
+* :mod:`._strength` — Jaumann rate, von Mises radial return, flow stress
+  (perfectly plastic or Johnson–Cook), artificial stress.
+"""
+
+from impactdyn.constitutive._eos import (
+    C0, CV, EPS_FAIL, GAMMA0, HAS_JC, JC_A, JC_B, JC_C, JC_M, JC_N, JC_RATE0, JC_TMELT, JC_TROOM, MU_COLD, N_COLD,
+    N_PARAMS, P_SPALL, RHO0, SHEAR, SLOPE, T_ROOM, YIELD, pack_materials, pressure, sound_speed, temperature)
+from impactdyn.constitutive._strength import artificial_stress, flow_stress, jaumann_rate, radial_return, von_mises
+
+__all__ = [
+    "C0", "CV", "EPS_FAIL", "GAMMA0", "HAS_JC", "JC_A", "JC_B", "JC_C", "JC_M", "JC_N", "JC_RATE0", "JC_TMELT",
+    "JC_TROOM", "MU_COLD", "N_COLD", "N_PARAMS", "P_SPALL", "RHO0", "SHEAR", "SLOPE", "T_ROOM", "YIELD",
+    "artificial_stress", "flow_stress", "jaumann_rate", "pack_materials", "pressure", "radial_return",
+    "sound_speed", "temperature", "von_mises",
+]
