@@ -4,8 +4,8 @@ Subpackages are imported on demand (``import impactdyn.beam``) so that the CLI
 and light users do not pay for numba compilation or plotting they do not use.
 """
 
-from impactdyn._errors import InputError
+from impactdyn._errors import InputError, SimulationError
 
 __version__ = "0.1.0"
 
-__all__ = ["InputError", "__version__"]
+__all__ = ["InputError", "SimulationError", "__version__"]

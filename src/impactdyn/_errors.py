@@ -1,7 +1,16 @@
-"""The one exception type that means "the user's input is wrong".
+"""The package's error contract: two exception types, each with its own exit code.
 
-The CLI turns it into a one-line message on stderr and exit code 2, without a
-traceback; library callers can catch it like any other ``ValueError``.
+* :class:`InputError` (a ``ValueError``): the user's input is wrong — a case key, a
+  file, a command-line value, a library argument.  The CLI prints it as
+  ``error: …`` and exits with 2; nothing is written.
+* :class:`SimulationError` (a ``RuntimeError``): a solver could not carry a valid
+  input through (the beam's endless chattering, an SPH or wall-solver breakdown).
+  Every solver's failure type derives from it; the CLI prints
+  ``simulation failed: …`` and exits with 1, and no run folder is left behind.
+
+An ``OSError`` while writing results (an unwritable output folder, a full disk) is
+reported by the CLI with the path it concerns and exit code 2.  Any other exception
+is a bug and keeps its traceback.
 """
 
 from __future__ import annotations
@@ -16,6 +25,10 @@ class InputError(ValueError):
 
     The message names the file, line or key at fault.
     """
+
+
+class SimulationError(RuntimeError):
+    """A run that cannot continue: the message says where and why (time, step, quantity)."""
 
 
 @contextmanager

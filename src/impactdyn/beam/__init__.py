@@ -13,6 +13,7 @@ from impactdyn.beam._model import BeamModel
 from impactdyn.beam._modes import ModalIntegrals, eigenvalues, modal_integrals, shapes, sigma
 from impactdyn.beam._report import write_run
 from impactdyn.beam._simulate import Impact, Result, SimulationError, simulate
+from impactdyn.beam._sweep import parse_vary, run_sweep
 
 
 def load_case(path: str | Path) -> BeamCase:
@@ -24,6 +25,6 @@ def load_case(path: str | Path) -> BeamCase:
 
 __all__ = [
     "BeamCase", "BeamModel", "CONTACT_LAWS", "ChainResult", "Impact", "ModalIntegrals", "Result", "RigidLinkChain",
-    "SimulationError", "eigenvalues", "listing_restitution", "load_case", "modal_integrals", "register_contact", "shapes",
-    "sigma", "simulate", "write_run",
+    "SimulationError", "eigenvalues", "listing_restitution", "load_case", "modal_integrals", "parse_vary",
+    "register_contact", "run_sweep", "shapes", "sigma", "simulate", "write_run",
 ]

@@ -3,14 +3,12 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
-
 import numpy as np
 
-from impactdyn._config import load_toml, parse_range, set_dotted, validate
+from impactdyn._config import load_toml, parse_range
 from impactdyn._errors import InputError
-from impactdyn._parallel import run_tasks
 from impactdyn._runfolder import RunFolder
+from impactdyn._sweep import case_variants, run_all
 
 SWEEP_HEADER = ["index", "value", "n_impacts", "first_impact_t_s", "v_approach_m_s", "v_separation_m_s",
                 "restitution", "peak_force_N", "final_theta_rad", "final_theta_dot_rad_s", "wall_time_s"]
@@ -29,12 +27,8 @@ def sweep_cases(case_path: str | Path, key: str, values: np.ndarray) -> list:
     """Validate every case of the sweep before any work (the key must exist in the schema)."""
     from impactdyn.beam._case import BeamCase
 
-    raw = load_toml(case_path)
-    cases = []
-    for v in values:
-        value: Any = int(round(v)) if key.endswith("n_modes") else float(v)
-        cases.append(validate(BeamCase, set_dotted(raw, key, value), source=f"{case_path} [{key} = {value}]"))
-    return cases
+    cast = (lambda v: int(round(v))) if key.endswith("n_modes") else float
+    return case_variants(BeamCase, load_toml(case_path), [{key: cast(v)} for v in values], source=str(case_path))
 
 
 def _run_one(case) -> dict:
@@ -61,22 +55,17 @@ def run_sweep(case_path, vary: str, outdir, force=False, workers: int | None = N
     key, values = parse_vary(vary)
     cases = sweep_cases(case_path, key, values)
     with RunFolder(outdir, force=force) as rf:
-        summaries: list[dict | None] = [None] * len(cases)
-        for i, s in _execute(cases, workers, dask_address):
-            summaries[i] = s
-            rf.write_json(f"cases/{i:03d}/summary.json", s)
+        def done(i: int, summary: dict) -> None:
+            rf.write_json(f"cases/{i:03d}/summary.json", summary)
             if progress:
                 progress()
+
+        summaries = run_all(_run_one, cases, scheduler="dask" if dask_address else "processes", workers=workers,
+                            address=dask_address, on_result=done)
         rows = [_row(i, float(v), s) for i, (v, s) in enumerate(zip(values, summaries))]
         rf.write_csv("sweep.csv", SWEEP_HEADER, rows)
         _plot(rows, key, rf.path / "sweep.png")
     return Path(outdir)
-
-
-def _execute(cases, workers, dask_address):
-    if dask_address:
-        return run_tasks(_run_one, cases, scheduler="dask", workers=workers, address=dask_address)
-    return run_tasks(_run_one, cases, scheduler="processes", workers=workers)
 
 
 def _plot(rows, key, path):

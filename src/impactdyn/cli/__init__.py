@@ -1,8 +1,11 @@
 """Console script ``impactdyn``: one module per command group.
 
 Heavy imports (numba kernels, matplotlib) happen inside the commands, so
-``impactdyn --help`` is instant. :class:`~impactdyn.InputError` anywhere becomes a
-clear message on stderr and exit code 2, with no traceback.
+``impactdyn --help`` is instant.  The error contract of :mod:`impactdyn._errors`:
+an :class:`~impactdyn.InputError` or a usage error → a message on stderr and exit
+code 2; a :class:`~impactdyn.SimulationError` → "simulation failed: …" and exit 1;
+an ``OSError`` (an output folder that cannot be written) → a message naming the path
+and exit 2.  None of them prints a traceback.
 """
 
 from __future__ import annotations
@@ -17,7 +20,7 @@ os.environ.setdefault("OMP_WAIT_POLICY", "passive")
 
 import typer  # noqa: E402
 
-from impactdyn._errors import InputError
+from impactdyn._errors import InputError, SimulationError
 from impactdyn.cli import beam, ble, debris, whipple
 
 app = typer.Typer(
@@ -34,19 +37,19 @@ app.add_typer(whipple.app, name="whipple")
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point; returns the exit code (0 ok, 2 bad input)."""
+    """Entry point; returns the exit code (0 ok, 1 simulation failed, 2 bad input or unwritable output)."""
     try:
         app(args=argv, standalone_mode=False)
     except InputError as err:
         print(f"error: {err}", file=sys.stderr)
         return 2
-    except RuntimeError as err:
-        from impactdyn.beam._simulate import SimulationError
-
-        if not isinstance(err, SimulationError):
-            raise
+    except SimulationError as err:
         print(f"simulation failed: {err}", file=sys.stderr)
         return 1
+    except OSError as err:
+        where = err.filename if err.filename is not None else "output"
+        print(f"error: {where}: {err.strerror or err}", file=sys.stderr)
+        return 2
     except typer.Exit as e:  # pragma: no cover - click passes exit codes this way
         return e.exit_code
     except typer.Abort:
@@ -61,12 +64,17 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _is_usage_error(err: Exception) -> bool:
-    """A click exception, from click itself or from the copy bundled with newer typer releases."""
-    import click
+    """A click exception: from the copy bundled with newer typer releases, or from click itself
+    with older ones (click is typer's dependency there, not ours: import it only if present)."""
+    import importlib
 
-    bundled = getattr(getattr(typer, "_click", None), "exceptions", None)
-    kinds = (click.ClickException,) + ((bundled.ClickException,) if bundled is not None else ())
-    return isinstance(err, kinds)
+    kinds = []
+    for module in ("typer._click.exceptions", "click.exceptions"):
+        try:
+            kinds.append(importlib.import_module(module).ClickException)
+        except ImportError:
+            continue
+    return isinstance(err, tuple(kinds))
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -81,7 +81,7 @@ def sweep(
     from rich.progress import Progress
 
     from impactdyn._runfolder import check_target
-    from impactdyn.beam._sweep import parse_vary, run_sweep
+    from impactdyn.beam import parse_vary, run_sweep
 
     check_target(out, force)
     _, values = parse_vary(vary)

@@ -61,7 +61,7 @@ def legacy(
     listing: bool = typer.Option(False, "--listing", help="Reproduce the listing's deviations from the model too "
                                                           "(every legacy flag and its RK4 step doubling)."),
 ):
-    from impactdyn.debris._legacy import run_legacy
+    from impactdyn.debris import run_legacy
 
     run_legacy(dc3din, avsout, out, force=force, listing=listing, progress_factory=progress_bars,
                echo=typer.echo, report=_report)

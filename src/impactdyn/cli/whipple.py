@@ -57,7 +57,7 @@ def campaign(
 
     from impactdyn._config import load_toml, parse_range
     from impactdyn._runfolder import check_target
-    from impactdyn.whipple._campaign import run_campaign
+    from impactdyn.whipple import run_campaign
 
     check_target(out, force)
     velocities = parse_range("--velocity", velocity, "5:11:4")

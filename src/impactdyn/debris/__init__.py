@@ -11,12 +11,13 @@ from impactdyn.debris._deposit import (
     POINTS_PER_PARTICLE, areal_density, arrival_points, deposit, element_impulse, element_records, face_areas,
     face_element, momentum_enhancement, remap_impulse)
 from impactdyn.hydrogrid import HydroGrid
+from impactdyn.debris._legacy import run_legacy
 from impactdyn.debris._integrators import INTEGRATORS, Failure, PropagationStats, propagate, register_integrator
 from impactdyn.debris._particle import ParticleMaterial, pack_state, state_rates, total_energy, unpack_state
 from impactdyn.debris._propagate import (
     ArrivalWindow, ComputeOptions, DebrisResult, DepositionOptions, IntegratorOptions, propagate_chunked,
     run_debris, seed_and_select)
-from impactdyn.debris._report import write_debris_run
+from impactdyn.debris._report import read_deposition, write_debris_files, write_debris_run, write_decks
 from impactdyn.debris._seed import ParticleCloud, SeedFilter, SeedOptions, arrival_times, seed_cells, seed_particles
 from impactdyn.debris._tets import (
     affine_velocity_fit, cell_nodes, gather_tets, inertia_tensor, initial_state, signed_volume, tet_vertices)
@@ -36,7 +37,7 @@ __all__ = [
     "affine_velocity_fit", "areal_density", "arrival_points", "arrival_times", "build", "cell_nodes", "deposit",
     "element_impulse", "element_records", "face_areas", "face_element", "gather_tets", "inertia_tensor",
     "initial_state", "load_debris_case", "momentum_enhancement", "pack_state", "propagate", "propagate_chunked",
-    "register_integrator", "remap_grid", "remap_impulse", "run_case", "run_debris", "seed_and_select", "seed_cells",
+    "register_integrator", "remap_grid", "remap_impulse", "run_case", "run_debris", "run_legacy", "seed_and_select", "seed_cells",
     "seed_particles", "shell_cloud_grid", "signed_volume", "state_rates", "tet_vertices", "total_energy",
-    "unpack_state", "write_debris_run",
+    "read_deposition", "unpack_state", "write_debris_files", "write_debris_run", "write_decks",
 ]

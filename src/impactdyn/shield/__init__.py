@@ -17,11 +17,13 @@ Typical use::
 
 from impactdyn.shield._binning import bin_to_hydrogrid
 from impactdyn.shield._integrate import FLOW_STRESS_MODELS, SPHError, SPHOptions, run
+from impactdyn.shield._io import read_particles, write_particles
 from impactdyn.shield._neighbours import Domain, neighbour_pairs
 from impactdyn.shield._problems import Problem, planar_impact, sphere_on_plate
 from impactdyn.shield._state import TENSOR_COMPONENTS, History, Particles, RunResult
 
 __all__ = [
     "Domain", "FLOW_STRESS_MODELS", "History", "Particles", "Problem", "RunResult", "SPHError", "SPHOptions",
-    "TENSOR_COMPONENTS", "bin_to_hydrogrid", "neighbour_pairs", "planar_impact", "run", "sphere_on_plate",
+    "TENSOR_COMPONENTS", "bin_to_hydrogrid", "neighbour_pairs", "planar_impact", "read_particles", "run",
+    "sphere_on_plate", "write_particles",
 ]

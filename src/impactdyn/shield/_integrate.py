@@ -83,7 +83,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import get_num_threads, get_thread_id, njit, prange
 
-from impactdyn._errors import InputError
+from impactdyn._errors import InputError, SimulationError
 from impactdyn.constitutive import (C0, EPS_FAIL, GAMMA0, P_SPALL, RHO0, SHEAR, SLOPE, pack_materials, pressure,
                                    sound_speed, temperature)
 from impactdyn.shield._kernel import SIGMA_3D, g_shape, w_shape
@@ -94,7 +94,7 @@ from impactdyn.constitutive import artificial_stress, flow_stress, jaumann_rate,
 FLOW_STRESS_MODELS = ("perfectly_plastic", "johnson_cook")
 
 
-class SPHError(RuntimeError):
+class SPHError(SimulationError):
     """The SPH run broke down (non-finite state or a collapsing time step)."""
 
 

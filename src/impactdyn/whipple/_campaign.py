@@ -16,10 +16,9 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
-from impactdyn._config import set_dotted, validate
 from impactdyn._errors import InputError
-from impactdyn._parallel import run_tasks
 from impactdyn._runfolder import RunFolder
+from impactdyn._sweep import case_variants, run_all
 from impactdyn.whipple._case import WhippleCase
 
 CAMPAIGN_HEADER = [
@@ -44,12 +43,10 @@ def shot_name(velocity_km_s: float, diameter_cm: float) -> str:
 def campaign_shots(raw: dict, velocities: list[float], diameters: list[float], source: str = "<case>"
                    ) -> list[tuple[float, float, WhippleCase]]:
     """Every (V, d) case of the grid, validated before any work."""
-    shots = []
-    for v in velocities:
-        for d in diameters:
-            data = set_dotted(set_dotted(raw, "projectile.velocity_km_s", float(v)), "projectile.diameter_cm", float(d))
-            shots.append((v, d, validate(WhippleCase, data, source=f"{source} [V = {v:g} km/s, d = {d:g} cm]")))
-    return shots
+    pairs = [(float(v), float(d)) for v in velocities for d in diameters]
+    cases = case_variants(WhippleCase, raw, [{"projectile.velocity_km_s": v, "projectile.diameter_cm": d}
+                                             for v, d in pairs], source)
+    return [(v, d, case) for (v, d), case in zip(pairs, cases)]
 
 
 def _run_shot(shot: Shot) -> dict:
@@ -86,11 +83,9 @@ def run_campaign(raw: dict, velocities: list[float], diameters: list[float], out
     n_workers = 1 if scheduler == "serial" else max(1, min(workers or cores, len(grid)))
     with RunFolder(outdir, force=force) as rf:
         tasks = [Shot(case, rf.path / "runs" / shot_name(v, d), max(1, cores // n_workers)) for v, d, case in grid]
-        rows: list = [None] * len(grid)
-        for i, summary in run_tasks(_run_shot, tasks, scheduler=scheduler, workers=n_workers, address=address):
-            rows[i] = _row(grid[i][0], grid[i][1], summary)
-            if progress:
-                progress()
+        summaries = run_all(_run_shot, tasks, scheduler=scheduler, workers=n_workers, address=address,
+                            on_result=lambda i, s: progress and progress())
+        rows = [_row(v, d, s) for (v, d, _), s in zip(grid, summaries)]
         rf.write_csv("campaign.csv", CAMPAIGN_HEADER, rows)
         rf.write_json("campaign.json", [dict(zip(CAMPAIGN_HEADER, r)) for r in rows])
         _plot(rf.path / "campaign.png", grid[0][2], rows)

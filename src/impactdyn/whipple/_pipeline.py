@@ -25,8 +25,6 @@ from __future__ import annotations
 import json
 import shutil
 import time
-from collections.abc import Callable
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -35,46 +33,11 @@ from impactdyn._config import dump_toml
 from impactdyn._errors import InputError
 from impactdyn._runfolder import FolderWriter, RunFolder, check_target
 from impactdyn.whipple._case import WhippleCase
+from impactdyn.whipple._stages import DEPENDS, STAGES, Progress, StageContext, read_stage, settings
 
-STAGES = ("shield", "binning", "debris", "decks", "report")
-
-#: Case tables each stage's result depends on (cumulative: a stage depends on the ones before it).
-#: ``compute`` is left out: where the particle chunks run does not change the result.
-_DEPENDS = {
-    "shield": ("projectile", "bumper", "shield"),
-    "binning": ("binning",),
-    "debris": ("wall", "debris", "filter", "integrator", "legacy"),
-    "decks": ("output",),
-    "report": (),
-}
-
-#: ``progress(stage, done, total)``: the shield stage reports simulated µs, the debris
-#: stage its sub-stages ``seed``, ``propagate`` and ``deposit``, the others 0 then 1 of 1.
-Progress = Callable[[str, float, float], None]
-
-
-def settings(case: WhippleCase, stage: str) -> dict:
-    """The case tables ``stage``'s result depends on, as plain data (cumulative)."""
-    upto = STAGES[:STAGES.index(stage) + 1]
-    return {name: getattr(case, name).model_dump(mode="json") for s in upto for name in _DEPENDS[s]}
-
-
-@dataclass
-class _Stage:
-    """What a stage function gets: the case, the staging folder and the progress callback."""
-
-    case: WhippleCase
-    folder: FolderWriter
-    progress: Progress | None
-
-    def report(self, stage: str, done: float, total: float) -> None:
-        if self.progress is not None:
-            self.progress(stage, done, total)
-
-
-def _shield(s: _Stage) -> dict:
+def _shield(s: StageContext) -> dict:
     from impactdyn.shield import run
-    from impactdyn.shield._io import write_particles
+    from impactdyn.shield import write_particles
     from impactdyn.whipple._case import shield_problem
 
     problem, options = shield_problem(s.case)
@@ -118,10 +81,10 @@ def _write_points_vtk(path: Path, particles) -> None:
         "material": particles.material.astype(np.int32), "mass_g": particles.mass}))
 
 
-def _binning(s: _Stage) -> dict:
+def _binning(s: StageContext) -> dict:
     from impactdyn.io import write_grid
     from impactdyn.shield import bin_to_hydrogrid
-    from impactdyn.shield._io import read_particles
+    from impactdyn.shield import read_particles
     from impactdyn.whipple._case import binning_region
 
     s.report("binning", 0, 1)
@@ -148,9 +111,9 @@ def _binning(s: _Stage) -> dict:
     }
 
 
-def _debris(s: _Stage) -> dict:
+def _debris(s: StageContext) -> dict:
     from impactdyn.debris import build, run_debris
-    from impactdyn.debris._report import write_debris_files
+    from impactdyn.debris import write_debris_files
     from impactdyn.io import read_grid
     from impactdyn.whipple._case import debris_case
 
@@ -164,8 +127,8 @@ def _debris(s: _Stage) -> dict:
         "arrival_time_us", "peak_areal_density_g_cm_us", "integrator", "timings_s")}
 
 
-def _decks(s: _Stage) -> dict:
-    from impactdyn.debris._report import read_deposition, write_decks
+def _decks(s: StageContext) -> dict:
+    from impactdyn.debris import read_deposition, write_decks
     from impactdyn.materials import mat13_card
 
     s.report("decks", 0, 1)
@@ -177,7 +140,7 @@ def _decks(s: _Stage) -> dict:
             "n_loaded_elements": int(np.count_nonzero(np.abs(impulse).sum(axis=-1)))}
 
 
-def _report(s: _Stage) -> dict:
+def _report(s: StageContext) -> dict:
     from impactdyn.whipple._report import write_report
 
     s.report("report", 0, 1)
@@ -187,14 +150,6 @@ def _report(s: _Stage) -> dict:
 
 
 _RUN = {"shield": _shield, "binning": _binning, "debris": _debris, "decks": _decks, "report": _report}
-
-
-def read_stage(folder: Path, stage: str) -> dict:
-    """The ``stage.json`` record of ``stage`` in a run folder."""
-    path = folder / stage / "stage.json"
-    if not path.is_file():
-        raise InputError(f"{folder}: has no completed {stage} stage ({path} missing); run from an earlier stage")
-    return json.loads(path.read_text())
 
 
 def run_whipple(case: WhippleCase, outdir: str | Path, *, start: str = "shield", force: bool = False,
@@ -216,14 +171,14 @@ def run_whipple(case: WhippleCase, outdir: str | Path, *, start: str = "shield",
         for stage in STAGES[:first]:
             if read_stage(outdir, stage).get("settings") != settings(case, stage):
                 raise InputError(f"{outdir}: its {stage} stage was run with other settings than this case "
-                                 f"({', '.join(_DEPENDS[stage])}); run from {stage} or earlier")
+                                 f"({', '.join(DEPENDS[stage])}); run from {stage} or earlier")
     with RunFolder(outdir, force=True if first else force) as rf:
         for stage in STAGES[:first]:
             shutil.copytree(outdir / stage, rf.path / stage)
         rf.write_text("case.toml", dump_toml(case))
         for stage in STAGES[first:]:
             tick = time.perf_counter()
-            record = _RUN[stage](_Stage(case, rf, progress))
+            record = _RUN[stage](StageContext(case, rf, progress))
             record = {"stage": stage, "wall_time_s": time.perf_counter() - tick, "settings": settings(case, stage)
                       } | record
             rf.sub(stage).write_json("stage.json", record)

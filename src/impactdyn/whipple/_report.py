@@ -22,15 +22,15 @@ import numpy as np
 from impactdyn._plotting import pyplot, save_figure
 from impactdyn._runfolder import FolderWriter
 from impactdyn.whipple._case import WhippleCase, ble_shield
+from impactdyn.whipple._stages import STAGES, read_stage
 
 #: g·cm/µs → N·s, and g/(cm·µs) → N·s/cm².
 N_S_PER_G_CM_US = 10.0
 
 
 def _records(folder: FolderWriter) -> dict:
-    from impactdyn.whipple._pipeline import STAGES, read_stage
-
-    return {stage: read_stage(folder.path, stage) for stage in STAGES[:-1]}
+    """The records of every stage before the report."""
+    return {stage: read_stage(folder.path, stage) for stage in STAGES[:STAGES.index("report")]}
 
 
 def ble_verdict(case: WhippleCase) -> dict:
@@ -69,7 +69,7 @@ def deposition_figures(debris: dict) -> dict:
 
 def write_report(folder: FolderWriter, case: WhippleCase) -> dict:
     """Write ``summary.json``, ``plots/`` and ``report.html`` into the run folder; returns the record."""
-    from impactdyn.shield._io import read_particles
+    from impactdyn.shield import read_particles
     from impactdyn.whipple._cloud import cloud_figures
 
     records = _records(folder)

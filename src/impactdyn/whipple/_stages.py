@@ -1,0 +1,67 @@
+"""The contract of the Whipple stages: their order, what each depends on, and their records.
+
+The pipeline (:mod:`._pipeline`) runs the stages and the report (:mod:`._report`)
+reads their records; both import this module and not each other.
+
+Each stage writes ``<stage>/stage.json`` into the run folder: its numbers, its wall
+time and :func:`settings`, the case tables its result depends on.  A restart from a
+later stage reuses an earlier stage only if its recorded settings equal the case's.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+from impactdyn._errors import InputError
+from impactdyn._runfolder import FolderWriter
+
+STAGES = ("shield", "binning", "debris", "decks", "report")
+
+#: Case tables each stage's result depends on (cumulative: a stage depends on the ones before it).
+#: ``compute`` is left out: where the particle chunks run does not change the result.
+DEPENDS = {
+    "shield": ("projectile", "bumper", "shield"),
+    "binning": ("binning",),
+    "debris": ("wall", "debris", "filter", "integrator", "legacy"),
+    "decks": ("output",),
+    "report": (),
+}
+
+#: ``progress(stage, done, total)``: the shield stage reports simulated µs, the debris
+#: stage its sub-stages ``seed``, ``propagate`` and ``deposit``, the others 0 then 1 of 1.
+Progress = Callable[[str, float, float], None]
+
+
+def settings(case, stage: str) -> dict:
+    """The case tables ``stage``'s result depends on, as plain data (cumulative)."""
+    upto = STAGES[:STAGES.index(stage) + 1]
+    return {name: getattr(case, name).model_dump(mode="json") for s in upto for name in DEPENDS[s]}
+
+
+def read_stage(folder: Path, stage: str) -> dict:
+    """The ``stage.json`` record of ``stage`` in a run folder."""
+    path = Path(folder) / stage / "stage.json"
+    if not path.is_file():
+        raise InputError(f"{folder}: has no completed {stage} stage ({path} missing); run from an earlier stage")
+    return json.loads(path.read_text())
+
+
+def stage_file(folder: Path, stage: str, name: str) -> Path:
+    """Path of an artifact ``name`` of ``stage`` in a run folder."""
+    return Path(folder) / stage / name
+
+
+@dataclass
+class StageContext:
+    """What a stage function gets: the case, the staging folder and the progress callback."""
+
+    case: object
+    folder: FolderWriter
+    progress: Progress | None
+
+    def report(self, stage: str, done: float, total: float) -> None:
+        if self.progress is not None:
+            self.progress(stage, done, total)
