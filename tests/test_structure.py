@@ -1,0 +1,110 @@
+"""The package's import structure (docs/ARCHITECTURE.md): imports go one way.
+
+Data model (root modules, ``io``) → solver packages → ``whipple`` → ``cli``.  Each
+check runs in a fresh interpreter, so what a module loads is what it alone needs.
+"""
+
+from __future__ import annotations
+
+import ast
+import json
+import pathlib
+import subprocess
+import sys
+
+import pytest
+
+SRC = pathlib.Path(__file__).resolve().parents[1] / "src" / "impactdyn"
+SOLVERS = ("beam", "debris", "shield", "wall", "whipple")
+
+
+def _loaded_after(statement: str) -> list[str]:
+    code = f"import sys, json\n{statement}\nprint(json.dumps(sorted(m for m in sys.modules if m.startswith('impactdyn'))))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+@pytest.mark.parametrize("statement", [
+    "import impactdyn.io", "import impactdyn.hydrogrid", "import impactdyn.wallgrid", "import impactdyn.materials",
+    "import impactdyn.constitutive", "import impactdyn.units",
+])
+def test_data_model_and_io_load_no_solver(statement):
+    loaded = _loaded_after(statement)
+    solvers = [m for m in loaded if m.partition(".")[2].partition(".")[0] in SOLVERS]
+    assert solvers == [], f"{statement} loads {solvers}"
+
+
+def test_shield_loads_no_debris():
+    loaded = _loaded_after("import impactdyn.shield")
+    assert [m for m in loaded if m.startswith("impactdyn.debris")] == []
+
+
+def _modules() -> dict[str, pathlib.Path]:
+    mods = {}
+    for path in SRC.rglob("*.py"):
+        parts = path.relative_to(SRC.parent).with_suffix("").parts
+        name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+        mods[name] = path
+    return mods
+
+
+def _imports(path: pathlib.Path, module: str) -> list[tuple[str, int]]:
+    """Every impactdyn module imported by ``path`` (at any depth: deferred imports count), with its line."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    package = module if path.name == "__init__.py" else module.rpartition(".")[0]
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            found += [(a.name, node.lineno) for a in node.names if a.name.startswith("impactdyn")]
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                base = ".".join(package.split(".")[:len(package.split(".")) - node.level + 1] + ([base] if base else []))
+            if base.startswith("impactdyn"):
+                found += [(base, node.lineno)]
+    return found
+
+
+def test_no_private_import_across_packages():
+    bad = []
+    for module, path in _modules().items():
+        pkg = module.split(".")[1] if module.count(".") >= 1 else ""
+        for target, line in _imports(path, module):
+            parts = target.split(".")
+            if len(parts) >= 3 and parts[2].startswith("_") and parts[1] != pkg:
+                bad.append(f"{path.relative_to(SRC.parent)}:{line}: {target}")
+    assert bad == []
+
+
+def test_no_import_cycle():
+    """No cycle in the graph of module-level imports (deferred imports inside functions included)."""
+    modules = _modules()
+    graph = {}
+    for module, path in modules.items():
+        deps = set()
+        for target, _ in _imports(path, module):
+            # ``from impactdyn.x import y`` may name a submodule y; the package x is the dependency either way
+            while target not in modules and "." in target:
+                target = target.rpartition(".")[0]
+            if target != module and not module.startswith(target + "."):
+                deps.add(target)
+        graph[module] = deps
+    state, stack, cycles = {}, [], []
+
+    def visit(node):
+        state[node] = 1
+        stack.append(node)
+        for dep in sorted(graph.get(node, ())):
+            if dep.startswith(node + "."):  # a package's __init__ re-exporting its own submodules
+                continue
+            if state.get(dep) == 1:
+                cycles.append(" -> ".join(stack[stack.index(dep):] + [dep]))
+            elif dep not in state:
+                visit(dep)
+        stack.pop()
+        state[node] = 2
+
+    for node in sorted(graph):
+        if node not in state:
+            visit(node)
+    assert cycles == []
