@@ -214,15 +214,12 @@ def test_material_card(tmp_path):
     p = tmp_path / "wall.k"
     write_lsdyna_deck(p, wall)
     lines = p.read_text().splitlines()
-    at = lines.index("*MAT_PLASTIC_KINEMATIC")
-    card1 = [float(v) for v in cut(lines[at + 2], [10] * 7)]
-    card2 = cut(lines[at + 3], [10] * 4)
-    g, k = AL_6061_T6_MAT13.shear_modulus, AL_6061_T6_MAT13.bulk_modulus
-    e, nu = 9 * k * g / (3 * k + g), (3 * k - 2 * g) / (2 * (3 * k + g))
-    eh = AL_6061_T6_MAT13.hardening_modulus
-    np.testing.assert_allclose(card1, [1, 2.703, e, nu, 2.9e-3, e * eh / (e + eh), 1.0], rtol=1e-6)
-    assert e / (2 * (1 + nu)) == pytest.approx(g, rel=1e-12)
-    assert float(card2[2]) == 1.5
+    at = lines.index("*MAT_ISOTROPIC_ELASTIC_FAILURE")  # MAT_013: the report's App. D card, field for field
+    card1 = [float(v) for v in cut(lines[at + 2], [10] * 6)]
+    card2 = [float(v) for v in cut(lines[at + 4], [10] * 4)]
+    np.testing.assert_allclose(card1, [1, 2.703, 0.276, 2.9e-3, 3.88e-3, 0.720], rtol=1e-9)
+    assert card2[0] == 1.5 and card2[1] == -12.0e33  # EPF, and PRF written explicitly
+    assert card2[2] != 0.0  # REM: failed elements kept (compressive pressure only), as DYNA3D type 13
     assert "*END" == lines[-1]
 
 

@@ -8,14 +8,17 @@ i8), *ELEMENT_SOLID (EID PID N1–N8, 10×i8, the one-card form) and the
 reals take as many significant digits as their field holds after one leading blank.
 
 Deck: *KEYWORD, *TITLE, *CONTROL_TERMINATION, *DATABASE_BINARY_D3PLOT, *PART,
-*SECTION_SOLID (ELFORM 1), *MAT_PLASTIC_KINEMATIC, *NODE, *ELEMENT_SOLID
+*SECTION_SOLID (ELFORM 1), *MAT_ISOTROPIC_ELASTIC_FAILURE, *NODE, *ELEMENT_SOLID
 (numbering of :class:`WallGrid`, DYNGEN's), *BOUNDARY_SPC_NODE, the loads, *END.
 
-Material: *MAT_PLASTIC_KINEMATIC (MAT_003) from a :class:`Mat13Card` — RO, E
-and ν from G and K, SIGY, ETAN = E E_h/(E + E_h) (the bilinear slope; E_h is
-DYNA3D's plastic hardening modulus), BETA = 1 (isotropic hardening, as DYNA3D
-material 13), FS = the failure strain (blank if 0: no erosion).  The default is
-the report's wall, :data:`AL_6061_T6_MAT13`.
+Material: *MAT_ISOTROPIC_ELASTIC_FAILURE (MAT_013), the LS-DYNA descendant of the
+report's DYNA3D type 13 and the model of :mod:`impactdyn.wall`'s ``mat13``, card for
+card from a :class:`Mat13Card`: MID RO G SIGY ETAN BULK, then EPF PRF REM TREM with
+ETAN the plastic hardening modulus E_h (not the bilinear slope), EPF the effective
+plastic strain at failure (blank if 0: no failure), PRF the failure pressure written
+explicitly (≤ 0; the report's −1.2e34 Mbar means none), REM = 1 (a failed element
+is kept, carrying only compressive pressure, as in DYNA3D; 0 would erode it) and
+TREM = 0.  The default is the report's wall, :data:`AL_6061_T6_MAT13`.
 
 Supports: :meth:`WallGrid.constrained_dofs` — x fixed on the symmetry plane
 x = x[0], and by default (``clamped_edges=True``) all translations fixed on the
@@ -93,10 +96,11 @@ def write_lsdyna_deck(path: str | Path, wall: WallGrid, material: Mat13Card = AL
              "*DATABASE_BINARY_D3PLOT", _row([end_time / 100.0]),
              "*PART", "wall", _row([1, 1, 1]),
              "*SECTION_SOLID", _row([1, 1]),
-             "*MAT_PLASTIC_KINEMATIC",
-             "$      MID        RO         E        PR      SIGY      ETAN      BETA",
-             _row([1, m.density, m.youngs_modulus, m.poisson_ratio, m.yield_stress, m.tangent_modulus, 1.0]),
-             _row([0.0, 0.0, m.failure_strain if m.failure_strain > 0 else None, 0.0]),
+             "*MAT_ISOTROPIC_ELASTIC_FAILURE",
+             "$      MID        RO         G      SIGY      ETAN      BULK",
+             _row([1, m.density, m.shear_modulus, m.yield_stress, m.hardening_modulus, m.bulk_modulus]),
+             "$      EPF       PRF       REM      TREM",
+             _row([m.failure_strain if m.failure_strain > 0 else None, m.failure_pressure, 1.0, 0.0]),
              "*NODE"]
     xyz = wall.node_coordinates()
     lines += [_field(n, 8) + "".join(_field(c, 16) for c in p) for n, p in enumerate(xyz, start=1)]
