@@ -11,7 +11,7 @@ from impactdyn.beam._chain import ChainResult, RigidLinkChain
 from impactdyn.beam._contact import CONTACT_LAWS, listing_restitution, register_contact
 from impactdyn.beam._model import BeamModel
 from impactdyn.beam._modes import ModalIntegrals, eigenvalues, modal_integrals, shapes, sigma
-from impactdyn.beam._report import write_run
+from impactdyn.beam._runfiles import write_run
 from impactdyn.beam._simulate import Impact, Result, SimulationError, simulate
 from impactdyn.beam._sweep import parse_vary, run_sweep
 
