@@ -9,7 +9,11 @@ from pathlib import Path
 import numpy as np
 
 from impactdyn._errors import InputError
-from impactdyn.ble._jsc import BallisticLimitCurve, Regime
+from impactdyn.ble._curve import BallisticLimitCurve
+from impactdyn.ble._database import ShotDatabase
+from impactdyn.ble._equation import V_HYPERVELOCITY_MIN_KM_S, Regime, capped_cos
+from impactdyn.ble._registry import get_equation
+from impactdyn.ble._validate import Validation
 
 _REGIME_COLOURS = {Regime.BALLISTIC: "#dbe9f6", Regime.SHATTER: "#fdf1d6", Regime.HYPERVELOCITY: "#f6dede"}
 
@@ -36,72 +40,164 @@ def check_plot_path(path: str | os.PathLike, force: bool = False) -> Path:
     return p
 
 
-def plot_ballistic_limit(curves: list[BallisticLimitCurve], path: str | os.PathLike,
-                         shot: tuple[float, float, bool] | None = None, title: str | None = None,
-                         outcomes: tuple | None = None) -> Path:
-    """Draw d_c(V) curves into ``path`` (written under a temporary name, then renamed).
-
-    The first curve's JSC regimes, if it has them, are shaded, with the boundaries
-    3/cos θ and 7/cos θ marked; ``shot`` = (V km/s, d cm, perforated) is drawn as one
-    point, a red cross for a perforation, a green dot otherwise.  ``outcomes`` =
-    (V (n,), d (n,), value (n,), perforated (n,) bool, label): simulated shots,
-    coloured by ``value`` (with a colour bar titled ``label``), crosses where the
-    curve predicts perforation and dots elsewhere.
-    """
+def _pyplot():
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    p = Path(path)
-    fig, ax = plt.subplots(figsize=(7.5, 5.4), constrained_layout=True)
+    return plt
+
+
+def _save(fig, path: Path) -> Path:
+    """Write under a temporary name in the same folder, then rename (never a half-written file)."""
+    import matplotlib.pyplot as plt
+
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=path.suffix, dir=path.parent)
+    os.close(fd)
+    try:
+        fig.savefig(tmp, dpi=120)
+        os.replace(tmp, path)
+    finally:
+        plt.close(fig)
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+    return path
+
+
+def _shade_regimes(ax, curve: BallisticLimitCurve) -> None:
+    v = curve.velocity_km_s
+    v_lo, v_hi = curve.regime_boundaries_km_s
+    spans = ((Regime.BALLISTIC, v[0], v_lo), (Regime.SHATTER, v_lo, v_hi), (Regime.HYPERVELOCITY, v_hi, v[-1]))
+    for reg, a, b in spans:
+        a, b = max(a, v[0]), min(b, v[-1])
+        if b > a:
+            ax.axvspan(a, b, color=_REGIME_COLOURS[reg], zorder=0, label=f"{reg.value} regime")
+    cos_t = capped_cos(curve.obliquity_deg)
+    for vb in (v_lo, v_hi):
+        if v[0] <= vb <= v[-1]:
+            ax.axvline(vb, color="0.5", ls=":", lw=1)
+            ax.text(vb, 0.02, f"V cos θ = {vb * cos_t:.3g} km/s ", transform=ax.get_xaxis_transform(), rotation=90,
+                    va="bottom", ha="right", fontsize=8, color="0.35")
+
+
+def _draw_shots(ax, shots: ShotDatabase, x: np.ndarray, y: np.ndarray, what: str) -> None:
+    """P as filled red crosses, NP as open blue circles."""
+    p = shots.perforated
+    if p.any():
+        ax.scatter(x[p], y[p], marker="X", s=45, color="tab:red", edgecolors="k", linewidths=0.4, zorder=4,
+                   label=f"{what}: perforated ({int(p.sum())})")
+    if not p.all():
+        ax.scatter(x[~p], y[~p], marker="o", s=36, facecolors="none", edgecolors="tab:blue", linewidths=1.0,
+                   zorder=4, label=f"{what}: not perforated ({int((~p).sum())})")
+
+
+def _draw_curves(ax, curves: list[BallisticLimitCurve], shot=None, outcomes=None,
+                 shots: ShotDatabase | None = None) -> None:
     main = curves[0]
     v = main.velocity_km_s
-    if main.regime is not None:
-        v_lo, v_hi = main.regime_boundaries()
-        spans = ((Regime.BALLISTIC, v[0], v_lo), (Regime.SHATTER, v_lo, v_hi), (Regime.HYPERVELOCITY, v_hi, v[-1]))
-        for reg, a, b in spans:
-            a, b = max(a, v[0]), min(b, v[-1])
-            if b > a:
-                ax.axvspan(a, b, color=_REGIME_COLOURS[reg], zorder=0, label=f"{reg.value} regime")
-        for vb, vn in ((v_lo, 3), (v_hi, 7)):
-            if v[0] <= vb <= v[-1]:
-                ax.axvline(vb, color="0.5", ls=":", lw=1)
-                ax.text(vb, 0.02, f"V cos θ = {vn} km/s ", transform=ax.get_xaxis_transform(), rotation=90,
-                        va="bottom", ha="right", fontsize=8, color="0.35")
+    if main.regime_boundaries_km_s is not None:
+        _shade_regimes(ax, main)
+    tops = []
     for c in curves:
-        ax.plot(c.velocity_km_s, c.critical_diameter_cm, lw=2, label=c.equation)
+        (line,) = ax.plot(c.velocity_km_s, c.critical_diameter_cm, lw=2, label=c.equation)
+        missing = np.isnan(c.critical_diameter_cm)
+        if missing.any():
+            ax.plot(c.velocity_km_s, np.where(missing, c.threshold_cm, np.nan), lw=1.5, ls="--", color=line.get_color(),
+                    label=f"{c.equation}: no fixed point, perforation starts here")
+        tops.append(np.nanmax(c.threshold_cm))
     if shot is not None:
         vs, ds, perforated = shot
         ax.plot([vs], [ds], marker="X" if perforated else "o", ms=10, ls="none",
                 color="tab:red" if perforated else "tab:green", zorder=5,
                 label=f"shot: d = {ds:g} cm at {vs:g} km/s ({'perforation' if perforated else 'no perforation'})")
-    top_points = 0.0
+        tops.append(ds)
     if outcomes is not None:
+        import matplotlib
+
         vo, do, value, perforated, label = outcomes
         norm = matplotlib.colors.Normalize(vmin=0.0, vmax=max(float(np.max(value)), 1e-300))
         for mask, marker, name in ((perforated, "X", "JSC: perforation"), (~perforated, "o", "JSC: none")):
             if np.any(mask):
                 ax.scatter(vo[mask], do[mask], c=value[mask], norm=norm, cmap="inferno_r", marker=marker,
-                                s=110, edgecolors="k", linewidths=0.6, zorder=5, label=f"shot ({name})")
-        fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap="inferno_r"), ax=ax, label=label)
-        top_points = float(np.max(do))
+                           s=110, edgecolors="k", linewidths=0.6, zorder=5, label=f"shot ({name})")
+        ax.figure.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap="inferno_r"), ax=ax, label=label)
+        tops.append(float(np.max(do)))
+    if shots is not None and len(shots):
+        _draw_shots(ax, shots, shots.velocity_km_s, shots.diameter_cm, "test shot")
+        tops.append(float(np.max(shots.diameter_cm)))
     ax.set_xlabel("impact velocity V (km/s)")
     ax.set_ylabel("critical projectile diameter d_c (cm)")
     ax.set_xlim(v[0], v[-1])
-    top = max(float(c.critical_diameter_cm.max()) for c in curves)
-    ax.set_ylim(0.0, 1.15 * max(top, top_points, 0.0 if shot is None else shot[1]))
+    ax.set_ylim(0.0, 1.15 * max(tops))
     ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncols=2, frameon=False)
+
+
+def plot_ballistic_limit(curves: list[BallisticLimitCurve], path: str | os.PathLike,
+                         shot: tuple[float, float, bool] | None = None, title: str | None = None,
+                         outcomes: tuple | None = None, shots: ShotDatabase | None = None) -> Path:
+    """Draw d_c(V) curves into ``path`` (written under a temporary name, then renamed).
+
+    The first curve's regimes, if it has them, are shaded, with the boundaries marked;
+    where a curve has no fixed point (2011 form) its perforation threshold is dashed.
+    ``shot`` = (V km/s, d cm, perforated) is drawn as one point, a red cross for a
+    perforation, a green dot otherwise.  ``outcomes`` = (V (n,), d (n,), value (n,),
+    perforated (n,) bool, label): simulated shots, coloured by ``value`` (with a colour bar
+    titled ``label``), crosses where the curve predicts perforation and dots elsewhere.
+    ``shots``: test shots (e.g. :func:`impactdyn.ble.nearby_shots`), red crosses where the
+    rear wall was perforated (P), open blue circles where not (NP).
+    """
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(8.5, 5.8), constrained_layout=True)
+    _draw_curves(ax, curves, shot, outcomes, shots)
+    main = curves[0]
     ax.set_title(title or f"Ballistic limit, θ = {main.obliquity_deg:g}°, "
                           f"ρ_p = {main.projectile_density:g} g/cm³", fontsize=10)
-    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncols=2, frameon=False)
-    fd, tmp = tempfile.mkstemp(prefix=f".{p.stem}.", suffix=p.suffix, dir=p.parent)
-    os.close(fd)
-    try:
-        fig.savefig(tmp, dpi=120)
-        os.replace(tmp, p)
-    finally:
-        plt.close(fig)
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-    return p
+    return _save(fig, Path(path))
+
+
+def _percent(x: float | None) -> str:
+    return "–" if x is None else f"{100 * x:.1f} %"
+
+
+def plot_validation(validations: list[Validation], path: str | os.PathLike,
+                    curves: list[BallisticLimitCurve] | None = None, shots: ShotDatabase | None = None,
+                    title: str | None = None) -> Path:
+    """Test shots as d/d_c against V cos θ, one panel per equation; optionally a configuration.
+
+    d/d_c > 1 is a perforation call; a red cross above 1 or an open circle below it is a
+    right call.  θ is capped at 65° as in the equations, so V cos θ places each shot in its
+    regime (dotted lines at the boundaries).  Shots where the 2011 form has no fixed point
+    are drawn at d over the perforation threshold, ringed in grey.  With ``curves``, a last
+    panel draws them with ``shots`` (those near the configuration) on them; ``title``
+    heads that panel.
+    """
+    plt = _pyplot()
+    n = len(validations) + (curves is not None)
+    fig, axes = plt.subplots(1, n, figsize=(6.4 * n, 5.6), constrained_layout=True, squeeze=False)
+    for ax, val in zip(axes[0], validations):
+        db = val.database
+        vn = db.velocity_km_s * capped_cos(db.obliquity_deg)
+        ratio = db.diameter_cm / val.limit.threshold_cm
+        ax.axhline(1.0, color="k", lw=1)
+        for vb in (get_equation(val.equation).ballistic_max_km_s, V_HYPERVELOCITY_MIN_KM_S):
+            ax.axvline(vb, color="0.5", ls=":", lw=1)
+        _draw_shots(ax, db, vn, ratio, "test shot")
+        none = np.isnan(val.limit.critical_diameter_cm)
+        if none.any():
+            ax.scatter(vn[none], ratio[none], s=110, facecolors="none", edgecolors="0.55", linewidths=1.2, zorder=3,
+                       label=f"no fixed point: d / threshold ({int(none.sum())})")
+        s = val.overall
+        ax.set_title(f"{val.title}\naccuracy {_percent(s.accuracy)}, false-safe {_percent(s.false_safe_rate)}, "
+                     f"false-alarm {_percent(s.false_alarm_rate)} ({s.shots} shots)", fontsize=9)
+        ax.set_yscale("log")
+        ax.set_xlabel("V cos θ (km/s), θ capped at 65°")
+        ax.set_ylabel("d / d_c")
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncols=2, frameon=False)
+    if curves is not None:
+        ax = axes[0][-1]
+        _draw_curves(ax, curves, shots=shots)
+        ax.set_title(title or "configuration", fontsize=9)
+    return _save(fig, Path(path))

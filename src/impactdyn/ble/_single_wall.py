@@ -37,7 +37,8 @@ import numpy as np
 
 from impactdyn._errors import InputError
 from impactdyn.ble import _check
-from impactdyn.ble._jsc import ALUMINIUM_DENSITY_G_CM3, BallisticLimitCurve, WhippleShield, curve_velocities
+from impactdyn.ble._curve import BallisticLimitCurve, curve_velocities
+from impactdyn.ble._shield import ALUMINIUM_DENSITY_G_CM3, WhippleShield
 
 #: Brinell hardness of Al 6061-T6 (ASM handbook value, as tabulated with the NASA
 #: ballistic-limit program's material data).
@@ -151,9 +152,11 @@ def single_wall_ballistic_limit_curve(wall: SingleWall, velocities=None, obliqui
     rho_p = _check.positive("projectile_density", projectile_density)
     m = _mode(mode)
     v = curve_velocities(velocities)
+    dc = np.asarray(single_wall_critical_diameter(wall, v, th, rho_p, m), dtype=float)
     return BallisticLimitCurve(
         velocity_km_s=v,
-        critical_diameter_cm=np.asarray(single_wall_critical_diameter(wall, v, th, rho_p, m), dtype=float),
+        critical_diameter_cm=dc,
+        threshold_cm=dc,
         obliquity_deg=th,
         projectile_density=rho_p,
         equation=f"Cour-Palais single wall, {m.value} (k = {m.k:g}; NASA/TM-2009-214785 §4)",
