@@ -12,7 +12,7 @@ from impactdyn.cli._progress import progress_bars
 app = typer.Typer(help="Whipple shield: SPH shield impact → debris cloud → rear-wall load → decks and report.",
                   no_args_is_help=True)
 
-STAGE_HELP = "shield, binning, debris, decks or report"
+STAGE_HELP = "shield, binning, debris, wall, decks or report"
 
 
 @app.command()
@@ -51,6 +51,8 @@ def campaign(
     force: bool = typer.Option(False, "--force", help="Overwrite an existing folder."),
     workers: Optional[int] = typer.Option(None, "--workers", help="Shots run at once (default: all cores)."),
     dask: Optional[str] = typer.Option(None, "--dask", help="'local' for a LocalCluster, or a scheduler address."),
+    keep_all: bool = typer.Option(False, "--keep-all", help="Keep every file of each shot (default: a lean "
+                                                            "folder: summary, report, plots, wall measures, decks)."),
 ):
     """Run a grid of (velocity, diameter) shots in parallel and draw them over the ballistic-limit curve."""
     from rich.progress import Progress
@@ -67,5 +69,41 @@ def campaign(
         task = bar.add_task("shots", total=len(velocities) * len(diameters))
         rows = run_campaign(raw, velocities, diameters, out, source=str(case), force=force,
                             scheduler="dask" if dask else "processes", workers=workers, address=dask,
-                            progress=lambda: bar.advance(task))
+                            keep_all=keep_all, progress=lambda: bar.advance(task))
     typer.echo(f"{len(rows)} shots; table in {out / 'campaign.csv'}, plot in {out / 'campaign.png'}")
+
+
+@app.command()
+def limit(
+    case: Path = typer.Argument(..., help="Base Whipple case file (TOML); its diameter is searched."),
+    velocity: str = typer.Option(..., "--velocity", help="Impact velocities START:STOP:N (km/s), e.g. 3:11:5."),
+    out: Path = typer.Option(..., "-o", "--out", help="Folder to create."),
+    tolerance: float = typer.Option(0.02, "--tolerance", help="Bisect until the bracket is this narrow (cm)."),
+    bracket_ratio: float = typer.Option(1.25, "--bracket-ratio",
+                                        help="First bracket d_JSC/r .. d_JSC*r, moved by r until it holds the "
+                                             "change of verdict."),
+    force: bool = typer.Option(False, "--force", help="Overwrite an existing folder."),
+    workers: Optional[int] = typer.Option(None, "--workers", help="Shots run at once (default: all cores)."),
+    dask: Optional[str] = typer.Option(None, "--dask", help="'local' for a LocalCluster, or a scheduler address."),
+    keep_all: bool = typer.Option(False, "--keep-all", help="Keep every file of each shot."),
+):
+    """Find, for each velocity, the diameter where the simulated wall verdict changes (bisection)."""
+    from rich.progress import Progress
+
+    from impactdyn._config import load_toml, parse_range
+    from impactdyn._runfolder import check_target
+    from impactdyn.whipple import run_limit
+
+    check_target(out, force)
+    velocities = parse_range("--velocity", velocity, "3:11:5")
+    raw = load_toml(case)
+    with Progress(transient=True) as bar:
+        task = bar.add_task("shots", total=None)
+        rows = run_limit(raw, velocities, out, source=str(case), tolerance_cm=tolerance, bracket_ratio=bracket_ratio,
+                         force=force, scheduler="dask" if dask else "processes", workers=workers, address=dask,
+                         keep_all=keep_all, progress=lambda n: bar.update(task, completed=n))
+    for r in rows:
+        d = "–" if r["limit_diameter_cm"] is None else f"{r['limit_diameter_cm']:.4f} ± {r['half_width_cm']:.4f} cm"
+        typer.echo(f"V = {r['velocity_km_s']:g} km/s: simulated limit {d} ({r['status']}, {r['n_shots']} shots); "
+                   f"JSC {r['jsc_critical_diameter_cm']:.4f} cm")
+    typer.echo(f"table in {out / 'limit.csv'}, plot in {out / 'limit.png'}")

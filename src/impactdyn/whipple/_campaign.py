@@ -12,32 +12,18 @@ folder are for the user's FE code), so the plot shows the load against the curve
 
 from __future__ import annotations
 
-import os
-from dataclasses import dataclass
 from pathlib import Path
 
 from impactdyn._errors import InputError
 from impactdyn._runfolder import RunFolder
 from impactdyn._sweep import case_variants, run_all
 from impactdyn.whipple._case import WhippleCase
+from impactdyn.whipple._shots import Shot, run_shot, shot_name, threads_per_shot
 
 CAMPAIGN_HEADER = [
     "velocity_km_s", "diameter_cm", "ble_critical_diameter_cm", "ble_regime", "ble_verdict",
     "peak_areal_momentum_N_s_cm2", "impulse_on_wall_normal_N_s_full_model", "leading_edge_velocity_km_s",
     "centre_of_mass_speed_km_s", "cone_half_angle_deg", "n_debris_particles_arrived", "wall_time_s", "run"]
-
-
-@dataclass(frozen=True)
-class Shot:
-    """One shot of a campaign: its case, its run folder and the numba threads it may use."""
-
-    case: WhippleCase
-    folder: Path
-    threads: int
-
-
-def shot_name(velocity_km_s: float, diameter_cm: float) -> str:
-    return f"V{velocity_km_s:g}_d{diameter_cm:g}"
 
 
 def campaign_shots(raw: dict, velocities: list[float], diameters: list[float], source: str = "<case>"
@@ -47,15 +33,6 @@ def campaign_shots(raw: dict, velocities: list[float], diameters: list[float], s
     cases = case_variants(WhippleCase, raw, [{"projectile.velocity_km_s": v, "projectile.diameter_cm": d}
                                              for v, d in pairs], source)
     return [(v, d, case) for (v, d), case in zip(pairs, cases)]
-
-
-def _run_shot(shot: Shot) -> dict:
-    import numba
-
-    from impactdyn.whipple._pipeline import run_whipple
-
-    numba.set_num_threads(max(1, min(shot.threads, numba.config.NUMBA_NUM_THREADS)))
-    return run_whipple(shot.case, shot.folder)
 
 
 def _row(v: float, d: float, s: dict) -> list:
@@ -68,22 +45,24 @@ def _row(v: float, d: float, s: dict) -> list:
 
 def run_campaign(raw: dict, velocities: list[float], diameters: list[float], outdir: str | Path, *,
                  source: str = "<case>", force: bool = False, scheduler: str = "processes",
-                 workers: int | None = None, address: str | None = None, progress=None) -> list[list]:
+                 workers: int | None = None, address: str | None = None, keep_all: bool = False,
+                 progress=None) -> list[list]:
     """Run the campaign into ``outdir`` (module docstring); returns the table rows.
 
     ``raw``: the base case as read from TOML (the grid replaces the projectile's
     velocity and diameter); ``scheduler``: ``processes`` (``workers`` local
     processes, the cores shared among them), ``dask`` (``address``, or a
-    LocalCluster) or ``serial``; ``progress()`` is called after each shot.
+    LocalCluster) or ``serial``; ``keep_all`` keeps every file of each shot (default: a lean
+    folder, :mod:`._shots`); ``progress()`` is called after each shot.
     """
     if not velocities or not diameters:
         raise InputError("campaign: needs at least one velocity and one diameter")
     grid = campaign_shots(raw, velocities, diameters, source)
-    cores = os.cpu_count() or 1
-    n_workers = 1 if scheduler == "serial" else max(1, min(workers or cores, len(grid)))
+    n_workers = 1 if scheduler == "serial" else max(1, min(workers or threads_per_shot(1), len(grid)))
     with RunFolder(outdir, force=force) as rf:
-        tasks = [Shot(case, rf.path / "runs" / shot_name(v, d), max(1, cores // n_workers)) for v, d, case in grid]
-        summaries = run_all(_run_shot, tasks, scheduler=scheduler, workers=n_workers, address=address,
+        tasks = [Shot(case, rf.path / "runs" / shot_name(v, d), threads_per_shot(n_workers), keep_all)
+                 for v, d, case in grid]
+        summaries = run_all(run_shot, tasks, scheduler=scheduler, workers=n_workers, address=address,
                             on_result=lambda i, s: progress and progress())
         rows = [_row(v, d, s) for (v, d, _), s in zip(grid, summaries)]
         rf.write_csv("campaign.csv", CAMPAIGN_HEADER, rows)

@@ -1,0 +1,198 @@
+"""The simulated ballistic limit: for each velocity, the diameter where the simulated verdict changes.
+
+For each velocity V the search brackets the critical diameter between a diameter the
+simulation calls safe (``no perforation``) and one it calls failed (``perforation`` or
+``detached spall``: JSC test practice counts both as a failed rear wall), then halves
+the bracket until it is no wider than ``tolerance_cm``:
+
+1. start from [d_JSC/r, d_JSC·r] about the JSC critical diameter (r = ``bracket_ratio``);
+2. while both ends give the same verdict, move the bracket by the factor r toward the
+   change (down if both fail, up if both hold), at most ``max_expansions`` times, after
+   which the velocity is reported as unbracketed, with the shots it took;
+3. bisect: d = (d_safe + d_failed)/2 until d_failed − d_safe ≤ ``tolerance_cm``.
+
+The SPH resolution follows the diameter: a shot smaller than the case's projectile gets
+the case's particles per projectile diameter (``shield.spacing_cm`` scaled by d/d_case),
+a larger one keeps the case's spacing, so no shot is resolved more coarsely than the
+case itself.
+
+The limit reported is the bracket's midpoint ± half its width.  The search assumes one
+change of verdict along d at fixed V (a thicker projectile does not do less damage);
+every shot is kept in ``shots.csv``, so a non-monotone result is there to see.  Each
+round runs the pending shot of every velocity at once (in parallel), so a search of
+n velocities takes about as many rounds as one.
+
+Folder: ``limit.csv`` / ``limit.json`` (one row per velocity), ``shots.csv`` (every shot),
+``limit.png`` (the simulated limit with its brackets over the JSC curve, and the test
+database's shots near the configuration) and ``runs/V<v>_d<d>/`` (lean run folders,
+:mod:`._shots`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from impactdyn._errors import InputError
+from impactdyn._runfolder import RunFolder
+from impactdyn._sweep import case_variants, run_all
+from impactdyn.whipple._case import WhippleCase
+from impactdyn.whipple._report import ble_verdict
+from impactdyn.whipple._shots import Shot, run_shot, shot_name, threads_per_shot
+
+LIMIT_HEADER = ["velocity_km_s", "limit_diameter_cm", "half_width_cm", "largest_safe_cm", "smallest_failed_cm",
+                "jsc_critical_diameter_cm", "n_shots", "status"]
+SHOTS_HEADER = ["velocity_km_s", "diameter_cm", "simulated_verdict", "failed", "jsc_verdict", "run"]
+
+#: Simulated verdicts that count as a failed rear wall (JSC test practice).
+FAILED_VERDICTS = ("perforation", "detached spall")
+
+
+@dataclass
+class _Search:
+    """The bracket of one velocity: the largest safe and the smallest failed diameter found so far."""
+
+    velocity: float
+    jsc: float
+    ratio: float
+    safe: float | None = None
+    failed: float | None = None
+    expansions: int = 0
+    status: str = "searching"
+    shots: list = field(default_factory=list)
+
+    def pending(self) -> list[float]:
+        """Diameters to shoot next (none when finished)."""
+        if self.status != "searching":
+            return []
+        if self.safe is None and self.failed is None:
+            return [self.jsc / self.ratio, self.jsc * self.ratio]
+        if self.safe is None:
+            return [self.failed / self.ratio]
+        if self.failed is None:
+            return [self.safe * self.ratio]
+        return [0.5 * (self.safe + self.failed)]
+
+    def record(self, diameter: float, failed: bool) -> None:
+        if failed:
+            self.failed = diameter if self.failed is None else min(self.failed, diameter)
+        else:
+            self.safe = diameter if self.safe is None else max(self.safe, diameter)
+
+    def settle(self, tolerance: float, max_expansions: int) -> None:
+        """After a round: done, unbracketed, or one more expansion counted."""
+        if self.safe is not None and self.failed is not None:
+            if self.failed < self.safe:
+                self.status = "non-monotone"
+            elif self.failed - self.safe <= tolerance:
+                self.status = "converged"
+        elif len(self.shots) > 2:
+            self.expansions += 1
+            if self.expansions > max_expansions:
+                self.status = "unbracketed"
+
+
+def limit_velocities(raw: dict, velocities: list[float], source: str) -> list[WhippleCase]:
+    """The base case at each velocity, validated before any shot."""
+    return case_variants(WhippleCase, raw, [{"projectile.velocity_km_s": float(v)} for v in velocities], source)
+
+
+def run_limit(raw: dict, velocities: list[float], outdir: str | Path, *, source: str = "<case>",
+              tolerance_cm: float = 0.02, bracket_ratio: float = 1.25, max_expansions: int = 4,
+              force: bool = False, scheduler: str = "processes", workers: int | None = None,
+              address: str | None = None, keep_all: bool = False, progress=None) -> list[dict]:
+    """Search the simulated limit at each velocity (module docstring); returns the ``limit.csv`` rows.
+
+    ``progress(round, shots_done)`` is called after each shot.
+    """
+    if not velocities:
+        raise InputError("limit: needs at least one velocity")
+    if not (np.isfinite(tolerance_cm) and tolerance_cm > 0):
+        raise InputError(f"--tolerance {tolerance_cm}: must be > 0 (cm)")
+    if not (np.isfinite(bracket_ratio) and bracket_ratio > 1):
+        raise InputError(f"--bracket-ratio {bracket_ratio}: must be > 1")
+    bases = limit_velocities(raw, velocities, source)
+    searches = [_Search(velocity=float(v), jsc=ble_verdict(case)["critical_diameter_cm"], ratio=bracket_ratio)
+                 for v, case in zip(velocities, bases)]
+    n_workers = 1 if scheduler == "serial" else max(1, workers or threads_per_shot(1))
+    done = 0
+    with RunFolder(outdir, force=force) as rf:
+        while any(s.pending() for s in searches):
+            batch = [(s, d) for s in searches for d in s.pending()]
+            cases = case_variants(WhippleCase, raw, [shot_variant(bases[0], s.velocity, d) for s, d in batch], source)
+            tasks = [Shot(case, rf.path / "runs" / shot_name(s.velocity, d),
+                          threads_per_shot(min(n_workers, len(batch))), keep_all)
+                     for (s, d), case in zip(batch, cases)]
+
+            def tick(i: int, summary: dict) -> None:
+                nonlocal done
+                done += 1
+                if progress:
+                    progress(done)
+
+            summaries = run_all(run_shot, tasks, scheduler=scheduler, workers=min(n_workers, len(batch)),
+                                address=address, on_result=tick)
+            for (s, d), case, summary in zip(batch, cases, summaries):
+                verdict = summary["wall"]["verdict"]
+                failed = verdict in FAILED_VERDICTS
+                s.shots.append((d, verdict, failed, ble_verdict(case)["verdict"], f"runs/{shot_name(s.velocity, d)}"))
+                s.record(d, failed)
+            for s in searches:
+                s.settle(tolerance_cm, max_expansions)
+        rows = [_limit_row(s) for s in searches]
+        rf.write_csv("limit.csv", LIMIT_HEADER, [[r[k] for k in LIMIT_HEADER] for r in rows])
+        rf.write_json("limit.json", {"tolerance_cm": tolerance_cm, "bracket_ratio": bracket_ratio, "rows": rows})
+        rf.write_csv("shots.csv", SHOTS_HEADER, [[s.velocity, *shot] for s in searches for shot in s.shots])
+        _plot(rf.path / "limit.png", bases[0], searches, tolerance_cm)
+    return rows
+
+
+def shot_variant(base: WhippleCase, velocity_km_s: float, diameter_cm: float) -> dict:
+    """The dotted keys of one shot of the search: its speed, its diameter and its SPH spacing."""
+    spacing = base.shield.spacing_cm * min(1.0, diameter_cm / base.projectile.diameter_cm)
+    return {"projectile.velocity_km_s": float(velocity_km_s), "projectile.diameter_cm": float(diameter_cm),
+            "shield.spacing_cm": float(spacing)}
+
+
+def _limit_row(s: _Search) -> dict:
+    both = s.safe is not None and s.failed is not None
+    return {"velocity_km_s": s.velocity,
+            "limit_diameter_cm": 0.5 * (s.safe + s.failed) if both else None,
+            "half_width_cm": 0.5 * abs(s.failed - s.safe) if both else None,
+            "largest_safe_cm": s.safe, "smallest_failed_cm": s.failed,
+            "jsc_critical_diameter_cm": s.jsc, "n_shots": len(s.shots), "status": s.status}
+
+
+def _plot(path: Path, case: WhippleCase, searches: list[_Search], tolerance: float) -> None:
+    from impactdyn._plotting import pyplot, save_figure
+    from impactdyn.ble import ballistic_limit_curve
+    from impactdyn.materials import get_material
+    from impactdyn.whipple._case import ble_shield
+
+    plt = pyplot()
+    p, w, b = case.projectile, case.wall, case.bumper
+    vmax = max(15.0, 1.1 * max(s.velocity for s in searches))
+    curve = ballistic_limit_curve(ble_shield(case), np.linspace(1.0, vmax, 281), p.obliquity_deg,
+                                  get_material(p.material).rho0)
+    fig, ax = plt.subplots(figsize=(7.5, 5.4), constrained_layout=True)
+    ax.plot(curve.velocity_km_s, curve.critical_diameter_cm, "k-", lw=1.5, label="JSC equation")
+    for s in searches:
+        for d, _, failed, _, _ in s.shots:
+            ax.plot(s.velocity, d, "X" if failed else "o", color="tab:red" if failed else "tab:green", ms=6,
+                    alpha=0.6)
+    conv = [s for s in searches if s.safe is not None and s.failed is not None]
+    if conv:
+        ax.errorbar([s.velocity for s in conv], [0.5 * (s.safe + s.failed) for s in conv],
+                    yerr=[0.5 * abs(s.failed - s.safe) for s in conv], fmt="s-", color="tab:blue", capsize=4,
+                    label=f"simulated limit (bisection to {tolerance:g} cm)")
+    ax.plot([], [], "X", color="tab:red", label="simulated: perforation / detached spall")
+    ax.plot([], [], "o", color="tab:green", label="simulated: no perforation")
+    ax.set_xlabel("impact velocity (km/s)")
+    ax.set_ylabel("projectile diameter (cm)")
+    ax.set_title(f"Simulated ballistic limit: t_b = {b.thickness_cm:g} cm, t_w = {w.thickness_cm:g} cm, "
+                 f"S = {w.spacing_cm:g} cm, θ = {p.obliquity_deg:g}°", fontsize=9)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    save_figure(fig, path)

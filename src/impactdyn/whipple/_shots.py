@@ -1,0 +1,63 @@
+"""One shot of a family (campaign or limit search): a full Whipple run, then a lean run folder.
+
+A Table 2 run folder holds ~400 MB (SPH particles, every debris particle's states,
+ParaView files); a family of dozens of shots keeps by default only what a user reads
+afterwards (:data:`LEAN_KEEP`): the summary and report, the stage records, the plots,
+the DCPOST table, the wall's measures and pictures and the decks: a few MB per shot.
+``keep_all`` keeps everything.
+"""
+
+from __future__ import annotations
+
+import fnmatch
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+#: Files a lean shot folder keeps (glob patterns relative to the run folder).
+LEAN_KEEP = ("summary.json", "report.html", "case.toml", "plots/*", "*/stage.json", "*/summary.json",
+             "*/plots/*", "debris/areal_density.csv", "debris/config.resolved.toml", "wall/*.json", "wall/*.png",
+             "decks/*")
+
+
+@dataclass(frozen=True)
+class Shot:
+    """One shot: its case, its run folder, the numba threads it may use and whether to keep every file."""
+
+    case: object
+    folder: Path
+    threads: int
+    keep_all: bool = False
+
+
+def shot_name(velocity_km_s: float, diameter_cm: float) -> str:
+    return f"V{velocity_km_s:g}_d{diameter_cm:g}"
+
+
+def threads_per_shot(n_workers: int) -> int:
+    """The cores of this machine shared among ``n_workers`` concurrent shots (at least one each)."""
+    return max(1, (os.cpu_count() or 1) // max(1, n_workers))
+
+
+def run_shot(shot: Shot) -> dict:
+    """Run the shot's pipeline into its folder (lean unless ``keep_all``); returns its summary."""
+    import numba
+
+    from impactdyn.whipple._pipeline import run_whipple
+
+    numba.set_num_threads(max(1, min(shot.threads, numba.config.NUMBA_NUM_THREADS)))
+    summary = run_whipple(shot.case, shot.folder)
+    if not shot.keep_all:
+        prune_run(shot.folder)
+    return summary
+
+
+def prune_run(folder: Path) -> None:
+    """Delete every file of a run folder that :data:`LEAN_KEEP` does not name, and the emptied folders."""
+    folder = Path(folder)
+    for path in sorted(folder.rglob("*"), reverse=True):
+        rel = path.relative_to(folder).as_posix()
+        if path.is_file() and not any(fnmatch.fnmatchcase(rel, pattern) for pattern in LEAN_KEEP):
+            path.unlink()
+        elif path.is_dir() and not any(path.iterdir()):
+            path.rmdir()
