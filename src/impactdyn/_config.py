@@ -98,12 +98,17 @@ def parse_range(option: str, spec: str, example: str) -> list[float]:
     """``START:STOP:N`` → N values from START to STOP inclusive; ``option`` and ``example`` go into the error."""
     import numpy as np
 
+    from impactdyn._limits import CASE_BYTES, check_fits
+
     try:
         start, stop, n = spec.split(":")
-        count = int(n)
-        values = np.linspace(float(start), float(stop), count)
+        count, lo, hi = int(n), float(start), float(stop)
     except ValueError:
         raise InputError(f"{option} {spec!r}: expected START:STOP:N, e.g. {example}") from None
+    if count >= 1:
+        check_fits(f"{option} {spec!r}: N", count, CASE_BYTES, "cases")
+    with np.errstate(over="ignore", invalid="ignore"):
+        values = np.linspace(lo, hi, max(count, 0))
     if count < 1 or not np.all(np.isfinite(values)):
         raise InputError(f"{option} {spec!r}: N must be at least 1 and the bounds finite")
     return values.tolist()

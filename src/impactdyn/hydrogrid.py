@@ -15,11 +15,13 @@ Two velocity conventions (``staggered``):
 from __future__ import annotations
 
 import itertools
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from impactdyn._errors import InputError
+from impactdyn._limits import check_fits
 
 #: Units of every array of a HydroGrid, as written into HDF5/VTK attributes.
 UNITS = {
@@ -49,6 +51,19 @@ SCALAR_FIELDS = (
 )
 CELL_FIELDS = SCALAR_FIELDS + ("velocity",)
 _NONNEGATIVE = ("density", "mass", "temperature", "sound_speed")
+
+#: Memory one cell costs at least (:mod:`impactdyn._limits`): its ten float64 values, once.
+CELL_BYTES = 8 * (len(SCALAR_FIELDS) + 3)
+
+
+def check_cells(what: str, shape) -> int:
+    """The number of cells of an (nx, ny, nz) grid, if the machine can hold them; otherwise an
+    :class:`InputError` that begins with ``what`` (the key or record that set the shape).
+    ``shape`` may hold floats (a length over a cell size), rounded up."""
+    total = 1.0
+    for n in shape:
+        total *= math.ceil(n) if math.isfinite(n) else n
+    return check_fits(what, total, CELL_BYTES, "grid cells")
 
 
 @dataclass(frozen=True, eq=False)

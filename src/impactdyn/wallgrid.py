@@ -15,6 +15,20 @@ from dataclasses import dataclass
 import numpy as np
 
 from impactdyn._errors import InputError
+from impactdyn._limits import check_fits
+
+#: Memory one wall node costs at least (:mod:`impactdyn._limits`): its coordinates (24 B),
+#: its number (8 B) and its element's eight node numbers in the decks (64 B).
+NODE_BYTES = 96
+
+
+def check_nodes(what: str, nodes) -> int:
+    """The number of nodes of a wall with ``nodes`` along each axis, if the machine can hold them;
+    otherwise an :class:`InputError` that begins with ``what`` (the key or record that set them)."""
+    total = 1
+    for n in nodes:
+        total *= int(n)
+    return check_fits(f"{what} = {list(nodes)}", total, NODE_BYTES, "wall nodes")
 
 
 @dataclass(frozen=True, eq=False)
@@ -40,6 +54,7 @@ class WallGrid:
     def uniform(cls, x_range: tuple[float, float], y_range: tuple[float, float],
                 z_range: tuple[float, float], nodes: tuple[int, int, int]) -> "WallGrid":
         """Equally spaced nodes, as DYNGEN: ``nodes = (idmax, jdmax, kdmax)`` over each range."""
+        check_nodes("WallGrid.uniform: nodes", nodes)
         return cls(*(np.linspace(lo, hi, n) for (lo, hi), n in zip((x_range, y_range, z_range), nodes)))
 
     @property

@@ -11,6 +11,7 @@ from typing import Annotated, Literal, Union
 from pydantic import Field, model_validator
 
 from impactdyn._config import NonNegative, Positive, Section
+from impactdyn._limits import check_fits
 
 
 class BeamSection(Section):
@@ -147,6 +148,10 @@ class BeamCase(Section):
         if self.time.end_s <= self.time.start_s:
             raise ValueError("time.end_s must be greater than time.start_s")
         n = self.model.n_modes
+        t = self.time  # the output grid: time, the 2n + 7 states and the contact force at each step
+        check_fits(f"time.end_s - time.start_s = {t.end_s - t.start_s:g} s at time.output_step_s = "
+                   f"{t.output_step_s:g} s", (t.end_s - t.start_s) / t.output_step_s + 1, 8 * (2 * n + 9),
+                   "output steps")
         for key in ("q_m", "q_dot_m_s"):
             val = getattr(self.initial, key)
             if val is not None and len(val) != n:

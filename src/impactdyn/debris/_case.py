@@ -44,6 +44,11 @@ class ShellSection(Section):
     def _thin(self) -> "ShellSection":
         if self.thickness_cm > self.radius_cm:
             raise ValueError(f"thickness_cm = {self.thickness_cm} exceeds radius_cm = {self.radius_cm}")
+        from impactdyn.hydrogrid import check_cells  # the grid of debris._analytic, before it is built
+
+        x0, R, h = self.centre_cm[0], self.radius_cm, self.cell_size_cm
+        check_cells(f"cell_size_cm = {h:g} for the {R:g} cm shell",
+                    [max(1.0, (x0 + R - max(0.0, x0 - R)) / h), 2 * R / h, 2 * R / h])
         return self
 
 
@@ -120,6 +125,12 @@ class WallSection(Section):
         for name, (lo, hi) in ranges:
             if not hi > lo:
                 raise ValueError(f"wall.{name} = [{lo}, {hi}]: the upper bound must exceed the lower")
+        from impactdyn.wallgrid import check_nodes  # sizes: InputError before anything is allocated
+
+        check_nodes("wall.nodes", self.nodes)
+        if self.remap is not None:
+            check_nodes("wall.remap.nodes (x, 2 through the thickness, z)", [self.remap.nodes[0], 2,
+                                                                           self.remap.nodes[1]])
         return self
 
 

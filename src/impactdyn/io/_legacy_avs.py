@@ -39,7 +39,7 @@ import numpy as np
 
 from impactdyn import units
 from impactdyn._errors import InputError
-from impactdyn.hydrogrid import HydroGrid
+from impactdyn.hydrogrid import HydroGrid, check_cells
 from impactdyn.io._fortran import format_e, parse_real, read_lines, record_fields
 from impactdyn._runfolder import atomic_output
 from impactdyn.io._registry import in_file, register_format
@@ -85,6 +85,8 @@ class AvsLayout:
             v = getattr(self, name)
             if not np.isfinite(v) or (name.startswith("d") and v <= 0):
                 raise InputError(f"avsout layout: {name} = {v} must be finite" + (" and > 0" if name[0] == "d" else ""))
+        check_cells(f"avsout layout: {self.i1}..{self.i2} x {self.j1}..{self.j2} x {self.k1}..{self.k2}",
+                    self.shape)
 
     @property
     def shape(self) -> tuple[int, int, int]:

@@ -49,7 +49,8 @@ from enum import Enum
 from pathlib import Path
 
 from impactdyn._errors import InputError
-from impactdyn.wallgrid import WallGrid
+from impactdyn.hydrogrid import check_cells
+from impactdyn.wallgrid import WallGrid, check_nodes
 from impactdyn.io._fortran import read_lines, read_record
 from impactdyn.io._legacy_avs import AvsLayout
 
@@ -238,3 +239,14 @@ def _check(path: Path, v: dict, line_of: dict[str, int]) -> None:
             lo, hi = f"{axis}dmin{s}", f"{axis}dmax{s}"
             if not v[hi] > v[lo]:
                 fail(lo, f"inconsistent wall bounds: {hi} = {v[hi]} must exceed {lo} = {v[lo]}")
+    # sizes, before anything is allocated: the avsout cell block (read when the run propagates), the wall
+    # grid, and the new wall grid where it is used (the deck's grid for 2/3, the remap face for 2/1)
+    if v["jtype"] == 1:
+        check_cells(f"{path}:{line_of['i1']}-{line_of['k1']}: records i1 i2, j1 j2, k1 k2 (the avsout cells)",
+                    [v[b] - v[a] + 1 for a, b in (("i1", "i2"), ("j1", "j2"), ("k1", "k2"))])
+    at = f"{path}:{line_of['idmax']}"
+    check_nodes(f"{at}: idmax jdmax kdmax", [v["idmax"], v["jdmax"], v["kdmax"]])
+    if v["jtype"] == 3:
+        check_nodes(f"{at}: idmaxn jdmaxn kdmaxn", [v["idmaxn"], v["jdmaxn"], v["kdmaxn"]])
+    elif (v["itype"], v["jtype"]) == (2, 1):
+        check_nodes(f"{at}: idmaxn, 2, kdmaxn (the remap face)", [v["idmaxn"], 2, v["kdmaxn"]])

@@ -86,6 +86,9 @@ class WallSection(Section):
         for name, (lo, hi) in (("x_cm", self.x_cm), ("z_cm", self.z_cm)):
             if not hi > lo:
                 raise ValueError(f"{name} = [{lo}, {hi}]: the upper bound must exceed the lower")
+        from impactdyn.wallgrid import check_nodes  # sizes: InputError before anything is allocated
+
+        check_nodes("nodes", self.nodes)
         return self
 
 
@@ -164,6 +167,15 @@ class WhippleCase(Section):
         d = self.debris
         if d.lambda_Mbar is not None and d.mu_Mbar is not None and d.lambda_Mbar + 2 * d.mu_Mbar / 3 <= 0:
             raise ValueError("debris.lambda_Mbar + 2/3 debris.mu_Mbar must be > 0 (bulk modulus)")
+        import math
+
+        from impactdyn._limits import SPH_PARTICLE_BYTES, check_fits  # SPH particles, before allocating them
+
+        dx, R = s.spacing_cm, 2.0 * p.diameter_cm if b.radius_cm is None else b.radius_cm
+        across, radius, layers = p.diameter_cm / dx, R / dx, max(1.0, b.thickness_cm / dx - 0.5)  # in spacings
+        n = across * across * across * math.pi / 12 + radius * radius * math.pi / 2 * layers  # half sphere, disc
+        check_fits(f"shield.spacing_cm = {dx:g} for the {p.diameter_cm:g} cm projectile and the {R:g} cm "
+                   f"radius, {b.thickness_cm:g} cm bumper", n, SPH_PARTICLE_BYTES, "SPH particles")
         return self
 
     @property
