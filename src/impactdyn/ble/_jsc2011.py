@@ -60,9 +60,10 @@ At d = S/30, where (R3) changes branch, R jumps.  Where r_S/D > 1 there (10.07 c
 F2* rises and the jump is upward, so there is one root or none.  With none, every
 projectile up to S/30 is below its own limit and every larger one above it: the equation
 draws the line between perforation and none at S/30, but no diameter equals its own limit.
-Then d_c is NaN, the threshold is S/30, and the note says so.  Where r_S/D < 1 at S/30 the
-jump is downward and there can be two roots; the smaller is d_c (the conservative one),
-with a note.
+Then d_c is NaN, the threshold is S/30, and the note says so.  Where r_S/D < 1 at S/30
+(only for absurd shields, e.g. a bumper a billion times denser than aluminium) the limit
+jumps up there, R down, and there can be two roots; the smaller is d_c (the conservative
+one), with a note.
 """
 
 from __future__ import annotations
@@ -149,7 +150,7 @@ def _hypervelocity_limit(shield, v, cos_t, rho_p) -> HypervelocityLimit:
         for j in jump[~found]]
     both = far & near
     note[both] = [
-        f"two fixed points (r_S/D < 1 where S/d passes 30, so the limit jumps down at S/30 = {j:.4g} cm): the "
+        f"two fixed points (r_S/D < 1 where S/d passes 30, so the limit jumps up at S/30 = {j:.4g} cm): the "
         f"smaller, {d:.4g} cm, is taken; projectiles from {j:.4g} cm up to the larger are below their own limit again"
         for j, d in zip(jump[both], root[both])]
     return HypervelocityLimit(diameter=np.where(found, root, np.nan), threshold=np.where(found, root, jump),
