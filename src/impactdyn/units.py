@@ -35,14 +35,13 @@ CM_PER_INCH = 2.54
 US_PER_S = 1.0e6
 CM_US_PER_CM_S = 1.0e-6  # CTH velocities (cm/s) -> cm/µs; RDAVS divides by 1e6
 CM_US_PER_KM_S = 0.1
+KM_S_PER_CM_US = 10.0  # exact; 1/CM_US_PER_KM_S is not (0.1 has no binary representation)
 MBAR_PER_DYN_CM2 = 1.0e-12  # CTH pressures (dyn/cm²) -> Mbar; RDAVS divides by 1e12
 MBAR_PER_GPA = 1.0e-2
 MBAR_PER_PA = 1.0e-11
 MBAR_PER_KSI = 6.894757293168361e6 * MBAR_PER_PA  # 1 ksi = 6.894757 MPa (exact lbf/in² definition)
 CM2_US2_PER_ERG_G = 1.0e-12  # CTH specific internal energy (erg/g) -> cm²/µs²
-J_PER_G_CM2_US2 = 1.0e5
-N_PER_G_CM_US2 = 1.0e7
-KELVIN_PER_EV = 11604.518  # CODATA 2018: 1 eV / k_B; CTH's default temperature unit is eV
+N_S_PER_G_CM_US = 10.0  # momentum, impulse: 1 g·cm/µs = 1e-3 kg · 1e-2 m / 1e-6 s = 10 N·s
 
 
 def inch_to_cm(x: T) -> T:
@@ -63,7 +62,7 @@ def km_s_to_cm_us(v: T) -> T:
 
 
 def cm_us_to_km_s(v: T) -> T:
-    return v / CM_US_PER_KM_S
+    return v * KM_S_PER_CM_US
 
 
 def dyn_cm2_to_mbar(p: T) -> T:
@@ -81,10 +80,6 @@ def gpa_to_mbar(p: T) -> T:
 
 def mbar_to_gpa(p: T) -> T:
     return p / MBAR_PER_GPA
-
-
-def pa_to_mbar(p: T) -> T:
-    return p * MBAR_PER_PA
 
 
 def ksi_to_mbar(p: T) -> T:
@@ -106,7 +101,3 @@ def s_to_us(t: T) -> T:
 
 def us_to_s(t: T) -> T:
     return t / US_PER_S
-
-
-def ev_to_kelvin(temp: T) -> T:
-    return temp * KELVIN_PER_EV

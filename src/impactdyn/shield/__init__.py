@@ -4,7 +4,7 @@ Updated-Lagrangian SPH with a Mie–Grüneisen EOS, elastic–plastic deviatoric
 stress (Jaumann rate, von Mises radial return, Johnson–Cook optional), Monaghan
 artificial viscosity and artificial stress, spall / plastic-strain failure,
 variable smoothing length and a cell-list neighbour search in compiled parallel
-kernels (:mod:`._integrate` states the equations). Units cm, g, µs, Mbar.
+kernels (:mod:`._equations` states the equations). Units cm, g, µs, Mbar.
 
 Typical use::
 
@@ -15,15 +15,16 @@ Typical use::
     grid = shield.bin_to_hydrogrid(result.state, cell_size_cm=0.03175)
 """
 
-from impactdyn.shield._binning import bin_to_hydrogrid
-from impactdyn.shield._integrate import FLOW_STRESS_MODELS, SPHError, SPHOptions, run
+from impactdyn.shield._binning import BinningMethod, bin_to_hydrogrid
+from impactdyn.shield._integrate import SPHError, run
 from impactdyn.shield._io import read_particles, write_particles
 from impactdyn.shield._neighbours import Domain, neighbour_pairs
+from impactdyn.shield._options import FLOW_STRESS_MODELS, FlowStress, SPHOptions
 from impactdyn.shield._problems import Problem, planar_impact, sphere_on_plate
 from impactdyn.shield._state import TENSOR_COMPONENTS, History, Particles, RunResult
 
 __all__ = [
-    "Domain", "FLOW_STRESS_MODELS", "History", "Particles", "Problem", "RunResult", "SPHError", "SPHOptions",
-    "TENSOR_COMPONENTS", "bin_to_hydrogrid", "neighbour_pairs", "planar_impact", "read_particles", "run",
-    "sphere_on_plate", "write_particles",
+    "BinningMethod", "Domain", "FLOW_STRESS_MODELS", "FlowStress", "History", "Particles", "Problem", "RunResult",
+    "SPHError", "SPHOptions", "TENSOR_COMPONENTS", "bin_to_hydrogrid", "neighbour_pairs", "planar_impact",
+    "read_particles", "run", "sphere_on_plate", "write_particles",
 ]

@@ -51,7 +51,7 @@ from __future__ import annotations
 
 import math
 from functools import partial
-from typing import Literal
+from typing import Literal, get_args
 
 import numpy as np
 from numba import njit
@@ -63,8 +63,9 @@ from impactdyn.shield._state import Particles
 
 Region = tuple[tuple[float, float], tuple[float, float], tuple[float, float]]
 
-#: The particle-to-cell assignments of :func:`bin_to_hydrogrid`.
-METHODS = ("kernel", "cic")
+BinningMethod = Literal["kernel", "cic"]
+"""The particle-to-cell assignments of :func:`bin_to_hydrogrid`: each particle's own SPH kernel, or cloud-in-cell."""
+METHODS: tuple[str, ...] = get_args(BinningMethod)
 
 kernel = partial(njit, cache=True, error_model="numpy")
 
@@ -163,7 +164,7 @@ def _scatter(x, h, carried, use_kernel, mirror_x0, sums):
 
 
 def bin_to_hydrogrid(particles: Particles, cell_size_cm: float, region: Region | None = None, *,
-                     method: Literal["kernel", "cic"] = "kernel", mirror_x0: bool = True) -> HydroGrid:
+                     method: BinningMethod = "kernel", mirror_x0: bool = True) -> HydroGrid:
     """Cell-centred :class:`HydroGrid` (``staggered=False``) of ``particles`` (module docstring).
 
     cell_size_cm : cubic cell edge, cm (the report's DC3D cells: 0.03175 cm).

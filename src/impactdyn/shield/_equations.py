@@ -1,0 +1,427 @@
+"""SPH equations of motion and their time integration (updated Lagrangian, 3-D): the compiled kernels.
+
+The solver that calls them step by step is :mod:`._integrate`; the coefficients
+(α, β, ε, n, κ, C_cfl, C_f, …) are :class:`._options.SPHOptions`, where their defaults live.
+
+Discrete equations (Libersky & Petschek 1991, 1993; Monaghan 1992, 2005; Gray,
+Monaghan & Swift 2001), with σ = −pI + S, ∇ᵢWᵢⱼ = ∇ᵢW(xᵢ − xⱼ, hᵢⱼ),
+hᵢⱼ = (hᵢ + hⱼ)/2, vᵢⱼ = vᵢ − vⱼ and the pair tensor::
+
+    Tᵢⱼ = σᵢ/ρᵢ² + σⱼ/ρⱼ² − Πᵢⱼ I + (Rᵢ + Rⱼ) fᵢⱼⁿ
+
+    dρᵢ/dt      = Σⱼ mⱼ vᵢⱼ · ∇ᵢWᵢⱼ                    (continuity)
+    dvᵢ/dt      = Σⱼ mⱼ Tᵢⱼ · ∇ᵢWᵢⱼ                     (momentum)
+    deᵢ/dt      = −½ Σⱼ mⱼ vᵢⱼ · Tᵢⱼ · ∇ᵢWᵢⱼ            (energy)
+    ∂vᵢ^α/∂x^β  = −Σⱼ (mⱼ/ρⱼ) vᵢⱼ^α ∂_βWᵢⱼ               (velocity gradient, for the Jaumann rate)
+
+Tᵢⱼ = Tⱼᵢ and ∇ᵢWᵢⱼ = −∇ⱼWⱼᵢ, so pair forces are equal and opposite (the force
+loop :func:`pair_sums` evaluates each pair once and applies it to both): the total
+momentum changes only by round-off, and d/dt Σ mᵢ(½vᵢ² + eᵢ) = 0 exactly in the
+semi-discrete equations (the energy equation is the compatible one). Boundary
+images (:mod:`._neighbours`) enter the sums as neighbours j with the mirrored or
+shifted state; the force of i's image on j mirrors the force of j's image on i,
+so a symmetry plane x = c conserves the y and z momentum exactly (it exchanges
+x-momentum with the mirror half, as it must) and periodic axes conserve all three.
+
+* Artificial viscosity (Monaghan 1992, eq. 4.1), for vᵢⱼ·xᵢⱼ < 0::
+
+      Πᵢⱼ = (−α c̄ᵢⱼ μᵢⱼ + β μᵢⱼ²)/ρ̄ᵢⱼ,   μᵢⱼ = hᵢⱼ vᵢⱼ·xᵢⱼ / (|xᵢⱼ|² + 0.01 hᵢⱼ²)
+
+  defaults α = 1, β = 2 (a strong-shock setting; the linear term damps the
+  post-shock ringing, the quadratic one prevents interpenetration).
+* Artificial stress Rᵢ (:mod:`._strength`) with fᵢⱼ = W(rᵢⱼ, hᵢⱼ)/W(hᵢⱼ/κ, hᵢⱼ)
+  (the initial spacing Δp = h/κ), defaults ε = 0.3, n = 4 (Gray, Monaghan &
+  Swift 2001).
+* Density by the continuity equation, not by summation: summation density is
+  deficient within 2h of free surfaces and smears the density jump at the
+  projectile–plate interface, both of which are everywhere in a thin-plate
+  perforation; the continuity form starts from ρ₀ everywhere and needs no
+  surface correction (Libersky & Petschek 1993). It is integrated for ln ρ
+  (rate ρ̇ᵢ/ρᵢ, exponential update) under a step limit on the relative density
+  change (below), which keeps ρ > 0 however fast failed debris expands: the
+  linear update ρ + Δt ρ̇ drove a particle of the 10 km/s Table 2 shot to a
+  negative density. Below ρ₀/h_max_factor³ (where h stops growing) the rate is
+  ρ̇ᵢ/(ρ₀/h_max_factor³): such a particle is failed debris in free flight with
+  p = 0, and ρ̇ᵢ/ρᵢ of a nearly empty particle meeting a neighbour collapsed the
+  step (Table 2 shot 10b, 2.8 µs).
+* Smoothing length hᵢ = κ (mᵢ/ρᵢ)^{1/3} — the exact integral of
+  dh/dt = −(h/3)(dρ/dt)/ρ — with ρ floored at ρ₀/h_max_factor³ so that h grows
+  at most h_max_factor-fold in expanding debris.
+* Failure: a particle with p < −p_spall or εₚ > εₚ,f is flagged failed for good;
+  failed particles carry p ≥ 0 and S = 0. Failed material therefore expands
+  freely, and its continuity density falls with the local divergence: in a
+  fragment cloud a particle's density is the bulk density of the cloud around
+  it (the binning's mass and bulk density (1 − φ)ρ are unaffected by this).
+
+Time integration: kick–drift–kick leapfrog with a predicted state for the force
+evaluation, one neighbour-list update (a search only once the particles have
+moved through the list's skin, :mod:`._neighbours`) and one force pass per step
+(Springel 2005 GADGET-2 §5 form)::
+
+    v^{n+½} = vⁿ + ½Δt aⁿ,    xⁿ⁺¹ = xⁿ + Δt v^{n+½}
+    predictor:  v* = v^{n+½} + ½Δt aⁿ,
+                (e, S)* = (e, S)ⁿ + Δt (ė, Ṡ)ⁿ, ρ* = ρⁿ exp(Δt (ρ̇/ρ)ⁿ), S* returned to the yield surface
+    rates at xⁿ⁺¹ and the predicted state → aⁿ⁺¹, (ρ̇/ρ, ė, Ṡ)ⁿ⁺¹
+    corrector:  vⁿ⁺¹ = v^{n+½} + ½Δt aⁿ⁺¹,
+                (e, S)ⁿ⁺¹ = (e, S)ⁿ + ½Δt [(ė, Ṡ)ⁿ + (ė, Ṡ)ⁿ⁺¹],
+                ρⁿ⁺¹ = ρⁿ exp(½Δt [(ρ̇/ρ)ⁿ + (ρ̇/ρ)ⁿ⁺¹]),
+                radial return of Sⁿ⁺¹ (accumulating εₚ), failure check
+
+Each kick adds Σ mᵢ aᵢ Δt/2 = 0, so momentum is conserved to round-off at any Δt.
+Time step (Monaghan 1992, eq. 4.12)::
+
+    Δt = min_i min( C_cfl hᵢ / (cᵢ + 1.2 (α cᵢ + β maxⱼ|μᵢⱼ|)),  C_f √(hᵢ/|aᵢ|),  C_cfl ρᵢ/|ρ̇ᵢ| )
+
+the relative velocity of approaching neighbours entering through μᵢⱼ
+(defaults C_cfl = 0.3, C_f = 0.25); the last term bounds the density change of
+a step (it binds only in fast expansion, where the first two do not see the flow).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import get_thread_id, njit, prange
+
+from impactdyn.constitutive import (C0, EPS_FAIL, GAMMA0, P_SPALL, RHO0, SHEAR, SLOPE, artificial_stress, flow_stress,
+                                   jaumann_rate, pressure, radial_return, sound_speed, temperature)
+from impactdyn.shield._kernel import SIGMA_3D, g_shape, w_shape
+
+
+# inline: a call passing this many arrays per particle costs more than the work (:mod:`._strength`)
+@njit(cache=True, inline="always")
+def _particle_eos(i, m, rho, e, S, failed, mat, params, h_factor, rho_floor, eps_as, p, c, h, R, tension, work_a,
+                  work_v):
+    """Pressure p, sound speed c, smoothing length h and artificial stress R of particle i."""
+    k = mat[i]
+    rho0 = params[k, RHO0]
+    pi = pressure(rho[i], e[i], rho0, params[k, C0], params[k, SLOPE], params[k, GAMMA0])
+    if failed[i]:
+        pi = max(pi, 0.0)
+    p[i] = pi
+    c[i] = sound_speed(rho[i], pi, rho0, params[k, C0], params[k, SLOPE], params[k, GAMMA0])
+    h[i] = h_factor * (m[i] / max(rho[i], rho0 * rho_floor)) ** (1.0 / 3.0)
+    tension[i] = False
+    if eps_as > 0.0:
+        tension[i] = artificial_stress(S, pi, rho[i], eps_as, i, R, work_a, work_v)
+
+
+@njit(parallel=True, cache=True)
+def update_particles(m, rho, e, S, failed, mat, params, h_factor, rho_floor, eps_as, p, c, h, R, tension, work_a,
+                     work_v):
+    """p, c, h and R of every particle (:func:`_particle_eos`)."""
+    for i in prange(m.size):
+        _particle_eos(i, m, rho, e, S, failed, mat, params, h_factor, rho_floor, eps_as, p, c, h, R, tension,
+                      work_a, work_v)
+
+
+#: Columns of the pair-loop rows ``st`` (:func:`pair_rows`).
+ST_V, ST_C, ST_RHO, ST_M, ST_VOL, ST_SR, ST_WIDTH = 0, 3, 4, 5, 6, 8, 16
+
+
+@njit(cache=True, inline="always")
+def _pair_row(i, x, h, v, c, rho, m, S, p, pos, st):
+    """Row i of the pair loop's particle data.
+
+    pos (N, 4): (x, y, z, h), what the support test reads for every listed pair;
+    st (N, 16): v (3), c, ρ, m, m/ρ, σ/ρ² (6; σ = −pI + S) in the columns
+    ``ST_*`` (7, 14, 15 unused), what an interacting pair reads. A neighbour j
+    costs the pair loop a 32-byte and a 128-byte row instead of a cache line in
+    each of nine per-quantity arrays, and σ/ρ² and m/ρ are formed once per
+    particle, not once per pair.
+    """
+    for a in range(3):
+        pos[i, a] = x[i, a]
+        st[i, ST_V + a] = v[i, a]
+    pos[i, 3] = h[i]
+    st[i, ST_C] = c[i]
+    st[i, ST_RHO] = rho[i]
+    st[i, ST_M] = m[i]
+    st[i, ST_VOL] = m[i] / rho[i]
+    q = 1.0 / (rho[i] * rho[i])
+    for d in range(6):
+        st[i, ST_SR + d] = (S[i, d] - p[i] * (d < 3)) * q
+
+
+@njit(parallel=True, cache=True)
+def pair_rows(x, h, v, c, rho, m, S, p, pos, st):
+    """The pair loop's rows (pos, st) of every particle (:func:`_pair_row`)."""
+    for i in prange(m.size):
+        _pair_row(i, x, h, v, c, rho, m, S, p, pos, st)
+
+
+#: Columns of the per-thread pair sums (:func:`pair_sums`): Σ mⱼTᵢⱼ·∇ᵢWᵢⱼ (3), Σ mⱼvᵢⱼ·∇ᵢWᵢⱼ, ė,
+#: L (9, row-major), max μ.
+PS_A, PS_RHO, PS_E, PS_L, PS_MU, PS_WIDTH = 0, 3, 4, 5, 14, 16
+
+
+# fastmath "contract" only: a·b + c may be fused into one rounding (FMA), nothing reordered (results move by round-off)
+@njit(parallel=True, cache=True, fastmath={"contract"})
+def pair_sums(pos, st, R, tension, nbr, img, count, signs, offsets, alpha, beta, as_power, as_norm, sums):
+    """The neighbour sums of the rates (module docstring), each pair of real particles evaluated once.
+
+    pos (N, 4), st (N, 16): the rows of :func:`pair_rows`; R (N, 6), tension (N,):
+    artificial stress; nbr, img (N, cap), count (N,): the half neighbour list
+    (:class:`NeighbourList` with ``half``), whose pairs beyond the support 2hᵢⱼ
+    (its skin) are skipped. A pair of real particles (image 0) is listed once;
+    its terms for j follow from those for i, since ∇ⱼWⱼᵢ = −∇ᵢWᵢⱼ, vⱼᵢ = −vᵢⱼ,
+    Tⱼᵢ = Tᵢⱼ and μⱼᵢ = μᵢⱼ::
+
+        aⱼ −= mᵢ Tᵢⱼ·∇ᵢWᵢⱼ,   ρ̇ⱼ += mᵢ vᵢⱼ·∇ᵢWᵢⱼ,   ėⱼ −= ½ mᵢ vᵢⱼ·Tᵢⱼ·∇ᵢWᵢⱼ,   Lⱼ −= (mᵢ/ρᵢ) vᵢⱼ ⊗ ∇ᵢWᵢⱼ
+
+    An image pair (i, T(j)) is listed in i's row and its partner (j, T⁻¹(i)) in
+    j's, each adding to its own particle only.
+
+    sums (T, N, 16): per-thread partial sums (columns ``PS_*``), zero on entry;
+    :func:`_particle_rates` adds them up and zeroes them again. Thread t adds to sums[t] only, so
+    the scattered additions to j need no locks; prange gives each thread one
+    contiguous range of i, so the result is the same for the same thread count.
+    """
+    for i in prange(pos.shape[0]):
+        tid = get_thread_id()
+        xi0, xi1, xi2, hi = pos[i, 0], pos[i, 1], pos[i, 2], pos[i, 3]
+        vi0, vi1, vi2 = st[i, ST_V], st[i, ST_V + 1], st[i, ST_V + 2]
+        ci, rhoi, mi, voli = st[i, ST_C], st[i, ST_RHO], st[i, ST_M], st[i, ST_VOL]
+        axx, ayy, azz = st[i, ST_SR], st[i, ST_SR + 1], st[i, ST_SR + 2]
+        axy, ayz, azx = st[i, ST_SR + 3], st[i, ST_SR + 4], st[i, ST_SR + 5]
+        tension_i = tension[i]
+        a0 = a1 = a2 = 0.0
+        dr = du = 0.0
+        l00 = l01 = l02 = l10 = l11 = l12 = l20 = l21 = l22 = 0.0
+        mu_max = 0.0
+        for k in range(count[i]):
+            j = nbr[i, k]
+            t = img[i, k]
+            xj0, xj1, xj2 = pos[j, 0], pos[j, 1], pos[j, 2]
+            if t != 0:  # the image T(xⱼ) = s ⊙ xⱼ + o
+                xj0 = signs[t, 0] * xj0 + offsets[t, 0]
+                xj1 = signs[t, 1] * xj1 + offsets[t, 1]
+                xj2 = signs[t, 2] * xj2 + offsets[t, 2]
+            dx0, dx1, dx2 = xi0 - xj0, xi1 - xj1, xi2 - xj2
+            r2 = dx0 * dx0 + dx1 * dx1 + dx2 * dx2
+            hij = 0.5 * (hi + pos[j, 3])
+            if r2 >= 4.0 * hij * hij:
+                continue
+            # ∇ᵢWᵢⱼ = σ/h⁵ g(q) xᵢⱼ (:mod:`._kernel`), one division for 1/h
+            ih = 1.0 / hij
+            q = math.sqrt(r2) * ih
+            ih2 = ih * ih
+            f = SIGMA_3D * ih2 * ih2 * ih * g_shape(q)
+            g0, g1, g2 = f * dx0, f * dx1, f * dx2
+            vj0, vj1, vj2 = st[j, ST_V], st[j, ST_V + 1], st[j, ST_V + 2]
+            bxx, byy, bzz = st[j, ST_SR], st[j, ST_SR + 1], st[j, ST_SR + 2]
+            bxy, byz, bzx = st[j, ST_SR + 3], st[j, ST_SR + 4], st[j, ST_SR + 5]
+            s01 = s12 = s20 = 1.0
+            if t != 0:  # the image's velocity s ⊙ vⱼ and σⱼ/ρⱼ², whose components (α, β) pick up s_α s_β
+                vj0, vj1, vj2 = signs[t, 0] * vj0, signs[t, 1] * vj1, signs[t, 2] * vj2
+                s01, s12, s20 = signs[t, 0] * signs[t, 1], signs[t, 1] * signs[t, 2], signs[t, 2] * signs[t, 0]
+                bxy, byz, bzx = s01 * bxy, s12 * byz, s20 * bzx
+            dv0, dv1, dv2 = vi0 - vj0, vi1 - vj1, vi2 - vj2
+            vr = dv0 * dx0 + dv1 * dx1 + dv2 * dx2
+            visc = mu = 0.0
+            if vr < 0.0:
+                mu = hij * vr / (r2 + 0.01 * hij * hij)
+                visc = (-alpha * 0.5 * (ci + st[j, ST_C]) * mu + beta * mu * mu) / (0.5 * (rhoi + st[j, ST_RHO]))
+                mu_max = max(mu_max, -mu)
+            txx = axx + bxx - visc
+            tyy = ayy + byy - visc
+            tzz = azz + bzz - visc
+            txy = axy + bxy
+            tyz = ayz + byz
+            tzx = azx + bzx
+            if tension_i or tension[j]:
+                fn = 1.0
+                fij = w_shape(q) * as_norm
+                for _ in range(as_power):
+                    fn *= fij
+                txx += (R[i, 0] + R[j, 0]) * fn
+                tyy += (R[i, 1] + R[j, 1]) * fn
+                tzz += (R[i, 2] + R[j, 2]) * fn
+                txy += (R[i, 3] + s01 * R[j, 3]) * fn
+                tyz += (R[i, 4] + s12 * R[j, 4]) * fn
+                tzx += (R[i, 5] + s20 * R[j, 5]) * fn
+            tg0 = txx * g0 + txy * g1 + tzx * g2
+            tg1 = txy * g0 + tyy * g1 + tyz * g2
+            tg2 = tzx * g0 + tyz * g1 + tzz * g2
+            vtg = dv0 * tg0 + dv1 * tg1 + dv2 * tg2
+            vg = dv0 * g0 + dv1 * g1 + dv2 * g2
+            mj, volj = st[j, ST_M], st[j, ST_VOL]
+            a0 += mj * tg0
+            a1 += mj * tg1
+            a2 += mj * tg2
+            du -= 0.5 * mj * vtg
+            dr += mj * vg
+            l00 -= volj * dv0 * g0
+            l01 -= volj * dv0 * g1
+            l02 -= volj * dv0 * g2
+            l10 -= volj * dv1 * g0
+            l11 -= volj * dv1 * g1
+            l12 -= volj * dv1 * g2
+            l20 -= volj * dv2 * g0
+            l21 -= volj * dv2 * g1
+            l22 -= volj * dv2 * g2
+            if t == 0:  # the pair's terms for j
+                sums[tid, j, PS_A] -= mi * tg0
+                sums[tid, j, PS_A + 1] -= mi * tg1
+                sums[tid, j, PS_A + 2] -= mi * tg2
+                sums[tid, j, PS_RHO] += mi * vg
+                sums[tid, j, PS_E] -= 0.5 * mi * vtg
+                sums[tid, j, PS_L] -= voli * dv0 * g0
+                sums[tid, j, PS_L + 1] -= voli * dv0 * g1
+                sums[tid, j, PS_L + 2] -= voli * dv0 * g2
+                sums[tid, j, PS_L + 3] -= voli * dv1 * g0
+                sums[tid, j, PS_L + 4] -= voli * dv1 * g1
+                sums[tid, j, PS_L + 5] -= voli * dv1 * g2
+                sums[tid, j, PS_L + 6] -= voli * dv2 * g0
+                sums[tid, j, PS_L + 7] -= voli * dv2 * g1
+                sums[tid, j, PS_L + 8] -= voli * dv2 * g2
+                sums[tid, j, PS_MU] = max(sums[tid, j, PS_MU], -mu)
+        sums[tid, i, PS_A] += a0
+        sums[tid, i, PS_A + 1] += a1
+        sums[tid, i, PS_A + 2] += a2
+        sums[tid, i, PS_RHO] += dr
+        sums[tid, i, PS_E] += du
+        sums[tid, i, PS_L] += l00
+        sums[tid, i, PS_L + 1] += l01
+        sums[tid, i, PS_L + 2] += l02
+        sums[tid, i, PS_L + 3] += l10
+        sums[tid, i, PS_L + 4] += l11
+        sums[tid, i, PS_L + 5] += l12
+        sums[tid, i, PS_L + 6] += l20
+        sums[tid, i, PS_L + 7] += l21
+        sums[tid, i, PS_L + 8] += l22
+        sums[tid, i, PS_MU] = max(sums[tid, i, PS_MU], mu_max)
+
+
+@njit(cache=True, inline="always")
+def _particle_rates(i, pos, st, S, failed, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v, acc,
+                    dlnrho, de, dS, rate, dt_i):
+    """The rates of particle i from the pair sums (T, N, 16) of :func:`pair_sums`, whose rows of i it zeroes.
+
+    Writes acc[i] (3), dlnrho[i] = ρ̇/ρ, de[i], grad_v[i] = L (3, 3), dS[i] = Ṡ (6, Jaumann),
+    rate[i] = ε̇_eq and the stable step dt_i[i] (module docstring).
+    """
+    for t in range(1, sums.shape[0]):  # the other threads' partial sums into sums[0, i]
+        for c in range(PS_MU):
+            sums[0, i, c] += sums[t, i, c]
+            sums[t, i, c] = 0.0
+        sums[0, i, PS_MU] = max(sums[0, i, PS_MU], sums[t, i, PS_MU])
+        sums[t, i, PS_MU] = 0.0
+    hi, ci, rhoi = pos[i, 3], st[i, ST_C], st[i, ST_RHO]
+    a0, a1, a2 = sums[0, i, PS_A], sums[0, i, PS_A + 1], sums[0, i, PS_A + 2]
+    acc[i, 0], acc[i, 1], acc[i, 2] = a0, a1, a2
+    dlnrho[i] = sums[0, i, PS_RHO] / max(rhoi, params[mat[i], RHO0] * rho_floor)
+    de[i] = sums[0, i, PS_E]
+    for r in range(3):
+        for c in range(3):
+            grad_v[i, r, c] = sums[0, i, PS_L + 3 * r + c]
+    mu_max = sums[0, i, PS_MU]
+    for c in range(PS_WIDTH):
+        sums[0, i, c] = 0.0
+    ds, rate[i] = jaumann_rate(S[i, 0], S[i, 1], S[i, 2], S[i, 3], S[i, 4], S[i, 5], grad_v, i,
+                               params[mat[i], SHEAR])
+    for k in range(6):
+        dS[i, k] = 0.0 if failed[i] else ds[k]
+    amag = math.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
+    dt_i[i] = cfl * hi / (ci + 1.2 * (alpha * ci + beta * mu_max))
+    if amag > 0.0:
+        dt_i[i] = min(dt_i[i], force_cfl * math.sqrt(hi / amag))
+    if dlnrho[i] != 0.0:
+        dt_i[i] = min(dt_i[i], cfl / abs(dlnrho[i]))
+
+
+@njit(parallel=True, cache=True)
+def particle_rates(pos, st, S, failed, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v, acc, dlnrho,
+                   de, dS, rate, dt_i):
+    """The rates of every particle from the pair sums (:func:`_particle_rates`)."""
+    for i in prange(pos.shape[0]):
+        _particle_rates(i, pos, st, S, failed, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v, acc,
+                        dlnrho, de, dS, rate, dt_i)
+
+
+@njit(parallel=True, cache=True)
+def kick_drift_predict(x, v, acc, rho, dlnrho, e, de, S, dS, eps_p, rate, failed, m, mat, params, johnson_cook,
+                       h_factor, rho_floor, eps_as, dt, v_p, rho_p, e_p, S_p, p, c, h, R, tension, work_a, work_v, pos,
+                       st):
+    """Half kick v ← v + ½Δt a, drift x ← x + Δt v, and the predicted state at the step's end.
+
+    Predicted: v_p = v + ½Δt a, (e, S)_p = (e, S) + Δt (ė, Ṡ), ρ_p = ρ exp(Δt ρ̇/ρ), S_p returned to the
+    yield surface; then its p, c, h and R (:func:`_particle_eos`) and its pair-loop rows (:func:`_pair_row`).
+    """
+    for i in prange(m.size):
+        k = mat[i]
+        for d in range(3):
+            v[i, d] += 0.5 * dt * acc[i, d]
+            x[i, d] += dt * v[i, d]
+            v_p[i, d] = v[i, d] + 0.5 * dt * acc[i, d]
+        rho_p[i] = rho[i] * math.exp(dt * dlnrho[i])
+        e_p[i] = e[i] + dt * de[i]
+        for d in range(6):
+            S_p[i, d] = S[i, d] + dt * dS[i, d]
+        Y = flow_stress(params, k, johnson_cook, eps_p[i], rate[i], temperature(rho_p[i], e_p[i], params, k))
+        radial_return(S_p, i, Y, params[k, SHEAR])
+        _particle_eos(i, m, rho_p, e_p, S_p, failed, mat, params, h_factor, rho_floor, eps_as, p, c, h, R,
+                      tension, work_a, work_v)
+        _pair_row(i, x, h, v_p, c, rho_p, m, S_p, p, pos, st)
+
+
+@njit(parallel=True, cache=True)
+def finish_step(pos, st, S_p, failed, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v, acc_new,
+                dlnrho_new, de_new, dS_new, rate, dt_i, v, m, rho, dlnrho, e, de, S, dS, eps_p, johnson_cook, failure,
+                dt):
+    """The rates at the step's end (:func:`_particle_rates` of the predicted state S_p), then the corrector.
+
+    Corrector: second half kick with acc_new, trapezoidal ln ρ, e, S of the old and new rates, radial return
+    (εₚ), failure check. Returns the totals of the corrected state (:func:`totals`).
+    """
+    mass = px = py = pz = kin = internal = 0.0
+    for i in prange(m.size):
+        _particle_rates(i, pos, st, S_p, failed, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v,
+                        acc_new, dlnrho_new, de_new, dS_new, rate, dt_i)
+        k = mat[i]
+        for d in range(3):
+            v[i, d] += 0.5 * dt * acc_new[i, d]
+        rho[i] *= math.exp(0.5 * dt * (dlnrho[i] + dlnrho_new[i]))
+        e[i] += 0.5 * dt * (de[i] + de_new[i])
+        for d in range(6):
+            S[i, d] += 0.5 * dt * (dS[i, d] + dS_new[i, d])
+        Y = flow_stress(params, k, johnson_cook, eps_p[i], rate[i], temperature(rho[i], e[i], params, k))
+        eps_p[i] += radial_return(S, i, Y, params[k, SHEAR])
+        if failure and not failed[i]:
+            pi = pressure(rho[i], e[i], params[k, RHO0], params[k, C0], params[k, SLOPE], params[k, GAMMA0])
+            if pi < -params[k, P_SPALL] or eps_p[i] > params[k, EPS_FAIL]:
+                failed[i] = True
+        if failed[i]:
+            for d in range(6):
+                S[i, d] = 0.0
+        mass += m[i]
+        px += m[i] * v[i, 0]
+        py += m[i] * v[i, 1]
+        pz += m[i] * v[i, 2]
+        kin += 0.5 * m[i] * (v[i, 0] ** 2 + v[i, 1] ** 2 + v[i, 2] ** 2)
+        internal += m[i] * e[i]
+    return mass, px, py, pz, kin, internal
+
+
+@njit(parallel=True, cache=True)
+def temperatures(rho, e, mat, params):
+    """Temperature estimate of every particle (:func:`impactdyn.constitutive.temperature`), K."""
+    T = np.empty(rho.size)
+    for i in prange(rho.size):
+        T[i] = temperature(rho[i], e[i], params, mat[i])
+    return T
+
+
+@njit(parallel=True, cache=True)
+def totals(m, v, e):
+    """(Σm, Σm vₓ, Σm v_y, Σm v_z, Σ ½m|v|², Σ m e)."""
+    mass = px = py = pz = kin = internal = 0.0
+    for i in prange(m.size):
+        mass += m[i]
+        px += m[i] * v[i, 0]
+        py += m[i] * v[i, 1]
+        pz += m[i] * v[i, 2]
+        kin += 0.5 * m[i] * (v[i, 0] ** 2 + v[i, 1] ** 2 + v[i, 2] ** 2)
+        internal += m[i] * e[i]
+    return mass, px, py, pz, kin, internal

@@ -1,0 +1,49 @@
+"""Numerical options of the SPH shield stage: the one home of their defaults and bounds.
+
+The Whipple case's ``[shield]`` table declares the options it exposes with these
+defaults and bounds (:func:`impactdyn._config.field_of`).
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal, get_args
+
+from pydantic import Field
+
+from impactdyn._config import NonNegative, Section
+
+FlowStress = Literal["perfectly_plastic", "johnson_cook"]
+"""Flow-stress models: Y = Y₀, or Johnson–Cook (:func:`impactdyn.constitutive.flow_stress`)."""
+FLOW_STRESS_MODELS: tuple[str, ...] = get_args(FlowStress)
+
+
+class SPHOptions(Section):
+    """Numerical parameters of the SPH stage (:mod:`._equations`).
+
+    alpha, beta : artificial viscosity coefficients.
+    artificial_stress, artificial_stress_power : ε and n of the artificial stress (ε = 0 disables it).
+    h_factor : κ in h = κ (m/ρ)^{1/3} (h over the particle spacing).
+    h_max_factor : the largest growth of h under expansion.
+    cfl, force_cfl : time-step factors.
+    flow_stress : "perfectly_plastic" (Y = Y₀) or "johnson_cook".
+    failure : apply the spall / plastic-strain failure criteria of the materials.
+    neighbour_skin : skin ℓ of the reused neighbour list as a fraction of the largest h
+        (:mod:`._neighbours`): the list is searched again only after the particles
+        have moved (or h grown) by ℓ/2. It changes the cost, not the interacting
+        pairs; 0 searches at every step.
+
+    A bad value raises :class:`~impactdyn._errors.InputError` naming it
+    (``SPHOptions: cfl: must be less than or equal to 1``).
+    """
+
+    alpha: NonNegative = 1.0
+    beta: NonNegative = 2.0
+    artificial_stress: NonNegative = 0.3
+    artificial_stress_power: Annotated[int, Field(ge=1, le=8)] = 4
+    h_factor: Annotated[float, Field(ge=0.8, le=2.5)] = 1.3
+    h_max_factor: Annotated[float, Field(ge=1)] = 2.0
+    cfl: Annotated[float, Field(gt=0, le=1)] = 0.3
+    force_cfl: Annotated[float, Field(gt=0, le=1)] = 0.25
+    flow_stress: FlowStress = "perfectly_plastic"
+    failure: bool = True
+    neighbour_skin: NonNegative = 0.15
