@@ -4,10 +4,22 @@ Every case model derives from :class:`Section`: unknown keys are errors, NaN and
 infinities are rejected, numbers are not silently converted from strings. A
 failure becomes one :class:`~impactdyn._errors.InputError` naming the file and the
 dotted key, e.g. ``case.toml: beam.EI_N_m2: must be > 0``.
+
+A section is the one home of its settings' defaults and bounds.  The solvers take
+their options as sections too (``shield.SPHOptions``, ``debris.IntegratorOptions``):
+built in Python, a section takes keywords (or positional values in field order, as
+the dataclasses they replaced did) and a bad value raises the same
+:class:`~impactdyn._errors.InputError`, named by the class: ``SPHOptions: cfl: must
+be less than or equal to 1``.  Where a case table spells a setting differently from
+the option it feeds, :func:`field_of` declares it with the option's default and
+bounds.  The validators the debris and Whipple cases share are here
+(:data:`Range`, :data:`NodeCount`, :func:`check_ordered`).
 """
 
 from __future__ import annotations
 
+import dataclasses
+import inspect
 import math
 import tomllib
 from pathlib import Path
@@ -22,12 +34,61 @@ M = TypeVar("M", bound=BaseModel)
 
 Positive = Annotated[float, Field(gt=0)]
 NonNegative = Annotated[float, Field(ge=0)]
+# TOML arrays are lists; strict validation does not turn them into tuples.
+Range = Annotated[list[float], Field(min_length=2, max_length=2)]
+"""[lower, upper] of a coordinate, cm (the upper bound checked by :func:`check_ordered`)."""
+NodeCount = Annotated[int, Field(ge=2)]
+"""Nodes along one axis of a grid."""
 
 
-class Section(BaseModel):
-    """Base of every config table: strict keys, finite numbers, frozen."""
+class _Built(type(BaseModel)):
+    """Metaclass of :class:`Section`: construction in Python (not from a case file) raises InputError."""
+
+    def __call__(cls, *args: Any, **data: Any) -> Any:
+        if args:
+            names = list(cls.model_fields)
+            if len(args) > len(names):
+                raise TypeError(f"{cls.__name__} takes at most {len(names)} positional values, got {len(args)}")
+            for name, value in zip(names, args):
+                if name in data:
+                    raise TypeError(f"{cls.__name__}: {name} given twice")
+                data[name] = value
+        try:
+            return super().__call__(**data)
+        except ValidationError as err:
+            raise InputError(_format_error(cls.__name__, err, data)) from None
+
+
+class Section(BaseModel, metaclass=_Built):
+    """Base of every config table and solver option set: strict keys, finite numbers, frozen."""
 
     model_config = ConfigDict(extra="forbid", allow_inf_nan=False, frozen=True, strict=True)
+
+
+def field_of(source: Any, name: str) -> Any:
+    """The setting ``name`` of ``source``, to declare it again under another name or in another table.
+
+    ``source`` is a :class:`Section` (the field's default, bounds and description
+    come along), a dataclass or a function (its keyword's default), e.g.
+    ``t_min_us: float = field_of(ArrivalWindow, "t_min")``.  Bounds written into the
+    source's annotation (a ``Literal``) do not come along: annotate with the same
+    type alias.
+    """
+    if isinstance(source, type) and issubclass(source, BaseModel):
+        return source.model_fields[name]
+    if dataclasses.is_dataclass(source):
+        return Field(default={f.name: f for f in dataclasses.fields(source)}[name].default)
+    default = inspect.signature(source).parameters[name].default
+    if default is inspect.Parameter.empty:
+        raise TypeError(f"{source.__qualname__}: {name} has no default")
+    return Field(default=default)
+
+
+def check_ordered(ranges: list[tuple[str, list[float]]]) -> None:
+    """Each ``(name, [lower, upper])`` has upper > lower (a model validator's ValueError otherwise)."""
+    for name, (lo, hi) in ranges:
+        if not hi > lo:
+            raise ValueError(f"{name} = [{lo}, {hi}]: the upper bound must exceed the lower")
 
 
 def _key_path(loc: tuple, data: Any) -> str:
