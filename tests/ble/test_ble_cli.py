@@ -133,9 +133,14 @@ def test_single_wall(capsys):
     assert json.loads(capsys.readouterr().out)["verdict"] == "no incipient spall"
     assert main(["ble", "single-wall", "--thickness-cm", "0.3175", "--velocity-km-s", "7"]) == 0
     assert "0.0969 cm" in capsys.readouterr().out
-    assert main([*argv, "--mode", "melted"]) == 2
-    assert "mode = 'melted'" in capsys.readouterr().err
-    assert main([*argv, "--obliquity-deg", "95"]) == 2
+    for args, message in ((["--mode", "melted"], "--mode: mode = 'melted'"),
+                          (["--obliquity-deg", "95"], "--obliquity-deg: obliquity_deg = 95.0"),
+                          (["--thickness-cm", "0"], "--thickness-cm: thickness_cm = 0.0"),
+                          (["--brinell", "-1"], "--brinell: brinell_hardness = -1.0"),
+                          (["--diameter-cm", "0"], "--diameter-cm: diameter_cm = 0.0")):
+        assert main([*argv, *args]) == 2
+        err = capsys.readouterr().err
+        assert message in err and "Traceback" not in err
 
 
 # ------------------------------------------------------------------ ble validate

@@ -87,13 +87,19 @@ _TOL_LN_D = 1e-14
 
 
 def rear_wall_without_bumper(shield, d, cos_t, rho_p, v):
-    """t_w,0 of (R4): (W1) with t_b = 0 solved for t_w, 0.6 d^{19/18} (cos θ)^{5/3} ρ_p^{1/2} V^{2/3} (σ/40)^{-1/2}."""
+    """t_w,0 of (R4), (W1) with t_b = 0 solved for t_w.
+
+    0.6 d^{19/18} (cos θ)^{5/3} ρ_p^{1/2} V^{2/3} (σ/40)^{-1/2}.
+    """
     return 0.6 * d ** (19.0 / 18.0) * cos_t ** (5.0 / 3.0) * np.sqrt(rho_p) * v ** (2.0 / 3.0) / np.sqrt(
         shield.wall_yield_ksi / 40.0)
 
 
 def rear_wall_behind_optimum_bumper(shield, d, cos_t, rho_p, v):
-    """t_w,crit of (R4), the sizing equation (S): c_w d^{1/2} (ρ_p ρ_b)^{1/6} m_p^{1/3} V cos θ S^{-1/2} (70/σ)^{1/2}."""
+    """t_w,crit of (R4), the sizing equation (S).
+
+    c_w d^{1/2} (ρ_p ρ_b)^{1/6} m_p^{1/3} V cos θ S^{-1/2} (70/σ)^{1/2}, m_p = π ρ_p d³/6.
+    """
     m_p = np.pi / 6.0 * rho_p * d ** 3
     return (C_W * np.sqrt(d) * (rho_p * shield.bumper_density_g_cm3) ** (1.0 / 6.0) * m_p ** (1.0 / 3.0)
             * v * cos_t / np.sqrt(shield.spacing_cm) * np.sqrt(70.0 / shield.wall_yield_ksi))

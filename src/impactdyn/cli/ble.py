@@ -84,12 +84,13 @@ def whipple(
     yield_ksi: float = typer.Option(..., "--yield-ksi", help="Rear wall yield stress σ (ksi)."),
     velocity_km_s: float = typer.Option(..., "--velocity-km-s", help="Impact speed V (km/s)."),
     obliquity_deg: float = typer.Option(0.0, "--obliquity-deg",
-                                        help="Angle from the target normal, 0 ≤ θ < 90 (the equations cap it at 65)."),
+                                        help="Angle from the target normal, 0 ≤ θ < 90 (evaluated at 65 above 65)."),
     projectile_density: float = typer.Option(2.7, "--projectile-density", help="ρ_p (g/cm³)."),
     bumper_density: float = typer.Option(2.7, "--bumper-density", help="ρ_b (g/cm³)."),
     wall_density: float = typer.Option(2.7, "--wall-density", help="ρ_w (g/cm³), for the rear-wall-only limit."),
     equation: Optional[str] = typer.Option(None, "--equation", help=_EQUATION_HELP),
-    diameter_cm: Optional[float] = typer.Option(None, "--diameter-cm", help="A shot's sphere diameter: give a verdict."),
+    diameter_cm: Optional[float] = typer.Option(None, "--diameter-cm",
+                                                help="A shot's sphere diameter: give a verdict."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Write the curve d_c(V), 1–15 km/s (e.g. curve.png)."),
     test_shots: bool = typer.Option(False, "--test-shots",
                                     help="Draw the database's shots near this shield on the plot "
@@ -251,8 +252,9 @@ def validate(
 
         plot_validation(results, plot, curves, near,
                         None if shield is None else
-                        f"t_b = {bumper_cm:g} cm, t_w = {wall_cm:g} cm, S = {spacing_cm:g} cm, σ = {yield_ksi:g} ksi, "
-                        f"θ = {obliquity_deg:g}°: {len(near)} shots within ±{100 * band:g} %, ±{obliquity_band_deg:g}°")
+                        f"t_b = {bumper_cm:g} cm, t_w = {wall_cm:g} cm, S = {spacing_cm:g} cm, "
+                        f"σ = {yield_ksi:g} ksi, θ = {obliquity_deg:g}°: {len(near)} shots within "
+                        f"±{100 * band:g} %, ±{obliquity_band_deg:g}°")
         out["plot"] = str(plot)
     if as_json:
         typer.echo(json.dumps(out, indent=2))
@@ -278,17 +280,26 @@ def single_wall(
     brinell: float = typer.Option(95.0, "--brinell", help="Wall Brinell hardness (Al 6061-T6: 95)."),
     sound_speed_km_s: float = typer.Option(5.1, "--sound-speed-km-s", help="Wall speed of sound C (km/s)."),
     mode: str = typer.Option("perforation", "--mode", help="perforation, detached_spall or incipient_spall."),
-    diameter_cm: Optional[float] = typer.Option(None, "--diameter-cm", help="A shot's sphere diameter: give a verdict."),
+    diameter_cm: Optional[float] = typer.Option(None, "--diameter-cm",
+                                                help="A shot's sphere diameter: give a verdict."),
     as_json: bool = typer.Option(False, "--json", help="Print JSON instead of a table."),
 ):
     """Critical diameter of a monolithic plate (Cour-Palais; NASA/TM-2009-214785 §4)."""
     from impactdyn.ble import SingleWall, single_wall_critical_diameter, single_wall_perforates
-    from impactdyn.ble._check import positive
+    from impactdyn.ble._check import positive, scalar_obliquity
 
-    wall = SingleWall(thickness_cm, density, brinell, sound_speed_km_s)
+    _check_options(thickness_cm=(positive, "thickness_cm", thickness_cm),
+                   velocity_km_s=(positive, "velocity_km_s", velocity_km_s),
+                   obliquity_deg=(scalar_obliquity, obliquity_deg),
+                   projectile_density=(positive, "projectile_density", projectile_density),
+                   density=(positive, "density_g_cm3", density),
+                   brinell=(positive, "brinell_hardness", brinell),
+                   sound_speed_km_s=(positive, "sound_speed_km_s", sound_speed_km_s))
     if diameter_cm is not None:
-        positive("diameter_cm", diameter_cm)
-    dc = single_wall_critical_diameter(wall, velocity_km_s, obliquity_deg, projectile_density, mode)
+        _check_options(diameter_cm=(positive, "diameter_cm", diameter_cm))
+    wall = SingleWall(thickness_cm, density, brinell, sound_speed_km_s)
+    with _option("--mode"):  # every other value is checked above
+        dc = single_wall_critical_diameter(wall, velocity_km_s, obliquity_deg, projectile_density, mode)
     out = {"equation": "Cour-Palais single wall (NASA/TM-2009-214785 §4)", "wall": wall.as_dict(), "mode": mode,
            "velocity_km_s": velocity_km_s, "obliquity_deg": obliquity_deg,
            "projectile_density_g_cm3": projectile_density, "critical_diameter_cm": dc}
