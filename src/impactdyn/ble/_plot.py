@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
 from impactdyn._errors import InputError
+from impactdyn._plotting import pyplot, save_figure
 from impactdyn.ble._curve import BallisticLimitCurve
 from impactdyn.ble._database import ShotDatabase
 from impactdyn.ble._equation import V_HYPERVELOCITY_MIN_KM_S, Regime, capped_cos
@@ -38,31 +38,6 @@ def check_plot_path(path: str | os.PathLike, force: bool = False) -> Path:
     if p.exists() and not force:
         raise InputError(f"{p}: exists; pass --force to overwrite it")
     return p
-
-
-def _pyplot():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
-def _save(fig, path: Path) -> Path:
-    """Write under a temporary name in the same folder, then rename (never a half-written file)."""
-    import matplotlib.pyplot as plt
-
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=path.suffix, dir=path.parent)
-    os.close(fd)
-    try:
-        fig.savefig(tmp, dpi=120)
-        os.replace(tmp, path)
-    finally:
-        plt.close(fig)
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-    return path
 
 
 def _shade_regimes(ax, curve: BallisticLimitCurve) -> None:
@@ -148,13 +123,13 @@ def plot_ballistic_limit(curves: list[BallisticLimitCurve], path: str | os.PathL
     ``shots``: test shots (e.g. :func:`impactdyn.ble.nearby_shots`), red crosses where the
     rear wall was perforated (P), open blue circles where not (NP).
     """
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(8.5, 5.8), constrained_layout=True)
     _draw_curves(ax, curves, shot, outcomes, shots)
     main = curves[0]
     ax.set_title(title or f"Ballistic limit, θ = {main.obliquity_deg:g}°, "
                           f"ρ_p = {main.projectile_density:g} g/cm³", fontsize=10)
-    return _save(fig, Path(path))
+    return save_figure(fig, path, dpi=120)
 
 
 def _percent(x: float | None) -> str:
@@ -173,7 +148,7 @@ def plot_validation(validations: list[Validation], path: str | os.PathLike,
     panel draws them with ``shots`` (those near the configuration) on them; ``title``
     heads that panel.
     """
-    plt = _pyplot()
+    plt = pyplot()
     n = len(validations) + (curves is not None)
     fig, axes = plt.subplots(1, n, figsize=(6.4 * n, 5.6), constrained_layout=True, squeeze=False)
     for ax, val in zip(axes[0], validations):
@@ -200,4 +175,4 @@ def plot_validation(validations: list[Validation], path: str | os.PathLike,
         ax = axes[0][-1]
         _draw_curves(ax, curves, shots=shots)
         ax.set_title(title or "configuration", fontsize=9)
-    return _save(fig, Path(path))
+    return save_figure(fig, path, dpi=120)
