@@ -57,13 +57,14 @@ With R(d) = ln d − ln d_c^{(W3)} + (2/3) ln F2*(d), within each branch of (R3)
 
 At d = S/30, where (R3) changes branch, R jumps.  Where r_S/D > 1 there (10.07 cos θ
 ρ_b^{-1/6} (S/30)^{1/18}: for any real shield), x drops by the factor 0.8 across S/30,
-F2* rises and the jump is upward, so there is one root or none.  With none, every
+F2* rises, the limit drops and R jumps up, so there is one root or none.  With none, every
 projectile up to S/30 is below its own limit and every larger one above it: the equation
 draws the line between perforation and none at S/30, but no diameter equals its own limit.
-Then d_c is NaN, the threshold is S/30, and the note says so.  Where r_S/D < 1 at S/30
-(only for absurd shields, e.g. a bumper a billion times denser than aluminium) the limit
-jumps up there, R down, and there can be two roots; the smaller is d_c (the conservative
-one), with a note.
+Then d_c is NaN, the threshold is S/30, and the note says so; in the shatter regime, whose
+upper end is then missing, d_c is NaN too and the threshold blends to S/30 at V_HV.  Where
+r_S/D < 1 at S/30 (only for absurd shields, e.g. a bumper of 10⁹ g/cm³) the limit jumps up
+there, R down, and there can be two roots; the smaller is d_c (the conservative one), with
+a note.
 """
 
 from __future__ import annotations
