@@ -31,8 +31,8 @@ def run(
     with bar:
         s = run_whipple(c, out, start=start, force=force, progress=update)
     ble, cloud, dep = s["ble"], s["cloud"], s["deposition"]
-    typer.echo(f"JSC ballistic limit: d_c = {ble['critical_diameter_cm']:.4f} cm ({ble['regime']} regime) → "
-               f"{ble['verdict']}")
+    typer.echo(f"ballistic limit ({ble['equation']}): perforation above d = {ble['threshold_cm']:.4f} cm "
+               f"({ble['regime']} regime) → {ble['verdict']}")
     if cloud.get("n_debris_particles"):
         typer.echo(f"debris cloud: leading edge {cloud['leading_edge_velocity_km_s']:.3f} km/s, centre of mass "
                    f"{cloud['centre_of_mass_speed_km_s']:.3f} km/s at {cloud['axis_angle_from_normal_deg']:.1f}°, "

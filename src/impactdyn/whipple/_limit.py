@@ -114,7 +114,7 @@ def run_limit(raw: dict, velocities: list[float], outdir: str | Path, *, source:
     if not (np.isfinite(bracket_ratio) and bracket_ratio > 1):
         raise InputError(f"--bracket-ratio {bracket_ratio}: must be > 1")
     bases = limit_velocities(raw, velocities, source)
-    searches = [_Search(velocity=float(v), jsc=ble_verdict(case)["critical_diameter_cm"], ratio=bracket_ratio)
+    searches = [_Search(velocity=float(v), jsc=ble_verdict(case)["threshold_cm"], ratio=bracket_ratio)
                  for v, case in zip(velocities, bases)]
     n_workers = 1 if scheduler == "serial" else max(1, workers or threads_per_shot(1))
     done = 0
@@ -177,7 +177,7 @@ def _plot(path: Path, case: WhippleCase, searches: list[_Search], tolerance: flo
     curve = ballistic_limit_curve(ble_shield(case), np.linspace(1.0, vmax, 281), p.obliquity_deg,
                                   get_material(p.material).rho0)
     fig, ax = plt.subplots(figsize=(7.5, 5.4), constrained_layout=True)
-    ax.plot(curve.velocity_km_s, curve.critical_diameter_cm, "k-", lw=1.5, label="JSC equation")
+    ax.plot(curve.velocity_km_s, curve.threshold_cm, "k-", lw=1.5, label=f"ballistic-limit equation ({curve.equation})")
     for s in searches:
         for d, _, failed, _, _ in s.shots:
             ax.plot(s.velocity, d, "X" if failed else "o", color="tab:red" if failed else "tab:green", ms=6,

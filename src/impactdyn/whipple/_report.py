@@ -34,22 +34,16 @@ def _records(folder: FolderWriter) -> dict:
 
 
 def ble_verdict(case: WhippleCase) -> dict:
-    """The NASA JSC ballistic-limit check of the shot."""
-    from impactdyn.ble import critical_diameter, perforates, regime
+    """The ballistic-limit equation's answer for the shot (:func:`impactdyn.ble.jsc_verdict`, the
+    package's default equation), with the shield and projectile density it was given."""
+    from impactdyn.ble import jsc_verdict
     from impactdyn.materials import get_material
 
     p = case.projectile
     rho_p = get_material(p.material).rho0
     shield = ble_shield(case)
-    return {
-        "equation": "NASA JSC Whipple (Christiansen 1993; NASA/TM-2009-214785 §4)",
-        "shield": shield.as_dict(),
-        "projectile_density_g_cm3": rho_p,
-        "critical_diameter_cm": float(critical_diameter(shield, p.velocity_km_s, p.obliquity_deg, rho_p)),
-        "regime": str(regime(p.velocity_km_s, p.obliquity_deg)),
-        "verdict": "perforation" if perforates(shield, p.diameter_cm, p.velocity_km_s, p.obliquity_deg, rho_p)
-        else "no perforation",
-    }
+    return {"shield": shield.as_dict(), "projectile_density_g_cm3": rho_p} | jsc_verdict(
+        shield, p.diameter_cm, p.velocity_km_s, p.obliquity_deg, rho_p)
 
 
 def deposition_figures(debris: dict) -> dict:
@@ -127,12 +121,14 @@ def _plot_cloud(path, particles, case: WhippleCase, cloud: dict) -> None:
 
 
 def _plot_ble(path, case: WhippleCase, ble: dict) -> None:
-    from impactdyn.ble import ballistic_limit_curve, plot_ballistic_limit
+    from impactdyn.ble import ballistic_limit_curve, nearby_shots, plot_ballistic_limit
 
     p = case.projectile
-    curve = ballistic_limit_curve(ble_shield(case), None, p.obliquity_deg, ble["projectile_density_g_cm3"])
+    shield = ble_shield(case)
+    curve = ballistic_limit_curve(shield, None, p.obliquity_deg, ble["projectile_density_g_cm3"])
     w, b = case.wall, case.bumper
     plot_ballistic_limit([curve], path, shot=(p.velocity_km_s, p.diameter_cm, ble["verdict"] == "perforation"),
+                         shots=nearby_shots(shield, p.obliquity_deg),
                          title=f"Whipple shield t_b = {b.thickness_cm:g} cm, t_w = {w.thickness_cm:g} cm, "
                                f"S = {w.spacing_cm:g} cm, σ = {w.yield_stress_ksi:g} ksi, θ = {p.obliquity_deg:g}°")
 
@@ -192,7 +188,8 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
     ])
     verdict = _rows([
         ("regime", ble["regime"]),
-        ("critical diameter d_c", _fmt(ble["critical_diameter_cm"], "cm")),
+        ("equation", ble["equation"]),
+        ("critical diameter d_c", _fmt(ble["critical_diameter_cm"], "cm") + (f" ({ble['note']})" if ble["note"] else "")),
         ("verdict (d vs d_c)", f"{ble['verdict']} (d = {p.diameter_cm:g} cm)"),
     ])
     figures = _rows([
@@ -229,7 +226,7 @@ th{{background:#f4f4f4;font-weight:normal}}img{{max-width:100%}}</style></head><
 <p>impactdyn Whipple pipeline: SPH shield impact → debris cloud (DC3D) → momentum on the rear wall → wall decks.
 Half model (x ≥ 0); units as labelled.</p>
 <h2>Shot</h2><table>{shot}</table>
-<h2>Ballistic limit (NASA JSC)</h2><table>{verdict}</table>
+<h2>Ballistic limit (NASA JSC equation)</h2><table>{verdict}</table>
 {_img(plots / "ballistic_limit.png")}
 <h2>Simulated debris cloud and wall loading</h2><table>{figures}</table>
 <h3>Cloud at hand-off</h3>{_img(plots / "cloud_handoff.png")}
