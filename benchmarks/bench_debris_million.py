@@ -37,7 +37,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("n", nargs="?", type=int, default=1_000_000)
     parser.add_argument("--flight", type=float, default=15.0, help="flight time of every particle (µs)")
-    parser.add_argument("--method", choices=sorted(STAGES), default=IntegratorOptions.method)
+    parser.add_argument("--method", choices=sorted(STAGES), default=IntegratorOptions().method)
     parser.add_argument("--steps-per-period", type=float, default=None, help="default: the method's own")
     parser.add_argument("--seed", type=int, default=0)
     args = parser.parse_args()

@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from impactdyn.debris import WallGrid, areal_density, remap_impulse
-from impactdyn.debris._report import read_deposition
+from impactdyn.debris import read_deposition
 from impactdyn.whipple import load_whipple_case, run_whipple
 
 FIGURES = (("cloud", "leading_edge_velocity_km_s", "leading-edge velocity (km/s)"),

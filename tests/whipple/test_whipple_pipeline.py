@@ -9,7 +9,7 @@ import pytest
 
 from impactdyn.ble import perforates
 from impactdyn.cli import main
-from impactdyn.debris._report import read_deposition
+from impactdyn.debris import read_deposition
 from impactdyn.io import read_grid, read_lsdyna_deck
 from impactdyn.shield._io import read_particles
 from impactdyn.whipple import ble_verdict, load_whipple_case

@@ -6,18 +6,22 @@ run folder.  File formats live in :mod:`impactdyn.io`.
 """
 
 from impactdyn.debris._analytic import ShellCloud, shell_cloud_grid
-from impactdyn.debris._case import DebrisCase, build, load_debris_case, remap_grid
+from impactdyn.debris._case import (
+    ComputeSection, DebrisCase, FilterSection, IntegratorSection, LegacySection, OutputSection, WallSection, build,
+    check_bulk_modulus, load_debris_case, remap_grid)
 from impactdyn.debris._deposit import (
     POINTS_PER_PARTICLE, areal_density, arrival_points, deposit, element_impulse, element_records, face_areas,
     face_element, momentum_enhancement, remap_impulse)
 from impactdyn.hydrogrid import HydroGrid
 from impactdyn.debris._legacy import run_legacy
-from impactdyn.debris._integrators import INTEGRATORS, Failure, PropagationStats, propagate, register_integrator
+from impactdyn.debris._integrators import (
+    INTEGRATORS, Failure, IntegratorOptions, PropagationStats, propagate, register_integrator)
 from impactdyn.debris._particle import ParticleMaterial, pack_state, state_rates, total_energy, unpack_state
+from impactdyn.debris._debris_h5 import read_deposition
+from impactdyn.debris._decks import write_decks
+from impactdyn.debris._outputs import write_debris_files, write_debris_run
 from impactdyn.debris._propagate import (
-    ArrivalWindow, ComputeOptions, DebrisResult, DepositionOptions, IntegratorOptions, propagate_chunked,
-    run_debris, seed_and_select)
-from impactdyn.debris._report import read_deposition, write_debris_files, write_debris_run, write_decks
+    ArrivalWindow, ComputeOptions, DebrisResult, DepositionOptions, propagate_chunked, run_debris, seed_and_select)
 from impactdyn.debris._seed import ParticleCloud, SeedFilter, SeedOptions, arrival_times, seed_cells, seed_particles
 from impactdyn.debris._tets import (
     affine_velocity_fit, cell_nodes, gather_tets, inertia_tensor, initial_state, signed_volume, tet_vertices)
@@ -31,10 +35,12 @@ def run_case(case: DebrisCase, progress=None, source: str = "<case>") -> DebrisR
 
 
 __all__ = [
-    "AL_6061_T6_MAT13", "ArrivalWindow", "ComputeOptions", "DebrisCase", "DebrisResult", "DepositionOptions", "Failure",
-    "HydroGrid", "INTEGRATORS", "IntegratorOptions", "ParticleMaterial", "POINTS_PER_PARTICLE", "ParticleCloud",
-    "PropagationStats", "SeedFilter", "SeedOptions", "ShellCloud", "WallDeposition", "WallGrid", "Mat13Card",
-    "affine_velocity_fit", "areal_density", "arrival_points", "arrival_times", "build", "cell_nodes", "deposit",
+    "AL_6061_T6_MAT13", "ArrivalWindow", "ComputeOptions", "ComputeSection", "DebrisCase", "DebrisResult",
+    "DepositionOptions", "Failure", "FilterSection", "HydroGrid", "INTEGRATORS", "IntegratorOptions",
+    "IntegratorSection", "LegacySection", "OutputSection", "ParticleMaterial", "POINTS_PER_PARTICLE", "ParticleCloud",
+    "PropagationStats", "SeedFilter", "SeedOptions", "ShellCloud", "WallDeposition", "WallGrid", "WallSection",
+    "Mat13Card", "affine_velocity_fit", "areal_density", "arrival_points", "arrival_times", "build",
+    "cell_nodes", "check_bulk_modulus", "deposit",
     "element_impulse", "element_records", "face_areas", "face_element", "gather_tets", "inertia_tensor",
     "initial_state", "load_debris_case", "momentum_enhancement", "pack_state", "propagate", "propagate_chunked",
     "register_integrator", "remap_grid", "remap_impulse", "run_case", "run_debris", "run_legacy", "seed_and_select", "seed_cells",

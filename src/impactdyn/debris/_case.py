@@ -5,23 +5,35 @@ the analytic shell cloud of :mod:`._analytic`), the debris material, the filters
 the wall, the integrator, where the chunks run and what to write.  Problem setup
 only: :func:`build` turns a case into the arguments of
 :func:`impactdyn.debris.run_debris`.  See ``examples/debris/*.toml``.
+
+A table that feeds an option of :func:`~impactdyn.debris.run_debris` takes its
+defaults and bounds from it: ``[integrator]`` and ``[compute]`` are
+:class:`IntegratorOptions` and :class:`ComputeOptions`; ``[filter]`` is a
+:class:`SeedFilter` with the :class:`ArrivalWindow`'s times; the ``[legacy]`` flags
+and the shell cloud's defaults are declared with :func:`~impactdyn._config.field_of`
+from the options they set.  The Whipple case reuses these tables and validators.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Literal
+from typing import Annotated
 
 from pydantic import Field, model_validator
 
 from impactdyn import units
-from impactdyn._config import NonNegative, Positive, Section, load_toml, validate
+from impactdyn._config import (NodeCount, NonNegative, Positive, Range, Section, check_ordered, field_of, load_toml,
+                               validate)
 from impactdyn._errors import InputError
+from impactdyn.debris._analytic import ShellCloud, shell_cloud_grid
+from impactdyn.debris._integrators import IntegratorOptions
+from impactdyn.debris._particle import ParticleMaterial
+from impactdyn.debris._propagate import ArrivalWindow, ComputeOptions, DepositionOptions, check_window
+from impactdyn.debris._seed import SeedFilter, SeedOptions
+from impactdyn.io import write_lsdyna_deck
 
 # TOML arrays are lists; strict validation does not turn them into tuples.
 Vector = Annotated[list[float], Field(min_length=3, max_length=3)]
-Range = Annotated[list[float], Field(min_length=2, max_length=2)]
-NodeCount = Annotated[int, Field(ge=2)]
 
 
 class ShellSection(Section):
@@ -32,13 +44,13 @@ class ShellSection(Section):
     expansion_velocity_km_s: NonNegative
     radius_cm: Positive
     thickness_cm: Positive
-    cap_half_angle_deg: Annotated[float, Field(gt=0, le=180)] = 180.0
-    density_g_cm3: Positive = 2.703
-    void_fraction: Annotated[float, Field(ge=0, lt=1)] = 0.5
-    sound_speed_km_s: NonNegative = 5.24
-    time_us: float = 0.0
+    cap_half_angle_deg: Annotated[float, Field(gt=0, le=180)] = field_of(ShellCloud, "cap_half_angle_deg")
+    density_g_cm3: Positive = field_of(ShellCloud, "density")
+    void_fraction: Annotated[float, Field(ge=0, lt=1)] = field_of(ShellCloud, "void_fraction")
+    sound_speed_km_s: NonNegative = units.cm_us_to_km_s(ShellCloud.sound_speed)
+    time_us: float = field_of(ShellCloud, "time")
     cell_size_cm: Positive = 0.03175
-    subsamples: Annotated[int, Field(ge=1, le=8)] = 3
+    subsamples: Annotated[int, Field(ge=1, le=8)] = field_of(shell_cloud_grid, "subsamples")
 
     @model_validator(mode="after")
     def _thin(self) -> "ShellSection":
@@ -73,29 +85,30 @@ class MaterialSection(Section):
     lambda_Mbar: float
     rho_ref_g_cm3: Positive
     eta_Mbar_us: Positive | None = None
-    zeta_Mbar_us: NonNegative = 0.0
+    zeta_Mbar_us: NonNegative = field_of(ParticleMaterial, "zeta")
 
     @model_validator(mode="after")
     def _bulk(self) -> "MaterialSection":
-        if self.lambda_Mbar + 2.0 * self.mu_Mbar / 3.0 <= 0:
-            raise ValueError("lambda_Mbar + 2/3 mu_Mbar must be > 0 (bulk modulus)")
+        check_bulk_modulus(self.lambda_Mbar, self.mu_Mbar)
         return self
 
 
-class FilterSection(Section):
-    """Which cells become particles and which particles are carried (dc3din record 8)."""
+def check_bulk_modulus(lambda_Mbar: float | None, mu_Mbar: float | None) -> None:
+    """λ + 2μ/3 > 0 where both are given (a validator's ValueError otherwise); the debris and Whipple cases'."""
+    if lambda_Mbar is not None and mu_Mbar is not None and lambda_Mbar + 2.0 * mu_Mbar / 3.0 <= 0:
+        raise ValueError("lambda_Mbar + 2/3 mu_Mbar must be > 0 (bulk modulus)")
 
-    dencut: NonNegative = 0.01
-    min_density_ratio: NonNegative = 0.01
-    max_density_ratio: Positive = 1000.0
-    max_void_fraction: Annotated[float, Field(ge=0, le=1)] = 0.999
-    t_min_us: NonNegative = 0.0
-    t_cut_us: Positive = 25.0
+
+class FilterSection(SeedFilter):
+    """Which cells become particles (:class:`SeedFilter`) and which particles are carried
+    (:class:`ArrivalWindow`); dc3din record 8."""
+
+    t_min_us: float = field_of(ArrivalWindow, "t_min")
+    t_cut_us: float = field_of(ArrivalWindow, "t_cut")
 
     @model_validator(mode="after")
     def _window(self) -> "FilterSection":
-        if self.t_cut_us <= self.t_min_us:
-            raise ValueError(f"t_cut_us = {self.t_cut_us} must exceed t_min_us = {self.t_min_us}")
+        check_window(self.t_min_us, self.t_cut_us, ("t_min_us", "t_cut_us"))
         return self
 
 
@@ -119,12 +132,10 @@ class WallSection(Section):
 
     @model_validator(mode="after")
     def _ranges(self) -> "WallSection":
-        ranges = [("x_cm", self.x_cm), ("y_cm", self.y_cm), ("z_cm", self.z_cm)]
+        ranges = [("wall.x_cm", self.x_cm), ("wall.y_cm", self.y_cm), ("wall.z_cm", self.z_cm)]
         if self.remap is not None:
-            ranges += [("remap.x_cm", self.remap.x_cm), ("remap.z_cm", self.remap.z_cm)]
-        for name, (lo, hi) in ranges:
-            if not hi > lo:
-                raise ValueError(f"wall.{name} = [{lo}, {hi}]: the upper bound must exceed the lower")
+            ranges += [("wall.remap.x_cm", self.remap.x_cm), ("wall.remap.z_cm", self.remap.z_cm)]
+        check_ordered(ranges)
         from impactdyn.wallgrid import check_nodes  # sizes: InputError before anything is allocated
 
         check_nodes("wall.nodes", self.nodes)
@@ -134,42 +145,11 @@ class WallSection(Section):
         return self
 
 
-class IntegratorSection(Section):
-    method: str = "splitting4"
-    eps: Annotated[float, Field(gt=0, lt=1)] = 1e-6
-    steps_per_period: Annotated[float, Field(gt=3.2)] | None = None
-    """Splitting steps per period of the fastest vibration; default: the method's own."""
-    max_steps: Annotated[int, Field(ge=1)] = 10_000_000
-    ymxref: Positive = 1e-6
+IntegratorSection = IntegratorOptions
+"""The ``[integrator]`` table is :class:`IntegratorOptions` (its defaults and bounds)."""
 
-    @model_validator(mode="after")
-    def _known(self) -> "IntegratorSection":
-        from impactdyn.debris._integrators import INTEGRATORS
-
-        if self.method not in INTEGRATORS:
-            raise ValueError(f"method = {self.method!r}: choose one of {sorted(INTEGRATORS)}")
-        return self
-
-    @model_validator(mode="before")
-    @classmethod
-    def _method_step(cls, data):
-        """Fill in the method's own steps_per_period, so config.resolved.toml records the step used."""
-        from impactdyn.debris._integrators import DEFAULT_STEPS_PER_PERIOD
-
-        if isinstance(data, dict) and data.get("steps_per_period") is None:
-            method = data.get("method", cls.model_fields["method"].default)
-            if method in DEFAULT_STEPS_PER_PERIOD:
-                return {**data, "steps_per_period": DEFAULT_STEPS_PER_PERIOD[method]}
-        return data
-
-
-class ComputeSection(Section):
-    """Where the particle chunks run; ``address`` of a Dask scheduler (omit for a LocalCluster)."""
-
-    scheduler: Literal["local", "dask"] = "local"
-    address: str | None = None
-    chunk_size: Annotated[int, Field(ge=1)] = 65536
-    workers: Annotated[int, Field(ge=1)] | None = None
+ComputeSection = ComputeOptions
+"""The ``[compute]`` table is :class:`ComputeOptions`."""
 
 
 class OutputSection(Section):
@@ -178,7 +158,7 @@ class OutputSection(Section):
     lsdyna_deck: bool = True
     dyna3d_deck: bool = True
     plots: bool = True
-    pulse_width_us: Positive = 0.05
+    pulse_width_us: Positive = field_of(write_lsdyna_deck, "pulse_width")
     """Width of the triangular force pulse that carries each deposited impulse in the LS-DYNA deck."""
     end_time_us: Positive | None = None
     """LS-DYNA termination time; default: the last arrival plus 10 µs."""
@@ -186,15 +166,15 @@ class OutputSection(Section):
 
 
 class LegacySection(Section):
-    """The listing's behaviour where it departs from the model (DESIGN §5), one flag each."""
+    """The listing's behaviour where it departs from the model (DESIGN §5), one flag each (the option it sets)."""
 
-    nddata_swap: bool = False
-    fdot_scaling: bool = False
-    inertia_transform: bool = False
-    eta_per_volume: bool = False
-    abs_arrival: bool = False
-    vertex_scaling: bool = False
-    momentum_enhancement: bool = False
+    nddata_swap: bool = field_of(SeedOptions, "legacy_nddata_swap")
+    fdot_scaling: bool = field_of(SeedOptions, "legacy_fdot_scaling")
+    inertia_transform: bool = field_of(SeedOptions, "legacy_inertia_transform")
+    eta_per_volume: bool = field_of(ParticleMaterial, "legacy_eta_per_volume")
+    abs_arrival: bool = field_of(ArrivalWindow, "legacy_abs_arrival")
+    vertex_scaling: bool = field_of(DepositionOptions, "legacy_vertex_scaling")
+    momentum_enhancement: bool = field_of(DepositionOptions, "legacy_momentum_enhancement")
 
 
 class DebrisCase(Section):
@@ -205,8 +185,8 @@ class DebrisCase(Section):
     material: MaterialSection
     filter: FilterSection = FilterSection()
     wall: WallSection
-    integrator: IntegratorSection = IntegratorSection()
-    compute: ComputeSection = ComputeSection()
+    integrator: IntegratorOptions = IntegratorOptions()
+    compute: ComputeOptions = ComputeOptions()
     output: OutputSection = OutputSection()
     legacy: LegacySection = LegacySection()
 
@@ -223,8 +203,6 @@ def load_debris_case(path: str | Path) -> DebrisCase:
 
 def hand_off_grid(case: DebrisCase, source: str = "<case>"):
     """The HydroGrid a case names: its analytic shell cloud, or its file read through the format registry."""
-    from impactdyn.debris._analytic import ShellCloud, shell_cloud_grid
-
     g = case.grid
     if g.shell is not None:
         s = g.shell
@@ -246,10 +224,6 @@ def build(case: DebrisCase, source: str = "<case>", grid=None) -> dict:
 
     ``grid``: a HydroGrid already in hand, used instead of reading ``case.grid``.
     """
-    from impactdyn.debris._particle import ParticleMaterial
-    from impactdyn.debris._propagate import (
-        ArrivalWindow, ComputeOptions, DepositionOptions, IntegratorOptions)
-    from impactdyn.debris._seed import SeedFilter, SeedOptions
     from impactdyn.wallgrid import WallGrid
 
     grid = hand_off_grid(case, source) if grid is None else grid
@@ -266,10 +240,7 @@ def build(case: DebrisCase, source: str = "<case>", grid=None) -> dict:
         seed_options=SeedOptions(legacy_nddata_swap=lg.nddata_swap, legacy_fdot_scaling=lg.fdot_scaling,
                                  legacy_inertia_transform=lg.inertia_transform),
         window=ArrivalWindow(t_min=f.t_min_us, t_cut=f.t_cut_us, legacy_abs_arrival=lg.abs_arrival),
-        integrator=IntegratorOptions(method=i.method, eps=i.eps, steps_per_period=i.steps_per_period,
-                                     max_steps=i.max_steps, ymxref=i.ymxref),
-        compute=ComputeOptions(scheduler=c.scheduler, address=c.address, chunk_size=c.chunk_size,
-                               workers=c.workers),
+        integrator=i, compute=c,
         deposition=DepositionOptions(legacy_vertex_scaling=lg.vertex_scaling,
                                      legacy_momentum_enhancement=lg.momentum_enhancement),
     )

@@ -1,4 +1,4 @@
-"""Integrators of the particle state equations, one interface and a registry (DESIGN §5).
+"""Integrators of the particle state equations: their options and :func:`propagate` (DESIGN §5).
 
 Every particle is an independent 33-dimensional ODE (:mod:`._particle`)
 integrated from t = 0 to its own end time (its arrival time at the wall). Each
@@ -70,417 +70,112 @@ examples' 8 verlet steps per period), use verlet.
 Failure codes (:class:`Failure`) are per particle and never silent; a failed
 particle keeps the last state reached (``stats.t_reached``) and does not affect
 the others.
+
+Modules: the interface and registry (:mod:`._registry`), the splittings
+(:mod:`._splitting`), ``rk45`` (:mod:`._rk45`), ``legacy`` (:mod:`._rk4_doubling`);
+here :class:`IntegratorOptions`, the one home of the integrator settings' defaults
+and bounds, and :func:`propagate`.
 """
 
 from __future__ import annotations
 
+from __future__ import annotations
+
 import math
-from dataclasses import dataclass
-from typing import Callable
+from typing import Annotated
 
 import numba
 import numpy as np
-from numba import prange
+from pydantic import Field, field_validator, model_validator
 
-from impactdyn.debris._particle import (
-    EP_SLICE, H_SLICE, N_WORK, P_RELAX, P_RELAX_PER_VOLUME, STATE_ROWS, STATE_SIZE,
-    ParticleMaterial, inline_kernel, kernel, rates_into,
-)
-from impactdyn.debris._failure import BUDGET, OK, UNDERFLOW, Failure, state_failure
-from impactdyn.debris._splitting import BLANES_MOAN_S6, VERLET, run_splitting
-
-
-# The failure codes as plain ints, compile-time constants in the kernels.
-_OK, _UNDERFLOW, _BUDGET = OK, UNDERFLOW, BUDGET
+from impactdyn._config import Positive, Section
+# the built-in integrators, registered on import in this order
+from impactdyn.debris import _splitting  # noqa: F401, I001
+from impactdyn.debris import _rk45  # noqa: F401
+from impactdyn.debris import _rk4_doubling  # noqa: F401
+from impactdyn.debris._failure import Failure
+from impactdyn.debris._particle import ParticleMaterial
+from impactdyn.debris._registry import (DEFAULT_STEPS_PER_PERIOD, INTEGRATORS, ParticleBatch, PropagationStats,
+                                        StepControl, register_integrator)
 
 # Particles handed to a thread at a time (numba.set_parallel_chunksize), see propagate.
 _CHUNK = 8
 
 
-@dataclass(frozen=True)
-class StepControl:
-    """Step-size control shared by all integrators (each reads what applies to it).
+class IntegratorOptions(Section):
+    """How the particles are integrated: :func:`propagate`'s settings, and a case's ``[integrator]`` table.
 
-    eps: tolerance of the adaptive methods; dt: splitting step, or first step of
-    rk45 (µs; scalar or ``(N,)``; None: from the particle's ω̂); steps_per_period:
-    splitting steps per 2π/ω̂ when dt is None (None: the method's own default); max_steps: accepted + rejected steps
-    per particle before Failure.STEP_BUDGET; ymxref: legacy's floor of the
-    running maxima.
+    method: a name in :data:`INTEGRATORS` (module docstring).  eps: tolerance of
+    the adaptive methods (rk45, legacy).  steps_per_period: splitting steps per
+    period 2π/ω̂ of the particle's fastest linear vibration; left out, the method's
+    own (:data:`DEFAULT_STEPS_PER_PERIOD`), filled in so that a resolved case records
+    the step used.  It must exceed π: Störmer–Verlet, like every leapfrog, is
+    stable on an oscillation of frequency ω only for ωh < 2, i.e. more than π
+    steps per period, and ω̂ bounds every frequency of the particle (Blanes &
+    Moan's S₆ is stable to about 2 steps per period, so the bound holds for both).
+    max_steps: accepted + rejected steps per particle before
+    ``Failure.STEP_BUDGET``.  ymxref: legacy's floor of the running maxima.
     """
 
-    eps: float = 1e-6
-    dt: float | np.ndarray | None = None
-    steps_per_period: float | None = None
-    max_steps: int = 10_000_000
-    ymxref: float = 1e-6
+    method: str = "splitting4"
+    eps: Annotated[float, Field(gt=0, lt=1)] = 1e-6
+    steps_per_period: Annotated[float, Field(gt=math.pi)] | None = None
+    max_steps: Annotated[int, Field(ge=1)] = 10_000_000
+    ymxref: Positive = 1e-6
+
+    @field_validator("method")
+    @classmethod
+    def _registered(cls, method: str) -> str:
+        if method not in INTEGRATORS:
+            raise ValueError(f"unknown integrator {method!r}; available: {sorted(INTEGRATORS)}")
+        return method
+
+    @model_validator(mode="before")
+    @classmethod
+    def _method_step(cls, data):
+        """Fill in the method's own steps_per_period, so config.resolved.toml records the step used."""
+        if isinstance(data, dict) and data.get("steps_per_period") is None:
+            method = data.get("method", cls.model_fields["method"].default)
+            if method in DEFAULT_STEPS_PER_PERIOD:
+                return {**data, "steps_per_period": DEFAULT_STEPS_PER_PERIOD[method]}
+        return data
 
 
-@dataclass(frozen=True)
-class ParticleBatch:
-    """What an integrator receives: N particles, all arrays C-contiguous float64.
-
-    y0 ``(N, 33)`` initial states; Jinv ``(N, 3, 3)`` J⁻¹; m, V0 ``(N,)`` mass (g)
-    and reference volume (cm³); t_end ``(N,)`` end times (µs); params
-    ``(N_PARAMS,)`` packed material; omega_hat ``(N,)`` the bound ω̂ on the
-    highest linear frequency (1/µs); j_max ``(N,)`` λ_max(J) (g cm²).
-    """
-
-    y0: np.ndarray
-    Jinv: np.ndarray
-    m: np.ndarray
-    V0: np.ndarray
-    t_end: np.ndarray
-    params: np.ndarray
-    omega_hat: np.ndarray
-    j_max: np.ndarray
-
-    def per_particle(self, value) -> np.ndarray:
-        """A scalar or ``(N,)`` value as a contiguous ``(N,)`` float array."""
-        return np.ascontiguousarray(np.broadcast_to(np.asarray(value, dtype=float), self.m.shape))
-
-
-@dataclass(frozen=True)
-class PropagationStats:
-    """Per-particle integration statistics, all ``(N,)``.
-
-    steps: accepted steps; rejected: rejected trial steps; code: :class:`Failure`
-    values; t_reached: time the returned state belongs to (t_end when code is 0).
-    """
-
-    steps: np.ndarray
-    rejected: np.ndarray
-    code: np.ndarray
-    t_reached: np.ndarray
-
-    @property
-    def n_failed(self) -> int:
-        return int(np.count_nonzero(self.code))
-
-    def failure_counts(self) -> dict[str, int]:
-        """Number of particles per failure kind (kinds that occurred only)."""
-        return {Failure(c).name: int(n) for c, n in zip(*np.unique(self.code, return_counts=True))
-                if c != Failure.OK}
-
-
-IntegratorFn = Callable[[ParticleBatch, StepControl], tuple[np.ndarray, np.ndarray, np.ndarray]]
-"""(batch, control) -> (states ``(N, 33)``, t_reached ``(N,)``, counts ``(N, 3)``: steps, rejected, code)."""
-
-INTEGRATORS: dict[str, IntegratorFn] = {}
-
-
-def register_integrator(name: str):
-    """Decorator adding an :data:`IntegratorFn` to :data:`INTEGRATORS` under ``name``."""
-    def add(fn: IntegratorFn) -> IntegratorFn:
-        if name in INTEGRATORS:
-            raise ValueError(f"integrator {name!r} is already registered")
-        INTEGRATORS[name] = fn
-        return fn
-    return add
-
-
-# --- shared kernels ------------------------------------------------------------------
-# Per particle, a kernel gets the flat state ``y (33,)`` for vector algebra, and
-# makes the views it needs once, before the step loop (see _particle).
-
-
-@inline_kernel
-def _f(Y, body, Ydot, w):
-    """Ẏ = f(Y) for the particle constants body = (J⁻¹, m, V₀, params); rows ``(11, 3)``."""
-    rates_into(Y, body[0], body[1], body[2], body[3], Ydot, w)
-
-
-# --- splittings (verlet, splitting4) ----------------------------------------------------
-
-
-DEFAULT_STEPS_PER_PERIOD: dict[str, float] = {}
-"""Steps per 2π/ω̂ of each splitting integrator when none is given."""
-
-
-def _register_splitting(name: str, coefficients, steps_per_period: float) -> None:
-    """Register :func:`._splitting.run_splitting` with ``coefficients`` (a, b) as ``name``."""
-    @register_integrator(name)
-    def integrate(batch: ParticleBatch, control: StepControl):
-        if control.dt is None:
-            dt = 2.0 * np.pi / (batch.omega_hat * (control.steps_per_period or steps_per_period))
-        else:
-            dt = batch.per_particle(control.dt)
-        y, t_out, counts = _outputs(batch)
-        r = batch.params[P_RELAX] * (batch.V0 if batch.params[P_RELAX_PER_VOLUME] else 1.0)
-        t_out[:], counts[:, 0], counts[:, 2] = run_splitting(
-            y, batch.Jinv, batch.m, batch.V0, batch.per_particle(r), batch.params, batch.t_end, dt,
-            control.max_steps, coefficients)
-        return y, t_out, counts
-    DEFAULT_STEPS_PER_PERIOD[name] = steps_per_period
-
-
-_register_splitting("splitting4", BLANES_MOAN_S6, 8.0)
-_register_splitting("verlet", VERLET, 32.0)
-
-
-def _outputs(batch: ParticleBatch):
-    n = len(batch.m)
-    return batch.y0.copy(), np.zeros(n), np.zeros((n, 3), dtype=np.int64)
-
-
-# --- rk45 (Dormand–Prince 5(4)) ------------------------------------------------------
-
-_DP_A = np.array([
-    [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-    [1 / 5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-    [3 / 40, 9 / 40, 0.0, 0.0, 0.0, 0.0, 0.0],
-    [44 / 45, -56 / 15, 32 / 9, 0.0, 0.0, 0.0, 0.0],
-    [19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729, 0.0, 0.0, 0.0],
-    [9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656, 0.0, 0.0],
-    [35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84, 0.0],
-])
-"""Stage coefficients; the last row is the fifth-order solution (FSAL)."""
-_DP_E = np.array([71 / 57600, 0.0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525, -1 / 40])
-"""b − b̂: fifth- minus fourth-order weights, the local error estimate."""
-
-_N_CONTROLLED = EP_SLICE.stop  # H, F, Eₚ enter the error norm; p, c are exact
-_N_H = H_SLICE.stop
-
-
-@kernel
-def _rk45_particle(y, body, t_end, h0, h_floor, eps, max_steps, K, ytrial, w):
-    Y, Ytrial = y.reshape((STATE_ROWS, 3)), ytrial.reshape((STATE_ROWS, 3))
-    Kr = K.reshape((7, STATE_ROWS, 3))
-    code = state_failure(Y)
-    if code != _OK or t_end <= 0.0:
-        return 0.0, 0, 0, code
-    _f(Y, body, Kr[0], w)
-    t, h, h_min = 0.0, min(h0, t_end), 1e-10 * h0
-    steps, rejected, after_rejection, err_old = 0, 0, False, 1e-4
-    while True:
-        if steps + rejected >= max_steps:
-            code = _BUDGET
-            break
-        final = t + h >= t_end
-        if final:
-            h = t_end - t
-        for s in range(1, 7):
-            for i in range(STATE_SIZE):
-                acc = 0.0
-                for j in range(s):
-                    acc += _DP_A[s, j] * K[j, i]
-                ytrial[i] = y[i] + h * acc
-            _f(Ytrial, body, Kr[s], w)
-        err = 0.0
-        for i in range(_N_CONTROLLED):
-            local = 0.0
-            for j in range(7):
-                local += _DP_E[j] * K[j, i]
-            floor = h_floor if i < _N_H else 1.0
-            err = max(err, abs(h * local) / (eps * max(abs(y[i]), abs(ytrial[i]), floor)))
-        if state_failure(Ytrial) != _OK:
-            err = math.inf
-        if err <= 1.0:
-            y[:] = ytrial
-            K[0, :] = K[6]
-            steps += 1
-            if final:
-                t = t_end
-                break
-            t += h
-            factor = 5.0 if err == 0.0 else min(5.0, 0.9 * err ** -0.17 * err_old ** 0.04)
-            err_old = max(err, 1e-4)  # DOPRI5's floor: a tiny error must not stall growth
-            if after_rejection:
-                factor = min(factor, 1.0)
-            after_rejection = False
-        else:
-            rejected += 1
-            after_rejection = True
-            factor = max(0.2, 0.9 * err ** -0.2) if err < math.inf else 0.2
-        h *= factor
-        if h < h_min:
-            code = _UNDERFLOW
-            break
-    return t, steps, rejected, code
-
-
-@kernel(parallel=True)
-def _rk45_all(y, Jinv, m, V0, t_end, h0, h_floor, eps, params, max_steps, t_out, counts):
-    for n in prange(y.shape[0]):
-        K = np.empty((7, STATE_SIZE))
-        ytrial = np.empty(STATE_SIZE)
-        w = np.empty((N_WORK, 3, 3))
-        t_out[n], counts[n, 0], counts[n, 1], counts[n, 2] = _rk45_particle(
-            y[n], (Jinv[n], m[n], V0[n], params), t_end[n], h0[n], h_floor[n], eps, max_steps,
-            K, ytrial, w)
-
-
-@register_integrator("rk45")
-def rk45(batch: ParticleBatch, control: StepControl):
-    """Adaptive Dormand–Prince 5(4) (module docstring)."""
-    h0 = 0.1 / batch.omega_hat if control.dt is None else batch.per_particle(control.dt)
-    y, t_out, counts = _outputs(batch)
-    _rk45_all(y, batch.Jinv, batch.m, batch.V0, batch.t_end, h0, batch.j_max * batch.omega_hat,
-              control.eps, batch.params, control.max_steps, t_out, counts)
-    return y, t_out, counts
-
-
-# --- legacy (listing IVDCRK: RK4 with step doubling) ------------------------------------
-
-
-@kernel
-def _rk4_step(y, f_y, h, out, body, K, tmp, w):
-    """out = classical RK4 step of size h from y, given f_y = f(y).
-
-    Flat ``(33,)`` arrays y, f_y, out, tmp; K ``(3, 33)`` stage rates; w scratch.
-    """
-    Kr, Tmp = K.reshape((3, STATE_ROWS, 3)), tmp.reshape((STATE_ROWS, 3))
-    for i in range(STATE_SIZE):
-        tmp[i] = y[i] + 0.5 * h * f_y[i]
-    _f(Tmp, body, Kr[0], w)
-    for i in range(STATE_SIZE):
-        tmp[i] = y[i] + 0.5 * h * K[0, i]
-    _f(Tmp, body, Kr[1], w)
-    for i in range(STATE_SIZE):
-        tmp[i] = y[i] + h * K[1, i]
-    _f(Tmp, body, Kr[2], w)
-    for i in range(STATE_SIZE):
-        out[i] = y[i] + h / 6.0 * (f_y[i] + 2.0 * K[0, i] + 2.0 * K[1, i] + K[2, i])
-
-
-@kernel
-def _legacy_particle(y, body, t_end, eps, ymxref, max_steps, K, W, w):
-    # W rows: f(y), f(y_half), y_full, y_half, y_two, ymax, tmp
-    f_y, f_half, y_full, y_half, y_two, ymax, tmp = W[0], W[1], W[2], W[3], W[4], W[5], W[6]
-    Y, Wr = y.reshape((STATE_ROWS, 3)), W.reshape((7, STATE_ROWS, 3))
-    code = state_failure(Y)
-    if code != _OK or t_end <= 0.0:
-        return 0.0, 0, 0, code
-    for i in range(STATE_SIZE):
-        ymax[i] = max(ymxref, abs(y[i]))
-    h = t_end / 1.0e6
-    h_min = h / 10.0
-    t, steps, rejected = 0.0, 0, 0
-    _f(Y, body, Wr[0], w)
-    while True:
-        if steps + rejected >= max_steps:
-            code = _BUDGET
-            break
-        final = t + h >= t_end
-        if final:
-            h = t_end - t
-        _rk4_step(y, f_y, h, y_full, body, K, tmp, w)
-        _rk4_step(y, f_y, 0.5 * h, y_half, body, K, tmp, w)
-        _f(Wr[3], body, Wr[1], w)
-        _rk4_step(y_half, f_half, 0.5 * h, y_two, body, K, tmp, w)
-        err = 0.0
-        for i in range(STATE_SIZE):
-            err = max(err, abs(y_two[i] - y_full[i]) / (eps * ymax[i]))
-        if err > 1.0:
-            rejected += 1
-            h *= 0.5
-            if h < h_min:
-                code = _UNDERFLOW
-                break
-            continue
-        h_used = h
-        h = 2.0 * h if err <= 0.0 else 0.99 * h * err ** -0.2
-        y[:] = y_two
-        for i in range(STATE_SIZE):
-            ymax[i] = max(ymax[i], abs(y[i]))
-        steps += 1
-        t = t_end if final else t + h_used
-        code = state_failure(Y)
-        if code != _OK or final:
-            break
-        if h < h_min:
-            code = _UNDERFLOW
-            break
-        _f(Y, body, Wr[0], w)
-    return t, steps, rejected, code
-
-
-@kernel(parallel=True)
-def _legacy_all(y, Jinv, m, V0, t_end, eps, ymxref, params, max_steps, t_out, counts):
-    for n in prange(y.shape[0]):
-        K = np.empty((3, STATE_SIZE))
-        W = np.empty((7, STATE_SIZE))
-        w = np.empty((N_WORK, 3, 3))
-        t_out[n], counts[n, 0], counts[n, 1], counts[n, 2] = _legacy_particle(
-            y[n], (Jinv[n], m[n], V0[n], params), t_end[n], eps, ymxref, max_steps, K, W, w)
-
-
-@register_integrator("legacy")
-def legacy(batch: ParticleBatch, control: StepControl):
-    """The listing's RK4 with step doubling (module docstring)."""
-    y, t_out, counts = _outputs(batch)
-    _legacy_all(y, batch.Jinv, batch.m, batch.V0, batch.t_end, control.eps, control.ymxref,
-                batch.params, control.max_steps, t_out, counts)
-    return y, t_out, counts
-
-
-# --- public entry point -------------------------------------------------------------
-
-
-def _as_batch(states, J, m, t_end, material: ParticleMaterial, phi) -> ParticleBatch:
-    y0 = np.ascontiguousarray(np.asarray(states, dtype=float))
-    if y0.ndim != 2 or y0.shape[1] != STATE_SIZE:
-        raise ValueError(f"states must have shape (N, {STATE_SIZE}), got {y0.shape}")
-    n = len(y0)
-    J = np.ascontiguousarray(np.asarray(J, dtype=float))
-    if J.shape != (n, 3, 3):
-        raise ValueError(f"J must have shape ({n}, 3, 3), got {J.shape}")
-    m = np.ascontiguousarray(np.asarray(m, dtype=float))
-    if m.shape != (n,) or not np.all(np.isfinite(m) & (m > 0)):
-        raise ValueError(f"m must be ({n},) finite and > 0")
-    t_end = np.ascontiguousarray(np.broadcast_to(np.asarray(t_end, dtype=float), (n,)))
-    if not np.all(np.isfinite(t_end) & (t_end >= 0)):
-        raise ValueError("t_end must be finite and >= 0")
-    phi = np.broadcast_to(np.asarray(phi, dtype=float), (n,))
-    if not np.all((phi >= 0) & (phi < 1)):
-        raise ValueError("phi must be in [0, 1)")
-    if not np.all(np.isfinite(J)) or not np.allclose(J, np.swapaxes(J, 1, 2), rtol=1e-12, atol=0):
-        raise ValueError("J must be finite and symmetric")
-    eig = np.linalg.eigvalsh(J) if n else np.ones((0, 3))
-    if not np.all(eig[:, 0] > 0):
-        bad = int(np.argmax(~(eig[:, 0] > 0)))
-        raise ValueError(f"J must be positive definite (particle {bad}: eigenvalues {eig[bad]})")
-    V0 = np.ascontiguousarray(material.reference_volume(m, phi))
-    return ParticleBatch(
-        y0=y0, Jinv=np.ascontiguousarray(np.linalg.inv(J)), m=m, V0=V0, t_end=t_end,
-        params=material.packed(),
-        omega_hat=np.sqrt(V0 * material.stiffness_bound() / eig[:, 0]), j_max=eig[:, 2].copy())
-
-
-def propagate(states, J, m, t_end, material: ParticleMaterial, *, phi=0.0, method: str = "splitting4",
-              eps: float = 1e-6, dt=None, steps_per_period: float | None = None,
-              max_steps: int = StepControl.max_steps, ymxref: float = StepControl.ymxref):
+def propagate(states, J, m, t_end, material: ParticleMaterial, *, phi=0.0, dt=None, method: str | None = None,
+              eps: float | None = None, steps_per_period: float | None = None, max_steps: int | None = None,
+              ymxref: float | None = None):
     """Integrate N independent particles from t = 0 to their own end times.
 
     states ``(N, 33)`` packed initial states (:mod:`._particle`); J ``(N, 3, 3)``
     inertia tensors (g cm²); m ``(N,)`` masses (g); t_end scalar or ``(N,)`` (µs);
-    phi scalar or ``(N,)`` void fractions (V₀ = m/((1 − φ)ρ_ref)); method a name
-    in :data:`INTEGRATORS`; eps, dt, steps_per_period, max_steps, ymxref as in
-    :class:`StepControl`.
+    phi scalar or ``(N,)`` void fractions (V₀ = m/((1 − φ)ρ_ref)); dt: the
+    splitting step, or rk45's first step (µs; scalar or ``(N,)``; None: from each
+    particle's ω̂); method, eps, steps_per_period, max_steps, ymxref: the
+    :class:`IntegratorOptions` (None: its default).
 
     Returns (states ``(N, 33)`` at ``stats.t_reached``, :class:`PropagationStats`).
     Particles whose initial state is not finite or has det F ≤ 0 are returned
-    unchanged with their failure code.
+    unchanged with their failure code.  A bad option raises
+    :class:`~impactdyn._errors.InputError` (a ValueError) naming it.
     """
-    if method not in INTEGRATORS:
-        raise ValueError(f"unknown integrator {method!r}; available: {sorted(INTEGRATORS)}")
-    if not eps > 0:
-        raise ValueError(f"eps must be > 0, got {eps}")
+    given = dict(method=method, eps=eps, steps_per_period=steps_per_period, max_steps=max_steps, ymxref=ymxref)
+    o = IntegratorOptions(**{k: v for k, v in given.items() if v is not None})
     if dt is not None and not np.all(np.asarray(dt, dtype=float) > 0):
         raise ValueError("dt must be > 0")
-    if steps_per_period is not None and not steps_per_period > math.pi:
-        raise ValueError(f"steps_per_period must exceed pi (leapfrog stability), got {steps_per_period}")
-    if not (max_steps >= 1 and ymxref > 0):
-        raise ValueError(f"max_steps must be >= 1 and ymxref > 0, got {max_steps}, {ymxref}")
-    batch = _as_batch(states, J, m, t_end, material, phi)
-    control = StepControl(eps=eps, dt=dt, steps_per_period=steps_per_period,
-                          max_steps=int(max_steps), ymxref=ymxref)
+    batch = ParticleBatch.of(states, J, m, t_end, material, phi)
+    control = StepControl(eps=o.eps, dt=dt, steps_per_period=o.steps_per_period, max_steps=o.max_steps,
+                          ymxref=o.ymxref)
     # Particles cost very different amounts (their end times differ, and they are
     # often sorted by position, hence by flight time): hand them to the threads in
     # small chunks on demand instead of numba's default equal contiguous blocks.
     previous = numba.set_parallel_chunksize(_CHUNK)
     try:
-        y, t_reached, counts = INTEGRATORS[method](batch, control)
+        y, t_reached, counts = INTEGRATORS[o.method](batch, control)
     finally:
         numba.set_parallel_chunksize(previous)
     return y, PropagationStats(steps=counts[:, 0], rejected=counts[:, 1], code=counts[:, 2],
                                t_reached=t_reached)
+
+
+__all__ = ["DEFAULT_STEPS_PER_PERIOD", "INTEGRATORS", "Failure", "IntegratorOptions", "ParticleBatch",
+           "PropagationStats", "StepControl", "propagate", "register_integrator"]

@@ -64,7 +64,7 @@ def run_legacy(dc3din: Path, avsout: Path | None, out: Path, *, force: bool = Fa
     """Run the workflow of ``dc3din``'s run type; returns the summary written."""
     from impactdyn.debris._case import DebrisCase, build, remap_grid
     from impactdyn.debris._propagate import run_debris
-    from impactdyn.debris._report import write_debris_run
+    from impactdyn.debris._outputs import write_debris_run
 
     check_target(out, force)
     start = time.perf_counter()

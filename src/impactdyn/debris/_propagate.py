@@ -16,52 +16,53 @@ from __future__ import annotations
 import time as _time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Annotated, Literal
 
 import numpy as np
+from pydantic import Field, model_validator
 
+from impactdyn._config import NonNegative, Positive, Section
 from impactdyn._errors import InputError
 from impactdyn._parallel import run_tasks
 from impactdyn.debris._deposit import (
     POINTS_PER_PARTICLE, areal_density, arrival_points, deposit, element_impulse, momentum_enhancement)
 from impactdyn.hydrogrid import HydroGrid
-from impactdyn.debris._integrators import PropagationStats, propagate
+from impactdyn.debris._integrators import IntegratorOptions, PropagationStats, propagate
 from impactdyn.debris._particle import STATE_SIZE, ParticleMaterial
 from impactdyn.debris._seed import ParticleCloud, SeedFilter, SeedOptions, arrival_times, seed_particles
 from impactdyn.wallgrid import WallDeposition, WallGrid
 
 
-@dataclass(frozen=True)
-class ArrivalWindow:
+class ArrivalWindow(Section):
     """Keep particles arriving at the wall plane in [t_min, t_cut] µs after hand-off (dc3din record 8)."""
 
-    t_min: float = 0.0
-    t_cut: float = 25.0
+    t_min: NonNegative = 0.0
+    t_cut: Positive = 25.0
     legacy_abs_arrival: bool = False
 
-
-@dataclass(frozen=True)
-class IntegratorOptions:
-    """Arguments of :func:`impactdyn.debris.propagate` (see :class:`._integrators.StepControl`)."""
-
-    method: str = "splitting4"
-    eps: float = 1e-6
-    steps_per_period: float | None = None
-    max_steps: int = 10_000_000
-    ymxref: float = 1e-6
+    @model_validator(mode="after")
+    def _window(self) -> ArrivalWindow:
+        check_window(self.t_min, self.t_cut)
+        return self
 
 
-@dataclass(frozen=True)
-class ComputeOptions:
-    """Where the chunks run: ``local`` (this process) or ``dask`` (``address``; None starts a LocalCluster)."""
+def check_window(t_min: float, t_cut: float, names: tuple[str, str] = ("t_min", "t_cut")) -> None:
+    """The arrival window is not empty: t_cut > t_min (a validator's ValueError naming ``names`` otherwise)."""
+    if t_cut <= t_min:
+        raise ValueError(f"{names[1]} = {t_cut} must exceed {names[0]} = {t_min}")
 
-    scheduler: str = "local"
+
+class ComputeOptions(Section):
+    """Where the particle chunks run: ``local`` (this process) or ``dask`` (``address``; None starts a
+    LocalCluster); a case's ``[compute]`` table."""
+
+    scheduler: Literal["local", "dask"] = "local"
     address: str | None = None
-    chunk_size: int = 65536
-    workers: int | None = None
+    chunk_size: Annotated[int, Field(ge=1)] = 65536
+    workers: Annotated[int, Field(ge=1)] | None = None
 
 
-@dataclass(frozen=True)
-class DepositionOptions:
+class DepositionOptions(Section):
     """DYNOUT's legacy options (:mod:`._deposit`)."""
 
     legacy_vertex_scaling: bool = False
@@ -159,7 +160,7 @@ def propagate_chunked(cloud: ParticleCloud, t_end: np.ndarray, material: Particl
     ``progress(n)`` is called with the number of particles of each finished chunk.
     """
     n = len(cloud)
-    size = max(1, int(compute.chunk_size))
+    size = compute.chunk_size
     bounds = [(a, min(a + size, n)) for a in range(0, n, size)]
     tasks = [_Chunk(cloud.states[a:b], cloud.J[a:b], cloud.mass[a:b], cloud.void_fraction[a:b], t_end[a:b],
                     material, integrator) for a, b in bounds]
@@ -191,10 +192,8 @@ class _Chunk:
 
 
 def _run_chunk(chunk: _Chunk):
-    o = chunk.integrator
     return propagate(chunk.states, chunk.J, chunk.mass, chunk.t_end, chunk.material, phi=chunk.phi,
-                     method=o.method, eps=o.eps, steps_per_period=o.steps_per_period, max_steps=o.max_steps,
-                     ymxref=o.ymxref)
+                     **chunk.integrator.model_dump())
 
 
 def seed_and_select(grid: HydroGrid, wall: WallGrid, material: ParticleMaterial, seed_filter: SeedFilter,

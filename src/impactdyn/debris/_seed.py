@@ -29,26 +29,27 @@ other's velocity (DESIGN §5, listing errata).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Annotated
 
 import numpy as np
+from pydantic import Field
 
+from impactdyn._config import NonNegative, Positive, Section
 from impactdyn.hydrogrid import HydroGrid
 from impactdyn.debris._particle import P_SLICE, ParticleMaterial
 from impactdyn.debris._tets import NODE_OFFSETS, TET_NODES, initial_state
 
 
-@dataclass(frozen=True)
-class SeedFilter:
+class SeedFilter(Section):
     """Which cells become particles (module docstring); dimensionless ratios."""
 
-    dencut: float = 0.01
-    min_density_ratio: float = 0.01
-    max_density_ratio: float = 1000.0
-    max_void_fraction: float = 0.999
+    dencut: NonNegative = 0.01
+    min_density_ratio: NonNegative = 0.01
+    max_density_ratio: Positive = 1000.0
+    max_void_fraction: Annotated[float, Field(ge=0, le=1)] = 0.999
 
 
-@dataclass(frozen=True)
-class SeedOptions:
+class SeedOptions(Section):
     """Listing deviations used while seeding (see :mod:`._tets` and the module docstring)."""
 
     legacy_nddata_swap: bool = False

@@ -40,7 +40,8 @@ too, which is harmless while 2μ/η · h ≪ 1.
 
 Each particle takes ⌈t_end/dt⌉ equal steps that land on its t_end; the step dt
 is given, or 2π/(ω̂ · steps_per_period) from the particle's bound ω̂ on its highest
-linear vibration frequency (:mod:`._integrators`).
+linear vibration frequency (:mod:`._integrators`). Both methods are registered at the
+bottom of this module with their default steps per period (:mod:`._registry`).
 
 Vectorisation: particles are integrated in blocks of :data:`BLOCK`, sorted by
 their number of steps so that a block's lanes finish together. A block's state
@@ -65,7 +66,9 @@ from numba import prange
 
 from impactdyn.debris import _mat3 as m3
 from impactdyn.debris._failure import BUDGET, INVERTED, NAN, OK, state_failure
-from impactdyn.debris._particle import C_SLICE, P_KB, P_MU, P_SLICE, P_ZETA, STATE_ROWS, kernel
+from impactdyn.debris._particle import (C_SLICE, P_KB, P_MU, P_RELAX, P_RELAX_PER_VOLUME, P_SLICE, P_ZETA, STATE_ROWS,
+                                       kernel)
+from impactdyn.debris._registry import DEFAULT_STEPS_PER_PERIOD, ParticleBatch, StepControl, register_integrator
 
 BLOCK = 16
 """Particles per vectorised block (a multiple of the SIMD width)."""
@@ -282,7 +285,7 @@ def run_splitting(y, Jinv, m, V0, relaxation_rate, params, t_end, dt, max_steps,
     dt ``(N,)``. Each particle takes n = ⌈t_end/dt⌉ steps of t_end/n, at most
     ``max_steps``. Returns (t_reached, steps, code), each ``(N,)``: the time
     the returned state belongs to, steps taken, and the failure code
-    (:class:`._integrators.Failure`; STEP_BUDGET when max_steps < n).
+    (:class:`._failure.Failure`; STEP_BUDGET when max_steps < n).
     """
     a, b = (np.ascontiguousarray(c, dtype=np.float64) for c in coefficients)
     n = np.where(t_end > 0.0, np.maximum(1, np.ceil(t_end / dt * (1.0 - 1e-9))), 0).astype(np.int64)
@@ -301,5 +304,25 @@ def run_splitting(y, Jinv, m, V0, relaxation_rate, params, t_end, dt, max_steps,
     y[:, C_SLICE] += t_reached[:, None] * y[:, P_SLICE] / m[:, None]  # c(t) = c(0) + t p/m, exact (ṗ = 0)
     return t_reached, done, code
 
+
+def _register(name: str, coefficients, steps_per_period: float) -> None:
+    """Register :func:`run_splitting` with ``coefficients`` (a, b) as integrator ``name`` (:mod:`._registry`)."""
+    @register_integrator(name)
+    def integrate(batch: ParticleBatch, control: StepControl):
+        if control.dt is None:
+            dt = 2.0 * np.pi / (batch.omega_hat * (control.steps_per_period or steps_per_period))
+        else:
+            dt = batch.per_particle(control.dt)
+        y, t_out, counts = batch.outputs()
+        r = batch.params[P_RELAX] * (batch.V0 if batch.params[P_RELAX_PER_VOLUME] else 1.0)
+        t_out[:], counts[:, 0], counts[:, 2] = run_splitting(
+            y, batch.Jinv, batch.m, batch.V0, batch.per_particle(r), batch.params, batch.t_end, dt,
+            control.max_steps, coefficients)
+        return y, t_out, counts
+    DEFAULT_STEPS_PER_PERIOD[name] = steps_per_period
+
+
+_register("splitting4", BLANES_MOAN_S6, 8.0)
+_register("verlet", VERLET, 32.0)
 
 __all__ = ["BLANES_MOAN_S6", "BLOCK", "VERLET", "run_splitting"]

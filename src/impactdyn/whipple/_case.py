@@ -18,17 +18,19 @@ z ∈ [−4, 12] cm about the impact point).
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Literal
+from typing import Annotated
 
 from pydantic import Field, field_validator, model_validator
 
-from impactdyn._config import NonNegative, Positive, Section, load_toml, validate
+from impactdyn import units
+from impactdyn._config import (NodeCount, NonNegative, Positive, Range, Section, check_ordered, field_of, load_toml,
+                               validate)
 from impactdyn._errors import InputError
-from impactdyn.debris._case import (
-    ComputeSection, DebrisCase, FilterSection, IntegratorSection, LegacySection, OutputSection, Range)
+from impactdyn.debris import (
+    ComputeSection, DebrisCase, FilterSection, IntegratorSection, LegacySection, OutputSection, check_bulk_modulus)
+from impactdyn.debris import WallSection as DebrisWallSection
 from impactdyn.materials import Material, get_material
-
-NodeCount = Annotated[int, Field(ge=2)]
+from impactdyn.shield import BinningMethod, FlowStress, SPHOptions, bin_to_hydrogrid
 
 
 def _known_material(name: str) -> str:
@@ -69,7 +71,7 @@ class WallSection(Section):
     x_cm: Range = [0.0, 8.0]
     z_cm: Range = [-4.0, 12.0]
     nodes: Annotated[list[NodeCount], Field(min_length=3, max_length=3)] = [51, 5, 101]
-    clamped_edges: bool = True
+    clamped_edges: bool = field_of(DebrisWallSection, "clamped_edges")
 
     _material = field_validator("material")(_known_material)
 
@@ -83,9 +85,7 @@ class WallSection(Section):
 
     @model_validator(mode="after")
     def _extent(self) -> "WallSection":
-        for name, (lo, hi) in (("x_cm", self.x_cm), ("z_cm", self.z_cm)):
-            if not hi > lo:
-                raise ValueError(f"{name} = [{lo}, {hi}]: the upper bound must exceed the lower")
+        check_ordered([("x_cm", self.x_cm), ("z_cm", self.z_cm)])
         from impactdyn.wallgrid import check_nodes  # sizes: InputError before anything is allocated
 
         check_nodes("nodes", self.nodes)
@@ -93,17 +93,22 @@ class WallSection(Section):
 
 
 class ShieldSection(Section):
-    """SPH numerics of the shield stage (:class:`impactdyn.shield.SPHOptions`) and the hand-off time."""
+    """SPH numerics of the shield stage and the hand-off time; the numerics are those of
+    :class:`impactdyn.shield.SPHOptions`, with its defaults and bounds (the rest keep its defaults)."""
 
     spacing_cm: Positive = 0.0254
     handoff_us: Positive = 4.0
-    flow_stress: Literal["perfectly_plastic", "johnson_cook"] = "perfectly_plastic"
-    failure: bool = True
-    alpha: NonNegative = 1.0
-    beta: NonNegative = 2.0
-    artificial_stress: NonNegative = 0.3
-    h_factor: Annotated[float, Field(ge=0.8, le=2.5)] = 1.3
-    cfl: Annotated[float, Field(gt=0, le=1)] = 0.3
+    flow_stress: FlowStress = field_of(SPHOptions, "flow_stress")
+    failure: bool = field_of(SPHOptions, "failure")
+    alpha: float = field_of(SPHOptions, "alpha")
+    beta: float = field_of(SPHOptions, "beta")
+    artificial_stress: float = field_of(SPHOptions, "artificial_stress")
+    h_factor: float = field_of(SPHOptions, "h_factor")
+    cfl: float = field_of(SPHOptions, "cfl")
+
+    def sph_options(self) -> SPHOptions:
+        """The :class:`impactdyn.shield.SPHOptions` of this table."""
+        return SPHOptions(**self.model_dump(exclude={"spacing_cm", "handoff_us"}))
 
 
 class BinningSection(Section):
@@ -112,7 +117,7 @@ class BinningSection(Section):
     (``"cic"``), :func:`impactdyn.shield.bin_to_hydrogrid`."""
 
     cell_size_cm: Positive = 0.03175
-    method: Literal["kernel", "cic"] = "kernel"
+    method: BinningMethod = field_of(bin_to_hydrogrid, "method")
 
 
 class DebrisMaterialSection(Section):
@@ -126,6 +131,11 @@ class DebrisMaterialSection(Section):
     lambda_Mbar: float | None = None
     eta_Mbar_us: Positive | None = 0.01
     zeta_Mbar_us: NonNegative = 1.0
+
+    @model_validator(mode="after")
+    def _bulk(self) -> "DebrisMaterialSection":
+        check_bulk_modulus(self.lambda_Mbar, self.mu_Mbar)
+        return self
 
 
 class WhippleCase(Section):
@@ -155,7 +165,7 @@ class WhippleCase(Section):
                              "bumper: at least one particle layer through it")
         if b.radius_cm is not None and b.radius_cm <= p.diameter_cm / 2:
             raise ValueError(f"bumper.radius_cm = {b.radius_cm} must exceed the projectile radius")
-        reach = p.velocity_km_s * 0.1 * s.handoff_us  # cm: no debris outruns the projectile's speed
+        reach = units.km_s_to_cm_us(p.velocity_km_s) * s.handoff_us  # cm: no debris outruns the projectile
         if reach >= w.spacing_cm:
             raise ValueError(
                 f"wall.spacing_cm = {w.spacing_cm} cannot hold the hand-off grid: by shield.handoff_us = "
@@ -164,9 +174,6 @@ class WhippleCase(Section):
         if self.binning.cell_size_cm >= w.spacing_cm:
             raise ValueError(f"binning.cell_size_cm = {self.binning.cell_size_cm} does not fit in the "
                              f"{w.spacing_cm} cm between bumper and wall")
-        d = self.debris
-        if d.lambda_Mbar is not None and d.mu_Mbar is not None and d.lambda_Mbar + 2 * d.mu_Mbar / 3 <= 0:
-            raise ValueError("debris.lambda_Mbar + 2/3 debris.mu_Mbar must be > 0 (bulk modulus)")
         import math
 
         from impactdyn._limits import SPH_PARTICLE_BYTES, check_fits  # SPH particles, before allocating them
@@ -191,15 +198,13 @@ def load_whipple_case(path: str | Path) -> WhippleCase:
 
 def shield_problem(case: WhippleCase):
     """The SPH sphere-on-plate problem and options of the shield stage."""
-    from impactdyn.shield import SPHOptions, sphere_on_plate
+    from impactdyn.shield import sphere_on_plate
 
     p, b, s = case.projectile, case.bumper, case.shield
     problem = sphere_on_plate(p.material, b.material, diameter_cm=p.diameter_cm, velocity_km_s=p.velocity_km_s,
                               obliquity_deg=p.obliquity_deg, plate_thickness_cm=b.thickness_cm,
                               spacing_cm=s.spacing_cm, plate_radius_cm=b.radius_cm)
-    options = SPHOptions(alpha=s.alpha, beta=s.beta, artificial_stress=s.artificial_stress, h_factor=s.h_factor,
-                         cfl=s.cfl, flow_stress=s.flow_stress, failure=s.failure)
-    return problem, options
+    return problem, s.sph_options()
 
 
 def binning_region(case: WhippleCase, particles) -> tuple:

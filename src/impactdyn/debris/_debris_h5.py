@@ -1,0 +1,59 @@
+"""The ``debris.h5`` file of a debris run: its schema, written by :func:`write_hdf5` and read back by
+:func:`read_deposition` (the Whipple pipeline's decks stage and report read it)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from impactdyn._errors import InputError
+from impactdyn._runfolder import atomic_output
+from impactdyn.debris._propagate import DebrisResult
+from impactdyn.wallgrid import WallDeposition, WallGrid
+
+
+def write_hdf5(result: DebrisResult, path: Path) -> None:
+    """The run's arrays in one HDF5 file (groups particles, arrival, deposition, wall; the grid is
+    ``handoff_grid.h5``)."""
+    import h5py
+
+    r, c = result, result.cloud
+    with atomic_output(path) as tmp, h5py.File(tmp, "w") as f:
+        f.attrs["units"] = "cm, g, us; momentum g*cm/us; times after hand-off"
+        f.attrs["t_handoff_us"] = r.t_handoff
+        p = f.create_group("particles")
+        for name in ("vertices", "states", "J", "mass", "void_fraction", "density_ratio", "cell", "tet"):
+            p.create_dataset(name, data=getattr(c, name), compression="gzip")
+        p.create_dataset("t_arrival", data=r.t_arrival)
+        a = f.create_group("arrival")
+        a.create_dataset("index", data=r.propagated)
+        a.create_dataset("states", data=r.states, compression="gzip")
+        a.create_dataset("points", data=r.points, compression="gzip")
+        a.create_dataset("on_wall", data=r.on_wall)
+        for name in ("steps", "rejected", "code", "t_reached"):
+            a.create_dataset(name, data=getattr(r.stats, name))
+        d = f.create_group("deposition")
+        for name in ("element", "time", "impulse"):
+            d.create_dataset(name, data=getattr(r.deposition, name), compression="gzip")
+        w = f.create_group("wall")
+        for name in ("x", "y", "z"):
+            w.create_dataset(name, data=getattr(r.wall, name))
+        w.create_dataset("impulse", data=r.impulse)
+        w.create_dataset("areal_density", data=r.areal)
+
+
+def read_deposition(path: str | Path) -> tuple[WallGrid, WallDeposition, np.ndarray]:
+    """The wall, its time-resolved deposition and the impulse per element ``(nx, nz, 3)`` of a ``debris.h5``."""
+    from impactdyn.io import open_hdf5
+
+    path = Path(path)
+    with open_hdf5(path) as f:
+        try:
+            w, d = f["wall"], f["deposition"]
+            wall = WallGrid(x=w["x"][()], y=w["y"][()], z=w["z"][()])
+            dep = WallDeposition(element=d["element"][()], time=d["time"][()], impulse=d["impulse"][()])
+            impulse = w["impulse"][()]
+        except KeyError as err:
+            raise InputError(f"{path}: not a debris.h5 file ({err})") from None
+    return wall, dep, impulse
