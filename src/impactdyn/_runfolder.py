@@ -43,11 +43,20 @@ def atomic_output(path: str | os.PathLike) -> Iterator[Path]:
 
 
 def check_target(path: Path, force: bool) -> None:
-    """Refuse to run into an existing folder unless ``force`` (before any work)."""
+    """Refuse, before any work, a run folder that exists (unless ``force``) or cannot be made:
+    its nearest existing parent must be a folder this process may write into."""
+    path = Path(path)
     if path.exists() and not force:
         raise InputError(f"{path}: run folder exists; pass --force to overwrite it")
     if path.exists() and not path.is_dir():
         raise InputError(f"{path}: exists and is not a folder")
+    parent = path.absolute().parent
+    while not parent.exists():
+        parent = parent.parent
+    if not parent.is_dir():
+        raise InputError(f"{path}: cannot be created, {parent} is a file, not a folder")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise InputError(f"{path}: cannot be created, {parent} is not writable")
 
 
 class FolderWriter:

@@ -82,6 +82,7 @@ def _write_points_vtk(path: Path, particles) -> None:
 
 
 def _binning(s: StageContext) -> dict:
+    from impactdyn.hydrogrid import check_cells
     from impactdyn.io import write_grid
     from impactdyn.shield import bin_to_hydrogrid
     from impactdyn.shield import read_particles
@@ -90,6 +91,8 @@ def _binning(s: StageContext) -> dict:
     s.report("binning", 0, 1)
     particles, _ = read_particles(s.folder.path / "shield" / "particles.h5")
     region = binning_region(s.case, particles)
+    cell = s.case.binning.cell_size_cm
+    check_cells(f"binning.cell_size_cm = {cell:g}", [(hi - lo) / cell for lo, hi in region])
     grid = bin_to_hydrogrid(particles, s.case.binning.cell_size_cm, region=region, method=s.case.binning.method)
     write_grid(s.folder.sub("binning").file("handoff_grid.h5"), grid)
     inside = particles.position[:, 1] >= region[1][0]  # the region holds every particle behind the bumper
