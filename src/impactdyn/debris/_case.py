@@ -11,7 +11,8 @@ defaults and bounds from it: ``[integrator]`` and ``[compute]`` are
 :class:`IntegratorOptions` and :class:`ComputeOptions`; ``[filter]`` is a
 :class:`SeedFilter` with the :class:`ArrivalWindow`'s times; the ``[legacy]`` flags
 and the shell cloud's defaults are declared with :func:`~impactdyn._config.field_of`
-from the options they set.  The Whipple case reuses these tables and validators.
+from the options they set (:data:`LEGACY_FLAGS`).  The Whipple case reuses these
+tables and validators.
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated
 
-from pydantic import Field, model_validator
+from pydantic import Field, create_model, model_validator
 
 from impactdyn import units
 from impactdyn._config import (NodeCount, NonNegative, Positive, Range, Section, check_ordered, field_of, load_toml,
@@ -165,16 +166,27 @@ class OutputSection(Section):
     max_vtk_particles: Annotated[int, Field(ge=1)] = 2_000_000
 
 
-class LegacySection(Section):
-    """The listing's behaviour where it departs from the model (DESIGN §5), one flag each (the option it sets)."""
+LEGACY_FLAGS: dict[str, tuple[type, str]] = {
+    "nddata_swap": (SeedOptions, "legacy_nddata_swap"),                  # NDDATA swaps the velocities of n7, n8
+    "fdot_scaling": (SeedOptions, "legacy_fdot_scaling"),                # IVCALC's Ḟ(0) = L (ρ_ref/ρ)/3
+    "inertia_transform": (SeedOptions, "legacy_inertia_transform"),      # JCALC's J = g⁻ᵀ J_ref g⁻¹
+    "eta_per_volume": (ParticleMaterial, "legacy_eta_per_volume"),       # Ėₚ = V₀(2μ/η)(E' − Eₚ)
+    "abs_arrival": (ArrivalWindow, "legacy_abs_arrival"),                # arrival time |(y_wall − c_y)/v_y|
+    "vertex_scaling": (DepositionOptions, "legacy_vertex_scaling"),      # points scaled by (ρ/ρ_ref)^{1/3}
+    "momentum_enhancement": (DepositionOptions, "legacy_momentum_enhancement"),  # p × √((m_e + m)/m)
+}
+"""The ``[legacy]`` flags: each key sets one field of one option of :func:`~impactdyn.debris.run_debris`,
+whose default it takes (the listing's deviations are off unless asked for)."""
 
-    nddata_swap: bool = field_of(SeedOptions, "legacy_nddata_swap")
-    fdot_scaling: bool = field_of(SeedOptions, "legacy_fdot_scaling")
-    inertia_transform: bool = field_of(SeedOptions, "legacy_inertia_transform")
-    eta_per_volume: bool = field_of(ParticleMaterial, "legacy_eta_per_volume")
-    abs_arrival: bool = field_of(ArrivalWindow, "legacy_abs_arrival")
-    vertex_scaling: bool = field_of(DepositionOptions, "legacy_vertex_scaling")
-    momentum_enhancement: bool = field_of(DepositionOptions, "legacy_momentum_enhancement")
+LegacySection = create_model(
+    "LegacySection", __base__=Section, __module__=__name__,
+    __doc__="The listing's behaviour where it departs from the model (DESIGN §5), one flag each (:data:`LEGACY_FLAGS`).",
+    **{key: (bool, field_of(option, name)) for key, (option, name) in LEGACY_FLAGS.items()})
+
+
+def _legacy(flags, option: type) -> dict:
+    """The keywords of ``option`` that the ``[legacy]`` ``flags`` set."""
+    return {name: getattr(flags, key) for key, (target, name) in LEGACY_FLAGS.items() if target is option}
 
 
 class DebrisCase(Section):
@@ -230,19 +242,15 @@ def build(case: DebrisCase, source: str = "<case>", grid=None) -> dict:
     w, m, f, lg = case.wall, case.material, case.filter, case.legacy
     wall = WallGrid.uniform(w.x_cm, w.y_cm, w.z_cm, w.nodes)
     material = ParticleMaterial(mu=m.mu_Mbar, lam=m.lambda_Mbar, rho_ref=m.rho_ref_g_cm3,
-                        eta=float("inf") if m.eta_Mbar_us is None else m.eta_Mbar_us, zeta=m.zeta_Mbar_us,
-                        legacy_eta_per_volume=lg.eta_per_volume)
-    i, c = case.integrator, case.compute
+                                eta=float("inf") if m.eta_Mbar_us is None else m.eta_Mbar_us, zeta=m.zeta_Mbar_us,
+                                **_legacy(lg, ParticleMaterial))
     return dict(
         grid=grid, wall=wall, material=material,
-        seed_filter=SeedFilter(dencut=f.dencut, min_density_ratio=f.min_density_ratio,
-                               max_density_ratio=f.max_density_ratio, max_void_fraction=f.max_void_fraction),
-        seed_options=SeedOptions(legacy_nddata_swap=lg.nddata_swap, legacy_fdot_scaling=lg.fdot_scaling,
-                                 legacy_inertia_transform=lg.inertia_transform),
-        window=ArrivalWindow(t_min=f.t_min_us, t_cut=f.t_cut_us, legacy_abs_arrival=lg.abs_arrival),
-        integrator=i, compute=c,
-        deposition=DepositionOptions(legacy_vertex_scaling=lg.vertex_scaling,
-                                     legacy_momentum_enhancement=lg.momentum_enhancement),
+        seed_filter=SeedFilter(**f.model_dump(include=set(SeedFilter.model_fields))),
+        seed_options=SeedOptions(**_legacy(lg, SeedOptions)),
+        window=ArrivalWindow(t_min=f.t_min_us, t_cut=f.t_cut_us, **_legacy(lg, ArrivalWindow)),
+        integrator=case.integrator, compute=case.compute,
+        deposition=DepositionOptions(**_legacy(lg, DepositionOptions)),
     )
 
 
