@@ -20,7 +20,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated
 
-from pydantic import Field, field_validator, model_validator
+from pydantic import AfterValidator, Field, field_validator, model_validator
 
 from impactdyn import units
 from impactdyn._config import (NodeCount, NonNegative, Positive, Range, Section, check_ordered, field_of, load_toml,
@@ -40,31 +40,33 @@ def _known_material(name: str) -> str:
         raise ValueError(str(err)) from None
 
 
+MaterialName = Annotated[str, AfterValidator(_known_material)]
+"""A name of :data:`impactdyn.materials.MATERIALS`, stored as its canonical name."""
+REPORT_MATERIAL = "al6061-t6"
+"""Projectile, bumper and wall material by default: the report's Al 6061-T6."""
+
+
 class ProjectileSection(Section):
     """The sphere: material name (:data:`impactdyn.materials.MATERIALS`), diameter, speed, obliquity."""
 
-    material: str = "al6061-t6"
+    material: MaterialName = REPORT_MATERIAL
     diameter_cm: Positive
     velocity_km_s: Positive
     obliquity_deg: Annotated[float, Field(ge=0, lt=90)] = 0.0
-
-    _material = field_validator("material")(_known_material)
 
 
 class BumperSection(Section):
     """The bumper plate; ``radius_cm`` of the modelled half disc (default twice the projectile diameter)."""
 
-    material: str = "al6061-t6"
+    material: MaterialName = REPORT_MATERIAL
     thickness_cm: Positive
     radius_cm: Positive | None = None
-
-    _material = field_validator("material")(_known_material)
 
 
 class WallSection(Section):
     """The rear wall: stand-off S from the bumper's back face, thickness, face grid and the BLE's yield stress."""
 
-    material: str = "al6061-t6"
+    material: MaterialName = REPORT_MATERIAL
     thickness_cm: Positive
     spacing_cm: float
     yield_stress_ksi: Positive = 40.0
@@ -72,8 +74,6 @@ class WallSection(Section):
     z_cm: Range = [-4.0, 12.0]
     nodes: Annotated[list[NodeCount], Field(min_length=3, max_length=3)] = [51, 5, 101]
     clamped_edges: bool = field_of(DebrisWallSection, "clamped_edges")
-
-    _material = field_validator("material")(_known_material)
 
     @field_validator("spacing_cm")
     @classmethod
