@@ -24,6 +24,8 @@ from impactdyn.ble._equation import (
     WhippleEquation,
 )
 from impactdyn.ble._plot import check_plot_path, plot_ballistic_limit, plot_validation
+from impactdyn.ble._check import positive as check_positive
+from impactdyn.ble._check import scalar_obliquity as check_obliquity
 from impactdyn.ble._registry import DEFAULT_EQUATION, EQUATIONS, get_equation
 from impactdyn.ble._shield import ALUMINIUM_DENSITY_G_CM3, WhippleShield
 from impactdyn.ble._single_wall import (
@@ -53,7 +55,8 @@ __all__ = [
     "AL6061_T6_BRINELL", "AL_SOUND_SPEED_KM_S", "ALUMINIUM_DENSITY_G_CM3", "DATABASE_PATH", "DEFAULT_EQUATION",
     "DEFAULT_VELOCITIES_KM_S", "EQUATIONS", "MAX_OBLIQUITY_DEG", "OBLIQUITY_BANDS", "V_HYPERVELOCITY_MIN_KM_S",
     "BallisticLimit", "BallisticLimitCurve", "FailureMode", "Regime", "Scores", "ShotDatabase", "SingleWall",
-    "Validation", "WhippleEquation", "WhippleShield", "ballistic_limit", "ballistic_limit_curve", "check_plot_path",
+    "Validation", "WhippleEquation", "WhippleShield", "ballistic_limit", "ballistic_limit_curve", "check_obliquity",
+    "check_plot_path", "check_positive",
     "critical_diameter", "get_equation", "jsc_verdict", "nearby_shots", "normal_velocity", "penetration_depth",
     "perforates", "plot_ballistic_limit", "plot_validation", "read_database", "rear_wall", "regime",
     "regime_boundaries", "single_wall_ballistic_limit_curve", "single_wall_critical_diameter",

@@ -42,7 +42,7 @@ def _check_options(**checks) -> None:
 def _shield(bumper_cm, wall_cm, spacing_cm, yield_ksi, bumper_density, wall_density):
     """The WhippleShield of the options, each value checked under its option's name."""
     from impactdyn.ble import WhippleShield
-    from impactdyn.ble._check import positive
+    from impactdyn.ble import check_positive as positive
 
     _check_options(bumper_cm=(positive, "bumper_thickness_cm", bumper_cm),
                    wall_cm=(positive, "wall_thickness_cm", wall_cm),
@@ -107,7 +107,8 @@ def whipple(
         regime_boundaries,
         single_wall_critical_diameter,
     )
-    from impactdyn.ble._check import positive, scalar_obliquity
+    from impactdyn.ble import check_obliquity as scalar_obliquity
+    from impactdyn.ble import check_positive as positive
 
     eq = _equation(equation)
     shield = _shield(bumper_cm, wall_cm, spacing_cm, yield_ksi, bumper_density, wall_density)
@@ -215,7 +216,8 @@ def validate(
     """
     from impactdyn.ble import EQUATIONS, read_database
     from impactdyn.ble import validate as score
-    from impactdyn.ble._check import positive, scalar_obliquity
+    from impactdyn.ble import check_obliquity as scalar_obliquity
+    from impactdyn.ble import check_positive as positive
 
     names = list(EQUATIONS) if equation is None else [_equation(equation).name]
     config = (bumper_cm, wall_cm, spacing_cm)
@@ -286,7 +288,8 @@ def single_wall(
 ):
     """Critical diameter of a monolithic plate (Cour-Palais; NASA/TM-2009-214785 §4)."""
     from impactdyn.ble import SingleWall, single_wall_critical_diameter, single_wall_perforates
-    from impactdyn.ble._check import positive, scalar_obliquity
+    from impactdyn.ble import check_obliquity as scalar_obliquity
+    from impactdyn.ble import check_positive as positive
 
     _check_options(thickness_cm=(positive, "thickness_cm", thickness_cm),
                    velocity_km_s=(positive, "velocity_km_s", velocity_km_s),

@@ -27,7 +27,7 @@ through (ρ₀, e = 0, T_room), along which de = −p dV and T_s = T_room exp(Γ
 e_s(μ) being the cold compression energy (de_s/dμ = p(μ, e_s)/(ρ₀(1 + μ)²),
 e_s(0) = 0), integrated once per material and tabulated. Expanded material uses
 the second form because the density of failed, expanding particles is a bulk
-density of fragments, not the material's (:mod:`._integrate`).
+density of fragments, not the material's (:mod:`impactdyn.shield._equations`).
 
 Material table: the kernels read material parameters from a float64 array
 ``params`` (n_materials, N_PARAMS + N_COLD) with the column indices below, the

@@ -17,7 +17,7 @@ Artificial stress against the tensile instability (Monaghan 2000; Gray,
 Monaghan & Swift 2001, §4): in the principal frame of σ = −pI + S,
 R'_{aa} = −ε σ'_{aa}/ρ² where σ'_{aa} > 0 (tension), else 0; R = Q R' Qᵀ. The pair
 term (Rᵢ + Rⱼ) fᵢⱼⁿ, fᵢⱼ = W(rᵢⱼ)/W(Δp), enters the momentum equation
-(:mod:`._integrate`). Principal axes by cyclic Jacobi rotations.
+(:mod:`impactdyn.shield._equations`). Principal axes by cyclic Jacobi rotations.
 """
 
 from __future__ import annotations

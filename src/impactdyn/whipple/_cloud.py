@@ -22,6 +22,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from impactdyn.units import KM_S_PER_CM_US
+
 #: Share of the debris mass whose mean axial velocity is the leading-edge velocity.
 LEADING_MASS_FRACTION = 0.01
 #: Share of the debris momentum inside the cone half-angle.
@@ -54,7 +56,7 @@ def cloud_figures(particles, bumper_back_y: float) -> dict:
     axial = v @ axis
     speed = np.linalg.norm(v, axis=1)
     angle = np.degrees(np.arccos(np.clip(axial / np.maximum(speed, 1e-300), -1.0, 1.0)))
-    kms = 10.0  # cm/µs → km/s
+    kms = KM_S_PER_CM_US
     return {
         "n_debris_particles": int(debris.sum()),
         "debris_mass_g": float(m.sum()),

@@ -30,6 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from impactdyn._config import dump_toml
+from impactdyn.units import KM_S_PER_CM_US
 from impactdyn._errors import InputError
 from impactdyn._runfolder import FolderWriter, RunFolder, check_target
 from impactdyn.whipple._case import WhippleCase
@@ -75,7 +76,7 @@ def _write_points_vtk(path: Path, particles) -> None:
 
     n = len(particles)
     write_mesh(path, meshio.Mesh(particles.position, [("vertex", np.arange(n).reshape(-1, 1))], point_data={
-        "velocity_cm_us": particles.velocity, "speed_km_s": 10.0 * np.linalg.norm(particles.velocity, axis=1),
+        "velocity_cm_us": particles.velocity, "speed_km_s": KM_S_PER_CM_US * np.linalg.norm(particles.velocity, axis=1),
         "density_g_cm3": particles.density, "pressure_Mbar": particles.pressure,
         "plastic_strain": particles.plastic_strain, "failed": particles.failed.astype(np.int8),
         "material": particles.material.astype(np.int32), "mass_g": particles.mass}))

@@ -21,11 +21,10 @@ import numpy as np
 
 from impactdyn._plotting import pyplot, save_figure
 from impactdyn._runfolder import FolderWriter
+from impactdyn.units import KM_S_PER_CM_US, N_S_PER_G_CM_US
 from impactdyn.whipple._case import WhippleCase, ble_shield
 from impactdyn.whipple._stages import STAGES, read_stage
 
-#: g·cm/µs → N·s, and g/(cm·µs) → N·s/cm².
-N_S_PER_G_CM_US = 10.0
 
 
 def _records(folder: FolderWriter) -> dict:
@@ -97,7 +96,7 @@ def write_report(folder: FolderWriter, case: WhippleCase) -> dict:
 
 def _plot_cloud(path, particles, case: WhippleCase, cloud: dict) -> None:
     plt = pyplot()
-    x, speed = particles.position, 10.0 * np.linalg.norm(particles.velocity, axis=1)
+    x, speed = particles.position, KM_S_PER_CM_US * np.linalg.norm(particles.velocity, axis=1)
     order = np.argsort(speed)
     fig, axes = plt.subplots(1, 2, figsize=(12, 5.5), constrained_layout=True)
     for ax, (a, b, label) in zip(axes, ((1, 2, "z (cm)"), (1, 0, "x (cm), symmetry plane at 0"))):
