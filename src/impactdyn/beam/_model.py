@@ -7,32 +7,79 @@ The state vector used everywhere (shape ``(2n + 7,)``)::
 
 where the last five are running integrals: work of the torque ∫τθ̇, joint-damping
 loss ∫cθ̇², modal-damping loss ∫Σcᵢq̇ᵢ², work of the contact force ∫F_c J_F·v, and
-its impulse ∫F_c dt (impulsive impacts add their jumps separately).
+its impulse ∫F_c dt (impulsive impacts add their jumps separately). ẋ = [θ̇, q̇] below.
 
-Kinetic energy of the inextensible beam with foreshortening, to second order in
-the elastic motion (P = ρL I − G, G = ρL k + ρA h)::
+**Kinematics.** x is the arc length from the root, e_r the hub radius through the root
+and e_t its normal, both turning with θ. The inextensible beam's point x sits at
+r = (A + x + u) e_r + w e_t, where (1 + u')² + w'² = 1 gives the foreshortening
 
-    T = ½ M₀₀(q) θ̇² + θ̇ Σ M₀ᵢ q̇ᵢ + ½ ρL Σ q̇ᵢ²,   M₀₀(q) = J₀ + qᵀ P q,
-    J₀ = ρL(A² + AL + L²/3)(1 + IR),   M₀ᵢ = ρL(L aᵢ + A bᵢ),
-    V = ρg[L(A + L/2) sin θ + L cos θ bᵀq − ½ sin θ qᵀ h q] + ½ Σ Kᵢ qᵢ²,   Kᵢ = EI βᵢ⁴/L³.
+    u(x) = −½ ∫₀ˣ w'² dη + O(w⁴) = −(1/2L) Σⱼₖ Sⱼₖ(ξ) qⱼqₖ,   Sⱼₖ(ξ) = ∫₀^ξ φⱼ'φₖ' dη
 
-**Linearised model** (default, the listing's EQNS): M₀₀ = J₀ and
+(Kane, Ryan & Banerjee, J. Guidance 10 (1987) 139; primes on φ are d/dξ, ξ = x/L;
+S and the integrals c, e, f below are in ``_modes``), and its velocity is
+ṙ = (u̇ − θ̇w) e_r + (ẇ + θ̇(A + x + u)) e_t.
 
-    M [θ̈; q̈] = Q,
+**Kinetic energy.** T = ½J_h θ̇² + ½∫ρ|ṙ|² dx = ½ ẋᵀ M(q) ẋ, M the Gram matrix of the
+velocity fields ∂ṙ/∂θ̇ = (A + x + u) e_t − w e_r and ∂ṙ/∂q̇ᵢ = φᵢ e_t − sᵢ e_r
+(sᵢ = −∂u/∂qᵢ = Σₖ Sᵢₖqₖ/L)::
+
+    M₀₀ = J₀ + qᵀPq + ¼ qᵀΨ(q)q,        J₀ = ρL(A² + AL + L²/3)(1 + IR),
+    M₀ᵢ = M₀ᵢ⁰ + Σⱼₖ (Cⱼᵢₖ − ½Cᵢⱼₖ) qⱼqₖ,   M₀ᵢ⁰ = ρL(L aᵢ + A bᵢ),
+    Mᵢⱼ = ρL δᵢⱼ + Ψᵢⱼ(q),               Ψₐᵦ(q) = Σₖₗ Eₐₖᵦₗ qₖqₗ,
+
+with P = ρL I − G, G = ρL k + ρA h, C = ρc (kg/m) and E = (ρ/L)e (kg/m²). In powers of
+the deflection: T₂ = ½θ̇² qᵀPq (∫ρ(w² + 2(A + x)u)), T₃ = θ̇ q̇ᵀ(M₀ − M₀⁰) (∫ρθ̇(ẇu − wu̇):
+the foreshortened moment arm), T₄ = ½∫ρ(u̇² + θ̇²u²) (the foreshortening's own motion).
+
+**Potential energy.** Bending of the inextensible beam, curvature w''/√(1 − w'²)
+(Crespo da Silva & Glynn, J. Struct. Mech. 6 (1978) 437), and gravity along −e(π/2)::
+
+    V = ½ Σ Kᵢqᵢ² + ¼ Σᵢⱼₖₗ Fᵢⱼₖₗ qᵢqⱼqₖqₗ + ρg[L(A + L/2) sin θ + L cos θ bᵀq − ½ sin θ qᵀhq],
+
+Kᵢ = EIβᵢ⁴/L³, F = (2EI/L⁵) f from ½EI∫w''²(1 + w'²) dx; the gravity term is exact for
+this u (it is linear in u: ρ∫u dx = −½ρ qᵀhq).
+
+**Linearised model** (default, the listing's EQNS): M = M(0) and, of all the above,
+only the centrifugal term θ̇²(Pq)ᵢ of ∂T₂/∂qᵢ::
+
+    M(0) [θ̈; q̈] = Q,
     Q₀ = τ(t) − c θ̇ − ρLg(A + L/2) cos θ + F_c (A + x_p),
-    Qᵢ = −Kᵢ qᵢ − Σⱼ (Gᵢⱼ − ρL δᵢⱼ) θ̇² qⱼ − 2ζᵢ√(KᵢρL) q̇ᵢ − ρLg bᵢ cos θ + F_c φᵢ(x_p/L).
+    Qᵢ = −Kᵢ qᵢ + θ̇² (Pq)ᵢ − 2ζᵢ√(KᵢρL) q̇ᵢ − ρLg bᵢ cos θ + F_c φᵢ(x_p/L).
 
-**Coupled model** (``coupled = true``): Lagrange's equations of T − V above, i.e.
-additionally M₀₀(q) = J₀ + qᵀPq, the Coriolis moment −2θ̇ qᵀP q̇ in Q₀, and the
-gravity terms ρg[½ cos θ qᵀhq + L sin θ bᵀq] in Q₀ and ρg sin θ (hq)ᵢ in Qᵢ.
-The modal equations need no new inertial term: ∂T/∂q = θ̇² P q is already the
-centrifugal term of the linearised equations. With no damping and no torque the
-coupled model conserves E = T + V exactly; the linearised one does not (it drops
-d/dt of the θ̇²qᵀPq term from the hub equation), which the energy-balance residual
-of a run shows.
+Its arrow-shaped mass matrix [[J₀, M₀⁰ᵀ], [M₀⁰, ρL I]] is solved in O(n) by its Schur
+complement s = J₀ − |M₀⁰|²/ρL.
 
-The mass matrix has the arrow structure [[M₀₀, M₀ᵀ], [M₀, ρL I]], solved in O(n)
-by its Schur complement s = M₀₀ − |M₀|²/ρL.
+**Coupled model** (``coupled = true``): Lagrange's equations of T − V,
+
+    M(q) ẍ = Q − h + [ρg(½ cos θ qᵀhq + L sin θ bᵀq);  ρg sin θ (hq)ᵢ − (Φq)ᵢ],
+    h₀ = 2θ̇ q̇ᵀPq + θ̇ q̇ᵀΨq + q̇ᵀΛq̇,
+    hᵢ = −θ̇²(Pq)ᵢ − ½θ̇²(Ψq)ᵢ + 2θ̇(Bq̇)ᵢ + (Ξq̇)ᵢ,
+
+with Q as above but Qᵢ without θ̇²(Pq)ᵢ (it is the first term of hᵢ), Λₐᵦ = Σⱼ Cⱼₐᵦ qⱼ,
+Γₐᵦ = Σⱼ Cₐᵦⱼ qⱼ, B = Γᵀ − Γ (antisymmetric: gyroscopic, no work), Ξₐᵦ = Σₖₗ Eₐₖᵦₗ qₖq̇ₗ,
+Φₐᵦ = Σₖₗ Fₐᵦₖₗ qₖqₗ. The velocity terms h = Ṁẋ − ½∇(ẋᵀMẋ) are written as d'Alembert's
+∫ρ (∂r/∂xₐ)·r̈ dx with the acceleration r̈ = a_r e_r + a_t e_t, R = A + x + u::
+
+    a_r = ü − θ̈w − 2θ̇ẇ − θ̇²R,   a_t = ẅ + θ̈R + 2θ̇u̇ − θ̇²w,   ü = −Σ q̈ⱼsⱼ − Σⱼₖ q̇ⱼq̇ₖSⱼₖ/L.
+
+*Order.* Counting q and θ̇ as first order (a torque pulse drives both), the Lagrangian
+holds every term through fourth order: T₂, T₃, ½∫ρu̇² and the quartic bending term
+(the linearised model keeps only second order and the centrifugal part of T₂; dropping
+T₃ and ½∫ρu̇² while keeping T₂, as this option did before, leaves M₀₀ with an O(q²)
+correction but the Schur complement M₀₀ − M₀ᵀM_qq⁻¹M₀ without its equally large ones, and
+with a light hub it turns negative). It also keeps ½θ̇²∫ρu² (sixth order) so that T is
+the exact kinetic energy of the displacement field: M(q) is then a Gram matrix, positive
+definite for every q, and the hub can be as light as the user likes. Left out, sixth
+order: −⅛∫w'⁴ in u and ½EI∫w''²w'⁴ in V (adding either alone moves the hub angle
+away from the rigid-link chain of ``_chain``: they partly cancel each other and the
+sixth-order kinetic terms; benchmarks/BENCHMARKS.md). The gap stays linear in the
+coordinates (the stop lies at θ ≈ 0, where u sin θ is negligible).
+
+With no damping, torque or contact the coupled model conserves E = ½ẋᵀMẋ + V exactly,
+and an impact with e = 1 keeps it (the momentum balance uses M(q)). The linearised one
+does not conserve its energy (:meth:`BeamModel.energy`), which the energy-balance
+residual of a run shows. The coupled mass matrix is factorised by Cholesky,
+(n + 1)³/6 operations.
 """
 
 from __future__ import annotations
@@ -44,12 +91,17 @@ from numba import njit
 
 from impactdyn.beam._case import BeamCase
 from impactdyn.beam._contact import force_kernel, release_kernel
-from impactdyn.beam._modes import modal_integrals, shapes
+from impactdyn.beam._modes import foreshortening_integrals, modal_integrals, shapes
 
 # slots of the packed scalar parameter array ``sc``
 RHO_L, J0, C_JOINT, TORQUE, GRAV_THETA, GRAV_MODAL, RHO_G, LENGTH, MOMENT_ARM, GAP_ARM, \
     STOP_OFFSET, COUPLED, IN_CONTACT, V0 = range(14)
 N_SCALARS = 14
+# slots of the coupled model's workspace ``fw`` (N_FW, n + 1, n + 1): the mass matrix
+# (Cholesky factor after assembly), then n × n matrices of the module docstring and of
+# the Jacobian (:func:`_coupled_jacobian`), then vectors (rows of VECTORS)
+MASS, LAMBDA, GAMMA, PSI, XI, PHI, PI, OMEGA, B_DOT, PHI_CROSS, E_ACC_PAIR, E_ACC_CROSS, VECTORS = range(13)
+N_FW = 13
 
 
 @njit(cache=True, inline="always")
@@ -93,6 +145,50 @@ def _mass_solve(m00, rho_l, m0, work, r):
 
 
 @njit(cache=True, inline="always")
+def _cholesky(a):
+    """a ← L, its lower Cholesky factor (a = L Lᵀ symmetric positive definite; the
+    lower triangle is read). A non-positive pivot gives NaN, which the step
+    control rejects."""
+    m = a.shape[0]
+    for j in range(m):
+        d = a[j, j]
+        for k in range(j):
+            d -= a[j, k] * a[j, k]
+        a[j, j] = np.sqrt(d)
+        for i in range(j + 1, m):
+            s = a[i, j]
+            for k in range(j):
+                s -= a[i, k] * a[j, k]
+            a[i, j] = s / a[j, j]
+
+
+@njit(cache=True, inline="always")
+def _cholesky_solve(lf, work, r):
+    """work[r] ← (L Lᵀ)⁻¹ work[r] with the factor L = ``lf`` of :func:`_cholesky`."""
+    m = lf.shape[0]
+    for i in range(m):
+        s = work[r, i]
+        for k in range(i):
+            s -= lf[i, k] * work[r, k]
+        work[r, i] = s / lf[i, i]
+    for i in range(m - 1, -1, -1):
+        s = work[r, i]
+        for k in range(i + 1, m):
+            s -= lf[k, i] * work[r, k]
+        work[r, i] = s / lf[i, i]
+
+
+@njit(cache=True, inline="always")
+def _solve(sc, m0, fw, work, r):
+    """work[r] ← M⁻¹ work[r]: the linearised model's arrow matrix, or the coupled
+    model's M(q), factorised in fw[MASS] by :func:`accelerations_kernel`."""
+    if sc[COUPLED] > 0.0:
+        _cholesky_solve(fw[MASS], work, r)
+    else:
+        _mass_solve(sc[J0], sc[RHO_L], m0, work, r)
+
+
+@njit(cache=True, inline="always")
 def _p_times(y, sc, G, i, off):
     """(P z)ᵢ = ρL zᵢ − (G z)ᵢ for z = y[off : off + n], P = ρL I − G."""
     pz = sc[RHO_L] * y[off + i]
@@ -102,35 +198,120 @@ def _p_times(y, sc, G, i, off):
 
 
 @njit(cache=True, inline="always")
-def accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work):
+def _pair(T, u, v, out):
+    """out[a, b] = Σₖₗ T[a, b, k, l] uₖ vₗ (the second index pair against u, v), a, b < n."""
+    n = u.shape[0]
+    for a in range(n):
+        for b in range(n):
+            s = 0.0
+            for k in range(n):
+                for l in range(n):
+                    s += T[a, b, k, l] * u[k] * v[l]
+            out[a, b] = s
+
+
+@njit(cache=True, inline="always")
+def _cross(T, u, v, out):
+    """out[a, b] = Σₖₗ T[a, k, b, l] uₖ vₗ (one index of each pair against u, v), a, b < n."""
+    n = u.shape[0]
+    for a in range(n):
+        for b in range(n):
+            s = 0.0
+            for k in range(n):
+                for l in range(n):
+                    s += T[a, k, b, l] * u[k] * v[l]
+            out[a, b] = s
+
+
+@njit(cache=True)
+def mass_matrix_kernel(y, sc, m0, G, C, E, F, fw):
+    """The coupled model's M(q) into fw[MASS] (module docstring), and Λ, Γ, Ψ, Φ
+    (n × n) into their slots."""
+    n = m0.shape[0]
+    q = y[1 : n + 1]
+    lam, gam, psi, M = fw[LAMBDA], fw[GAMMA], fw[PSI], fw[MASS]
+    for a in range(n):
+        for c in range(n):
+            lam_ac = 0.0
+            gam_ac = 0.0
+            for j in range(n):
+                lam_ac += C[j, a, c] * q[j]
+                gam_ac += C[a, c, j] * q[j]
+            lam[a, c] = lam_ac
+            gam[a, c] = gam_ac
+    _cross(E, q, q, psi)
+    _pair(F, q, q, fw[PHI])
+    m00 = sc[J0]
+    for a in range(n):
+        psi_q = 0.0
+        m0a = m0[a]
+        for c in range(n):
+            psi_q += psi[a, c] * q[c]
+            m0a += (lam[a, c] - 0.5 * gam[a, c]) * q[c]
+            M[1 + a, 1 + c] = psi[a, c]
+        M[1 + a, 1 + a] += sc[RHO_L]
+        M[0, 1 + a] = m0a
+        M[1 + a, 0] = m0a
+        m00 += q[a] * (_p_times(y, sc, G, a, 1) + 0.25 * psi_q)
+    M[0, 0] = m00
+
+
+@njit(cache=True, inline="always")
+def _coupled_forces(y, sc, m0, G, h, b, C, E, F, work, fw):
+    """Turn the linearised model's generalized forces in work[0] into the coupled
+    model's (module docstring: gravity terms, −h without its first term, −Φq), and
+    factorise M(q) in fw[MASS]."""
+    n = m0.shape[0]
+    q, qd, thd = y[1 : n + 1], y[n + 2 : 2 * n + 2], y[n + 1]
+    cth, sth = np.cos(y[0]), np.sin(y[0])
+    rho_g = sc[RHO_G]
+    mass_matrix_kernel(y, sc, m0, G, C, E, F, fw)
+    _cross(E, q, qd, fw[XI])
+    lam, gam, psi, xi, phi = fw[LAMBDA], fw[GAMMA], fw[PSI], fw[XI], fw[PHI]
+    h0 = 0.0
+    for a in range(n):
+        psi_q = 0.0
+        hq = 0.0
+        lam_qd = 0.0
+        b_qd = 0.0
+        xi_qd = 0.0
+        phi_q = 0.0
+        for c in range(n):
+            psi_q += psi[a, c] * q[c]
+            hq += h[a, c] * q[c]
+            lam_qd += lam[a, c] * qd[c]
+            b_qd += (gam[c, a] - gam[a, c]) * qd[c]
+            xi_qd += xi[a, c] * qd[c]
+            phi_q += phi[a, c] * q[c]
+        h0 += qd[a] * (2.0 * thd * _p_times(y, sc, G, a, 1) + thd * psi_q + lam_qd)
+        work[0, 0] += rho_g * (0.5 * cth * q[a] * hq + sc[LENGTH] * sth * b[a] * q[a])
+        work[0, 1 + a] += (rho_g * sth * hq + 0.5 * thd * thd * psi_q - 2.0 * thd * b_qd - xi_qd) - phi_q
+    work[0, 0] -= h0
+    _cholesky(fw[MASS])
+
+
+@njit(cache=True, inline="always")
+def accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw):
     """Free accelerations a₀ = M⁻¹Q (no contact) and the unit-force response u = M⁻¹J_F.
 
     J_F = [moment arm, φ₁(x_p/L), …] is the generalized direction of the contact
     force, so the accelerations under a contact force F are a₀ + F u. Both (n + 1,),
-    written to rows 0 and 1 of ``work`` (2n + 4, n + 1). Returns M₀₀(q).
+    written to rows 0 and 1 of ``work`` (2n + 4, n + 1); the coupled model leaves its
+    terms in ``fw`` (N_FW, n + 1, n + 1).
     """
     n = m0.shape[0]
-    theta = y[0]
     thd = y[n + 1]
-    cth, sth = np.cos(theta), np.sin(theta)
-    m00 = sc[J0]
+    cth = np.cos(y[0])
     work[0, 0] = sc[TORQUE] - sc[C_JOINT] * thd - sc[GRAV_THETA] * cth
     work[1, 0] = sc[MOMENT_ARM]
     for i in range(n):
         pq_i = _p_times(y, sc, G, i, 1)
         work[0, 1 + i] = -kd[i] * y[1 + i] + thd * thd * pq_i - cd[i] * y[n + 2 + i] - sc[GRAV_MODAL] * b[i] * cth
         work[1, 1 + i] = phi_p[i]
-        if sc[COUPLED] > 0.0:
-            hq_i = 0.0
-            for j in range(n):
-                hq_i += h[i, j] * y[1 + j]
-            m00 += y[1 + i] * pq_i
-            work[0, 0] += -2.0 * thd * y[n + 2 + i] * pq_i + sc[RHO_G] * (
-                0.5 * cth * y[1 + i] * hq_i + sc[LENGTH] * sth * b[i] * y[1 + i])
-            work[0, 1 + i] += sc[RHO_G] * sth * hq_i
-    _mass_solve(m00, sc[RHO_L], m0, work, 0)
-    _mass_solve(m00, sc[RHO_L], m0, work, 1)
-    return m00
+    if sc[COUPLED] > 0.0:
+        _coupled_forces(y, sc, m0, G, h, b, C, E, F, work, fw)
+    _solve(sc, m0, fw, work, 0)
+    _solve(sc, m0, fw, work, 1)
 
 
 @njit(cache=True, inline="always")
@@ -156,26 +337,27 @@ def _mode_force(y, sc, phi_p, work, law_id, lawp):
 
 
 @njit(cache=True, inline="always")
-def contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, law_id, lawp):
+def contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw, law_id, lawp):
     """F_c in the segment's mode (:func:`_mode_force`); leaves a₀ and u in ``work``."""
-    accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work)
+    accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw)
     return _mode_force(y, sc, phi_p, work, law_id, lawp)
 
 
 @njit(cache=True)
-def rhs_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, work, law_id, lawp):
+def rhs_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw, law_id, lawp):
     """dy/dt of the state (module docstring), allocated; see :func:`rhs_into`."""
     dy = np.empty_like(y)
-    rhs_into(t, y, dy, sc, m0, kd, cd, G, h, b, phi_p, work, law_id, lawp)
+    rhs_into(t, y, dy, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw, law_id, lawp)
     return dy
 
 
 @njit(cache=True)
-def rhs_into(t, y, dy, sc, m0, kd, cd, G, h, b, phi_p, work, law_id, lawp):
+def rhs_into(t, y, dy, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw, law_id, lawp):
     """dy/dt of the state into ``dy``; shapes: y, dy (2n+7,), m0/kd/cd/b/phi_p (n,),
-    G/h (n,n), work (2n+4, n+1)."""
+    G/h (n,n), C (n,n,n), E/F (n,n,n,n) (size 0 for the linearised model),
+    work (2n+4, n+1), fw (N_FW, n+1, n+1)."""
     n = m0.shape[0]
-    f_c = contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, law_id, lawp)
+    f_c = contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw, law_id, lawp)
     thd = y[n + 1]
     dy[0] = thd
     dy[n + 1] = work[0, 0] + f_c * work[1, 0]
@@ -206,25 +388,97 @@ def _law_slopes(law_id, delta, delta_dot, v0, lawp, force):
             (force_kernel(law_id, delta, delta_dot + d_rate, v0, lawp) - force) / d_rate)
 
 
+@njit(cache=True, inline="always")
+def _coupled_jacobian(y, sc, G, h, b, C, E, F, work, fw, hub_acc, f_c):
+    """Add the coupled model's terms to ∂Q/∂xₖ − (∂M/∂xₖ) a in work[2 + k] (columns θ,
+    q_m, θ̇, q̇_m; :func:`jacobian_kernel`), a = [hub_acc, a_q] the accelerations under
+    the contact force f_c. With Λ, Γ, B, Ψ, Ξ, Φ of the module docstring and
+    Π = Σₖₗ E[:, :, k, l] qₖqₗ, Ω = Σₖₗ E[:, :, k, l] q̇ₖq̇ₗ, Φˣ = Σₖₗ F[:, k, :, l] qₖqₗ,
+    Ḃₐₘ = Σₖ (Cₖₐₘ − Cₐₖₘ) q̇ₖ = ∂(Bq̇)ₐ/∂qₘ, νₘ = Σₐₖ Cₘₐₖ q̇ₐq̇ₖ = ∂(q̇ᵀΛq̇)/∂qₘ::
+
+        ∂M₀₀/∂qₘ = 2(Pq)ₘ + (Ψq)ₘ,    ∂M₀ₐ/∂qₘ = (Λ + B)ₐₘ,
+        Σ_b ∂Mₐᵦ/∂qₘ a_b = Σₖₗ (Eₐₘₖₗ a_k qₗ + Eₐₖₘₗ qₖ a_l),
+        ∂h₀/∂qₘ = 2θ̇(Pq̇)ₘ + θ̇(Πq̇ + 2Ψq̇)ₘ + νₘ,   ∂h₀/∂θ̇ = 2q̇ᵀPq + q̇ᵀΨq,
+        ∂h₀/∂q̇ₘ = 2θ̇(Pq)ₘ + θ̇(Ψq)ₘ + 2(Λq̇)ₘ,
+        ∂hₐ/∂qₘ = −θ̇²Pₐₘ − ½θ̇²(Π + 2Ψ)ₐₘ + 2θ̇Ḃₐₘ + Ωₐₘ,   ∂hₐ/∂θ̇ = −2θ̇(Pq)ₐ − θ̇(Ψq)ₐ + 2(Bq̇)ₐ,
+        ∂hₐ/∂q̇ₘ = 2θ̇Bₐₘ + 2Ξₐₘ,   ∂(Φq)ₐ/∂qₘ = (Φ + 2Φˣ)ₐₘ
+
+    (the θ̇²P and 2θ̇Pq parts of hₐ's derivatives are the linearised model's, already
+    in ``work``), plus the derivatives of the gravity terms.
+    """
+    n = G.shape[0]
+    q, qd, thd = y[1 : n + 1], y[n + 2 : 2 * n + 2], y[n + 1]
+    cth, sth = np.cos(y[0]), np.sin(y[0])
+    rho_g = sc[RHO_G]
+    lam, gam, psi, xi, phi = fw[LAMBDA], fw[GAMMA], fw[PSI], fw[XI], fw[PHI]
+    pi, omega, b_dot, phi_x = fw[PI], fw[OMEGA], fw[B_DOT], fw[PHI_CROSS]
+    a_q, nu = fw[VECTORS, 0, :n], fw[VECTORS, 1, :n]
+    for a in range(n):
+        a_q[a] = work[0, 1 + a] + f_c * work[1, 1 + a]
+    _pair(E, q, q, pi)
+    _pair(E, qd, qd, omega)
+    _cross(F, q, q, phi_x)
+    _pair(E, a_q, q, fw[E_ACC_PAIR])
+    _cross(E, q, a_q, fw[E_ACC_CROSS])
+    for m in range(n):
+        nu_m = 0.0
+        for a in range(n):
+            b_dot_am = 0.0
+            for k in range(n):
+                b_dot_am += (C[k, a, m] - C[a, k, m]) * qd[k]
+                nu_m += C[m, a, k] * qd[a] * qd[k]
+            b_dot[a, m] = b_dot_am
+        nu[m] = nu_m
+    for m in range(n):
+        pq_m = _p_times(y, sc, G, m, 1)
+        pqd_m = _p_times(y, sc, G, m, n + 2)
+        psi_q = psi_qd = pi_qd = lam_qd = b_qd = hq = m_acc = 0.0
+        for c in range(n):
+            psi_q += psi[m, c] * q[c]
+            psi_qd += psi[m, c] * qd[c]
+            pi_qd += pi[m, c] * qd[c]
+            lam_qd += lam[m, c] * qd[c]
+            b_qd += (gam[c, m] - gam[m, c]) * qd[c]
+            hq += h[m, c] * q[c]
+            m_acc += (lam[c, m] + gam[m, c] - gam[c, m]) * a_q[c]
+        # θ column (gravity)
+        work[2, 0] += rho_g * (-0.5 * sth * q[m] * hq + sc[LENGTH] * cth * b[m] * q[m])
+        work[2, 1 + m] += rho_g * cth * hq
+        # θ̇ column
+        work[n + 3, 0] -= qd[m] * (2.0 * pq_m + psi_q)
+        work[n + 3, 1 + m] += thd * psi_q - 2.0 * b_qd
+        # q̇ₘ column
+        work[n + 4 + m, 0] -= 2.0 * thd * pq_m + thd * psi_q + 2.0 * lam_qd
+        # qₘ column
+        work[3 + m, 0] += (rho_g * (cth * hq + sc[LENGTH] * sth * b[m])
+                           - 2.0 * thd * pqd_m - thd * (pi_qd + 2.0 * psi_qd) - nu[m]
+                           - (2.0 * pq_m + psi_q) * hub_acc - m_acc)
+        for a in range(n):
+            b_am = gam[m, a] - gam[a, m]
+            work[n + 4 + m, 1 + a] -= 2.0 * thd * b_am + 2.0 * xi[a, m]
+            work[3 + m, 1 + a] += (rho_g * sth * h[a, m] - phi[a, m] - 2.0 * phi_x[a, m]
+                                   + 0.5 * thd * thd * (pi[a, m] + 2.0 * psi[a, m]) - 2.0 * thd * b_dot[a, m]
+                                   - omega[a, m] - (lam[a, m] + b_am) * hub_acc
+                                   - fw[E_ACC_PAIR, a, m] - fw[E_ACC_CROSS, a, m])
+
+
 @njit(cache=True)
-def jacobian_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, work, law_id, lawp, jac):
+def jacobian_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw, law_id, lawp, jac):
     """∂f/∂y of :func:`rhs_into` into ``jac`` (2n + 7, 2n + 7), analytically.
 
     The right-hand side is autonomous within a segment (the torque is constant
     between the pulse corners), so ``t`` is unused. With x = [θ, q, θ̇, q̇] (2n + 2)
     and the accelerations a = M(q)⁻¹(Q(x) + F J_F)::
 
-        ∂a/∂xₖ = Bₖ + u ∂F/∂xₖ,   Bₖ = M⁻¹(∂Q/∂xₖ − e₀ a₀ ∂M₀₀/∂xₖ),   u = M⁻¹J_F,
+        ∂a/∂xₖ = Bₖ + u ∂F/∂xₖ,   Bₖ = M⁻¹(∂Q/∂xₖ − (∂M/∂xₖ) a),   u = M⁻¹J_F,
 
-    a₀ the hub acceleration and ∂M₀₀/∂qⱼ = 2(Pq)ⱼ (coupled model; 0 otherwise).
-    The derivatives of the generalized forces (module docstring; [·] coupled only)::
+    Q all the generalized forces but the contact's (velocity terms included; M and
+    Q as in the module docstring). The linearised model's derivatives::
 
-        ∂Q₀/∂θ = ρLg(A + L/2) sin θ [+ ρg(L cos θ bᵀq − ½ sin θ qᵀhq)],
-        ∂Qᵢ/∂θ = ρLg bᵢ sin θ [+ ρg cos θ (hq)ᵢ],
-        ∂Q₀/∂qⱼ = [−2θ̇ (Pq̇)ⱼ + ρg(cos θ (hq)ⱼ + L sin θ bⱼ)],
-        ∂Qᵢ/∂qⱼ = −Kᵢ δᵢⱼ + θ̇² Pᵢⱼ [+ ρg sin θ hᵢⱼ],
-        ∂Q₀/∂θ̇ = −c [− 2 q̇ᵀPq],   ∂Qᵢ/∂θ̇ = 2θ̇ (Pq)ᵢ,
-        ∂Q₀/∂q̇ⱼ = [−2θ̇ (Pq)ⱼ],    ∂Qᵢ/∂q̇ⱼ = −cᵢ δᵢⱼ.
+        ∂Q₀/∂θ = ρLg(A + L/2) sin θ,   ∂Qᵢ/∂θ = ρLg bᵢ sin θ,
+        ∂Qᵢ/∂qⱼ = −Kᵢ δᵢⱼ + θ̇² Pᵢⱼ,   ∂Q₀/∂θ̇ = −c,   ∂Qᵢ/∂θ̇ = 2θ̇ (Pq)ᵢ,   ∂Qᵢ/∂q̇ⱼ = −cᵢ δᵢⱼ,
+
+    ∂M/∂x = 0; the coupled model adds :func:`_coupled_jacobian`'s terms.
 
     The contact force adds a rank-one term: in contact ∂F/∂x = −F_δ [J, 0] − F_δ̇ [0, J]
     (δ = −g, δ̇ = −ġ, J the gap row, slopes by :func:`_law_slopes`; 0 where F is
@@ -234,12 +488,11 @@ def jacobian_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, work, law_id, lawp, ja
     """
     n = m0.shape[0]
     nd = 2 * n + 2
-    rho_l, rho_g = sc[RHO_L], sc[RHO_G]
-    theta, thd = y[0], y[n + 1]
-    cth, sth = np.cos(theta), np.sin(theta)
-    m00 = accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work)
+    rho_l = sc[RHO_L]
+    thd = y[n + 1]
+    sth = np.sin(y[0])
+    accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw)
     f_c = _mode_force(y, sc, phi_p, work, law_id, lawp)
-    hub_acc = work[0, 0] + f_c * work[1, 0]
     # ∂Q/∂xₖ into work[2 + k]: θ, q_j, θ̇, q̇_j columns
     for k in range(nd):
         for i in range(n + 1):
@@ -254,20 +507,9 @@ def jacobian_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, work, law_id, lawp, ja
             work[3 + j, 1 + i] = -thd * thd * G[i, j]
         work[3 + i, 1 + i] += thd * thd * rho_l - kd[i]
     if sc[COUPLED] > 0.0:
-        for j in range(n):
-            pq_j = _p_times(y, sc, G, j, 1)
-            pqd_j = _p_times(y, sc, G, j, n + 2)
-            hq_j = 0.0
-            for i in range(n):
-                hq_j += h[j, i] * y[1 + i]
-                work[3 + j, 1 + i] += rho_g * sth * h[i, j]
-            work[2, 0] += rho_g * (-0.5 * sth * y[1 + j] * hq_j + sc[LENGTH] * cth * b[j] * y[1 + j])
-            work[2, 1 + j] += rho_g * cth * hq_j
-            work[3 + j, 0] = -2.0 * thd * pqd_j + rho_g * (cth * hq_j + sc[LENGTH] * sth * b[j]) - 2.0 * pq_j * hub_acc
-            work[n + 3, 0] -= 2.0 * y[n + 2 + j] * pq_j
-            work[n + 4 + j, 0] = -2.0 * thd * pq_j
+        _coupled_jacobian(y, sc, G, h, b, C, E, F, work, fw, work[0, 0] + f_c * work[1, 0], f_c)
     for k in range(nd):
-        _mass_solve(m00, rho_l, m0, work, 2 + k)
+        _solve(sc, m0, fw, work, 2 + k)
     ns = nd + 5
     for r in range(ns):
         for k in range(ns):
@@ -312,12 +554,33 @@ def jacobian_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, work, law_id, lawp, ja
 
 
 @njit(cache=True)
-def event_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, law_id, lawp):
+def coupled_energy_kernel(states, sc, m0, G, C, E, F, fw):
+    """½ẋᵀM(q)ẋ + ¼ qᵀΦq (kinetic and quartic bending energy of the coupled model) of
+    each row of ``states`` (m, 2n + 7); returns (m,)."""
+    n = m0.shape[0]
+    out = np.empty(states.shape[0])
+    for r in range(states.shape[0]):
+        y = states[r]
+        mass_matrix_kernel(y, sc, m0, G, C, E, F, fw)
+        M, phi = fw[MASS], fw[PHI]
+        e = 0.0
+        for a in range(n + 1):
+            for c in range(n + 1):
+                e += 0.5 * y[n + 1 + a] * M[a, c] * y[n + 1 + c]
+        for a in range(n):
+            for c in range(n):
+                e += 0.25 * y[1 + a] * phi[a, c] * y[1 + c]
+        out[r] = e
+    return out
+
+
+@njit(cache=True)
+def event_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw, law_id, lawp):
     """The two event functions of the current mode: free: (g, 0); contact:
     (g, release indicator); resting: (λ, 0)."""
     mode = sc[IN_CONTACT]
     if mode == 2.0:
-        return contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, law_id, lawp), 0.0
+        return contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw, law_id, lawp), 0.0
     g = gap_kernel(y, sc, phi_p)
     if mode == 1.0:
         return g, release_kernel(law_id, -g, -gap_rate_kernel(y, sc, phi_p), sc[V0], lawp)
@@ -337,6 +600,9 @@ class BeamModel:
     h : (n, n) the integral h (for the coupled gravity terms).      b : (n,) ∫φᵢ.
     phi_p : (n,) φᵢ(x_p/L), the gap Jacobian's modal part.
     phi_r, phi2_r : (n,) φᵢ and φᵢ'' at the response point (for deflection and strain).
+    C : (n, n, n) ρc,  E : (n, n, n, n) (ρ/L)e,  F : (n, n, n, n) (2EI/L⁵)f: the coupled
+        model's foreshortening and curvature coefficients (``_modes``); size 0 for the
+        linearised model.
     impact_j00 : M₀₀ used by the momentum balance (differs only under the legacy option).
     """
 
@@ -351,6 +617,9 @@ class BeamModel:
     phi_p: np.ndarray
     phi_r: np.ndarray
     phi2_r: np.ndarray
+    C: np.ndarray
+    E: np.ndarray
+    F: np.ndarray
     impact_j00: float
     length: float
     strain_radius: float
@@ -391,11 +660,16 @@ class BeamModel:
         sc[V0] = 1.0
         xr = case.output.response_point_m / L
         impact_j00 = rho_l * (A * A + L * L / 3.0) * (1.0 + bm.inertia_ratio) if lg.impact_inertia_drops_AL else j0
+        if case.model.coupled:
+            fi = foreshortening_integrals(n)
+            C, E, F = rho * fi.c, (rho / L) * fi.e, (2.0 * bm.EI_N_m2 / L**5) * fi.f
+        else:
+            C, E, F = np.zeros((0, 0, 0)), np.zeros((0, 0, 0, 0)), np.zeros((0, 0, 0, 0))
         return cls(
             n=n, sc=sc, m0=m0, kd=kd, cd=cd, G=G, h=np.array(h), b=mi.b.copy(),
             phi_p=shapes(mi.beta, np.float64(case.stop.x_m / L)).reshape(n),
             phi_r=shapes(mi.beta, np.float64(xr)).reshape(n),
-            phi2_r=(shapes(mi.beta, np.float64(xr), 2) / L**2).reshape(n),
+            phi2_r=(shapes(mi.beta, np.float64(xr), 2) / L**2).reshape(n), C=C, E=E, F=F,
             impact_j00=impact_j00, length=L, strain_radius=bm.strain_radius_m,
         )
 
@@ -416,15 +690,6 @@ class BeamModel:
         sc[V0] = v0
         return sc
 
-    def rhs(self, sc: np.ndarray, law_id: int = 0, lawp: np.ndarray | None = None):
-        """A ``f(t, y)`` for SciPy solvers with the given segment parameters."""
-        args = (*self.kernel_args(sc), law_id, np.zeros(1) if lawp is None else lawp)
-
-        def f(t, y):
-            return rhs_kernel(t, y, *args)
-
-        return f
-
     def gap(self, y: np.ndarray) -> np.ndarray:
         th, q, _, _ = self.split(y)
         return self.sc[GAP_ARM] * th + q @ self.phi_p - self.sc[STOP_OFFSET]
@@ -438,29 +703,40 @@ class BeamModel:
         return np.concatenate([[self.sc[GAP_ARM]], self.phi_p])
 
     def mass_matrix(self, y: np.ndarray, j00: float | None = None) -> np.ndarray:
-        """M(q), shape (n + 1, n + 1)."""
-        th, q, _, _ = self.split(y)
+        """M of the model at the state ``y`` (module docstring), shape (n + 1, n + 1);
+        ``j00`` replaces the linearised model's M₀₀ (the legacy impact inertia)."""
         n = self.n
+        if self.sc[COUPLED] > 0:
+            fw = self._workspace()
+            mass_matrix_kernel(np.ascontiguousarray(y, dtype=float), self.sc, self.m0, self.G, self.C, self.E,
+                               self.F, fw)
+            return fw[MASS].copy()
         M = np.zeros((n + 1, n + 1))
         M[0, 0] = self.sc[J0] if j00 is None else j00
-        if self.sc[COUPLED] > 0:
-            M[0, 0] += q @ self._p_matrix() @ q
         M[0, 1:] = M[1:, 0] = self.m0
         M[1:, 1:] = np.eye(n) * self.sc[RHO_L]
         return M
 
-    def _p_matrix(self) -> np.ndarray:
-        return self.sc[RHO_L] * np.eye(self.n) - self.G
-
     def energy(self, y: np.ndarray) -> np.ndarray:
-        """E = T + V of the module docstring (the coupled model's invariant), any leading shape."""
+        """E = T + V (module docstring) of states ``y`` (..., 2n + 7).
+
+        Coupled model: ½ẋᵀM(q)ẋ + V with the quartic bending term, its invariant.
+        Linearised model: T = ½(J₀ + qᵀPq)θ̇² + θ̇ M₀⁰·q̇ + ½ρL|q̇|² (its centrifugal term is
+        −∂/∂q of −½θ̇²qᵀPq) and the quadratic V; its equations do not conserve this E.
+        """
         th, q, thd, qd = self.split(y)
         sc = self.sc
-        qpq = np.einsum("...i,ij,...j->...", q, self._p_matrix(), q)
         qhq = np.einsum("...i,ij,...j->...", q, self.h, q)
-        T = 0.5 * (sc[J0] + qpq) * thd**2 + thd * (qd @ self.m0) + 0.5 * sc[RHO_L] * np.sum(qd**2, axis=-1)
         V = (sc[GRAV_THETA] * np.sin(th) + sc[GRAV_MODAL] * np.cos(th) * (q @ self.b)
              - 0.5 * sc[RHO_G] * np.sin(th) * qhq + 0.5 * np.sum(self.kd * q**2, axis=-1))
+        if sc[COUPLED] > 0:
+            states = np.ascontiguousarray(y, dtype=float).reshape(-1, self.n_state)
+            kinetic_and_quartic = coupled_energy_kernel(states, sc, self.m0, self.G, self.C, self.E, self.F,
+                                                        self._workspace())
+            return kinetic_and_quartic.reshape(np.shape(y)[:-1]) + V
+        P = sc[RHO_L] * np.eye(self.n) - self.G
+        qpq = np.einsum("...i,ij,...j->...", q, P, q)
+        T = 0.5 * (sc[J0] + qpq) * thd**2 + thd * (qd @ self.m0) + 0.5 * sc[RHO_L] * np.sum(qd**2, axis=-1)
         return T + V
 
     def deflection(self, y: np.ndarray) -> np.ndarray:
@@ -497,10 +773,15 @@ class BeamModel:
         k_eff = np.diag(self.kd) + omega**2 * (self.G - self.sc[RHO_L] * np.eye(self.n))
         return np.sqrt(np.sort(np.linalg.eigvalsh(k_eff / self.sc[RHO_L])))
 
+    def _workspace(self) -> np.ndarray:
+        """fw (N_FW, n + 1, n + 1) of the coupled kernels."""
+        return np.empty((N_FW, self.n + 1, self.n + 1))
+
     def kernel_args(self, sc: np.ndarray) -> tuple:
-        """The model arrays after ``sc``, in the order every kernel takes them."""
-        return (sc, self.m0, self.kd, self.cd, self.G, self.h, self.b, self.phi_p,
-                np.empty((2 * self.n + 4, self.n + 1)))
+        """The model arrays after ``sc``, in the order every kernel takes them, with
+        fresh workspaces ``work`` and ``fw``."""
+        return (sc, self.m0, self.kd, self.cd, self.G, self.h, self.b, self.phi_p, self.C, self.E, self.F,
+                np.empty((2 * self.n + 4, self.n + 1)), self._workspace())
 
     def jacobian(self, y: np.ndarray, sc: np.ndarray, law_id: int = 0, lawp=None) -> np.ndarray:
         """∂f/∂y of the right-hand side in the segment mode of ``sc``, shape (2n + 7, 2n + 7)."""

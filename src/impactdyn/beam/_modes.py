@@ -27,6 +27,23 @@ Modal integrals (INTEG; primes are d/dξ)::
 
 k and h are computed by composite Gauss–Legendre quadrature (exact to rounding
 for these smooth integrands; INTEG used Romberg), any number of modes.
+
+Foreshortening integrals (the ``coupled`` model, ``impactdyn.beam._model``). The
+inextensible beam's axial displacement is u = −½∫₀ˣ w′² to second order, i.e. in
+modes u(ξ) = −(1/2L) Σⱼₖ Sⱼₖ(ξ) qⱼqₖ with the running product integrals::
+
+    Sⱼₖ(ξ) = ∫₀^ξ φⱼ' φₖ' dη      (Sⱼₖ(1) = ∫φⱼ'φₖ',  ∫₀¹ Sⱼₖ = hⱼₖ,  ∫₀¹ ξ Sⱼₖ = kⱼₖ),
+    cᵢⱼₖ  = ∫₀¹ φᵢ Sⱼₖ dξ = −βᵢ⁻⁴ ∫₀¹ φᵢ''' φⱼ' φₖ' dξ,
+    eᵢⱼₖₗ = ∫₀¹ Sᵢⱼ Sₖₗ dξ,
+    fᵢⱼₖₗ = ½ ∫₀¹ (φᵢ''φⱼ''φₖ'φₗ' + φₖ''φₗ''φᵢ'φⱼ') dξ.
+
+The second form of c integrates by parts with Φᵢ(ξ) = ∫_ξ¹ φᵢ = −φᵢ'''(ξ)/βᵢ⁴ (from
+φᵢ'''' = βᵢ⁴φᵢ and the free end's φᵢ'''(1) = 0), a single quadrature like k and h.
+e and f have the symmetries of an inner product of symmetric pairs: (i j), (k l) and
+(i j) ↔ (k l). S is accumulated panel by panel with the Gauss–Legendre integration
+matrix (the antiderivative of the interpolant through a panel's nodes, exact for
+polynomials below the rule's order), so every integrand is built from the stable
+shapes and all three are exact to rounding for any β.
 """
 
 from __future__ import annotations
@@ -100,7 +117,7 @@ def shapes(beta: np.ndarray, xi: np.ndarray, derivative: int = 0) -> np.ndarray:
 
 
 def _gauss_legendre(n_panels: int, order: int) -> tuple[np.ndarray, np.ndarray]:
-    """Composite Gauss–Legendre nodes and weights on [0, 1]."""
+    """Composite Gauss–Legendre nodes and weights on [0, 1] (equal panels, panel by panel)."""
     x, w = np.polynomial.legendre.leggauss(order)
     edges = np.linspace(0.0, 1.0, n_panels + 1)
     half = 0.5 * np.diff(edges)
@@ -108,6 +125,39 @@ def _gauss_legendre(n_panels: int, order: int) -> tuple[np.ndarray, np.ndarray]:
     nodes = (mid[:, None] + half[:, None] * x[None, :]).ravel()
     weights = (half[:, None] * w[None, :]).ravel()
     return nodes, weights
+
+
+_ORDER = 24  # Gauss–Legendre points per panel
+
+
+def _panels(beta: np.ndarray) -> int:
+    """Panels shorter than a quarter of the shortest mode half-wavelength (π/β)."""
+    return max(8, int(np.ceil(4 * (beta.max() if beta.size else 1.0) / np.pi)))
+
+
+def _integration_matrix(order: int) -> np.ndarray:
+    """Q (order, order): ∫₋₁^{xₘ} p(t) dt = Σₗ Qₘₗ p(xₗ) at the Gauss–Legendre nodes xₘ, exact
+    for polynomials p of degree < order.
+
+    p = Σₖ cₖ Pₖ with cₖ = (2k + 1)/2 Σₗ wₗ Pₖ(xₗ) p(xₗ) (the rule is exact for Pₖ Pⱼ), and
+    ∫₋₁ˣ Pₖ = (Pₖ₊₁(x) − Pₖ₋₁(x))/(2k + 1) for k ≥ 1, x + 1 for k = 0.
+    """
+    x, w = np.polynomial.legendre.leggauss(order)
+    P = np.polynomial.legendre.legvander(x, order)  # P[m, k] = Pₖ(xₘ), k = 0…order
+    antiderivative = np.empty((order, order))  # (2k + 1)/2 ∫₋₁^{xₘ} Pₖ
+    antiderivative[:, 0] = 0.5 * (x + 1.0)
+    antiderivative[:, 1:] = 0.5 * (P[:, 2:] - P[:, :-2])
+    return antiderivative @ (P[:, :order].T * w)
+
+
+def _running_integral(f: np.ndarray, n_panels: int, order: int) -> np.ndarray:
+    """∫₀^ξ f at the nodes of :func:`_gauss_legendre` from f at those nodes (last axis, panel by panel)."""
+    half = 0.5 / n_panels
+    panels = f.reshape(f.shape[:-1] + (n_panels, order))
+    within = half * panels @ _integration_matrix(order).T
+    _, w = np.polynomial.legendre.leggauss(order)
+    before = np.cumsum(half * panels @ w, axis=-1) - half * panels @ w  # ∫ over the earlier panels
+    return (within + before[..., None]).reshape(f.shape)
 
 
 @dataclass(frozen=True)
@@ -147,8 +197,7 @@ def modal_integrals(n: int) -> ModalIntegrals:
     """
     beta = eigenvalues(n)
     s = sigma(beta)
-    n_panels = max(8, int(np.ceil(4 * (beta.max() if n else 1.0) / np.pi)))
-    xi, w = _gauss_legendre(n_panels, 24)
+    xi, w = _gauss_legendre(_panels(beta), _ORDER)
     d1 = shapes(beta, xi, 1)
     k = (d1 * (w * 0.5 * (1.0 - xi**2))) @ d1.T
     h = (d1 * (w * (1.0 - xi))) @ d1.T
@@ -161,3 +210,38 @@ def modal_integrals(n: int) -> ModalIntegrals:
     a.setflags(write=False)
     b.setflags(write=False)
     return ModalIntegrals(beta=beta, sigma=s, a=a, b=b, k=k, h=h)
+
+
+@dataclass(frozen=True)
+class ForeshorteningIntegrals:
+    """The three- and four-index integrals of the foreshortening (module docstring), L = 1.
+
+    Attributes
+    ----------
+    c : (n, n, n)  cᵢⱼₖ = ∫ φᵢ Sⱼₖ dξ, symmetric in (j, k).
+    e : (n, n, n, n)  eᵢⱼₖₗ = ∫ Sᵢⱼ Sₖₗ dξ.
+    f : (n, n, n, n)  fᵢⱼₖₗ = ½∫ (φᵢ''φⱼ''φₖ'φₗ' + φₖ''φₗ''φᵢ'φⱼ') dξ.
+    """
+
+    c: np.ndarray
+    e: np.ndarray
+    f: np.ndarray
+
+
+@lru_cache(maxsize=4)
+def foreshortening_integrals(n: int) -> ForeshorteningIntegrals:
+    """c, e and f for ``n`` modes, on the quadrature of :func:`modal_integrals`
+    (n⁴ numbers each for e and f: 50 MB at the largest n = 50)."""
+    beta = eigenvalues(n)
+    n_panels = _panels(beta)
+    xi, w = _gauss_legendre(n_panels, _ORDER)
+    d1, d2, d3 = (shapes(beta, xi, k) for k in (1, 2, 3))
+    slope2 = d1[:, None, :] * d1[None, :, :]  # φⱼ'φₖ' (n, n, nodes)
+    S = _running_integral(slope2, n_panels, _ORDER)
+    c = np.einsum("ix,jkx->ijk", -d3 / beta[:, None] ** 4 * w, slope2)
+    e = np.tensordot(S * w, S, axes=(2, 2))
+    f = np.tensordot(d2[:, None, :] * d2[None, :, :] * w, slope2, axes=(2, 2))
+    f = 0.5 * (f + f.transpose(2, 3, 0, 1))
+    for arr in (c, e, f):
+        arr.setflags(write=False)
+    return ForeshorteningIntegrals(c=c, e=e, f=f)
