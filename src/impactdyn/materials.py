@@ -281,3 +281,43 @@ def mat13_card(material: "str | Material") -> Mat13Card:
     return Mat13Card(density=m.rho0, shear_modulus=m.shear_modulus, bulk_modulus=m.rho0 * m.c0**2,
                         yield_stress=m.yield_stress, hardening_modulus=0.0, failure_strain=m.failure_strain or 0.0,
                         failure_pressure=-m.spall_strength if m.spall_strength else AL_6061_T6_MAT13.failure_pressure)
+
+
+# --- Johnson–Cook damage (the wall stage's ductile-failure model) -------------------------------
+
+@dataclass(frozen=True)
+class JohnsonCookDamage:
+    """Johnson–Cook cumulative damage (Johnson & Cook, Eng. Fract. Mech. 21 (1985) 31)::
+
+        D = Σ Δεₚ / ε_f,   ε_f = [D1 + D2 exp(D3 σ*)] [1 + D4 ln ε̇*] [1 + D5 T*]
+
+    σ* = σ_m/σ_eq (mean stress over von Mises stress, positive in tension), ε̇* and T* as
+    in :class:`JohnsonCook`; the material fails at D = 1.  Dimensionless constants;
+    ``source`` says where they come from.
+    """
+
+    D1: float
+    D2: float
+    D3: float
+    D4: float
+    D5: float
+    source: str = ""
+
+
+#: Al 6061-T6, the constants [L01] give with the Johnson–Cook strength above (A 324 MPa,
+#: B 114 MPa, n 0.42, C 0.002, m 1.34), in Johnson & Cook's sign convention (D3 < 0: the
+#: fracture strain falls as the triaxiality σ* rises).  The report itself could not be read
+#: here; the values were checked against two public model inputs that quote them: an
+#: Abaqus input for 6061-T6 with the [L01] strength constants giving D1 -0.77, D2 1.45 and
+#: d3 = 0.47 in Abaqus's form exp(-d3 σ*) (D4, D5 set to 0 there), and the OpenRadioss
+#: /FAIL/JOHNSON defaults of an open deck converter (D1 -0.77, D2 1.45, D3 -0.47, D4 0,
+#: D5 1.6; material not named).  D1 < 0 makes ε_f vanish for σ* > ln(0.77/1.45)/(-0.47)
+#: = 1.35 (see the wall model's floor on ε_f).
+AL_6061_T6_JC_DAMAGE = JohnsonCookDamage(
+    D1=-0.77, D2=1.45, D3=-0.47, D4=0.0, D5=1.6,
+    source="[L01] (Lesuer, Kay & LeBlanc, UCRL-JC-134118, 2001), as quoted in public model inputs",
+)
+
+#: Johnson–Cook damage constants by library material name; materials without an entry
+#: have no ductile-damage data here.
+JOHNSON_COOK_DAMAGE: dict[str, JohnsonCookDamage] = {"al6061-t6": AL_6061_T6_JC_DAMAGE}

@@ -1,0 +1,36 @@
+"""Rear-wall impact stage: explicit Lagrangian FE of the wall under the deposited momentum (DESIGN §9).
+
+The modern counterpart of the report's DYNA3D analysis: 8-node hexahedra with one-point
+integration and Flanagan–Belytschko hourglass control, lumped mass, central differences with
+the element Courant step, bulk viscosity, Jaumann stress rate with radial return, in compiled
+parallel kernels (:mod:`._step`, :mod:`._hex`); material models in one registry
+(:data:`MODELS`: the report's type-13 card ``"mat13"``, and ``"johnson_cook"`` with the
+Mie–Grüneisen EOS, JC damage, spall and erosion); the deposition records as nodal velocity
+jumps (:mod:`._load`); a verdict and measures (:mod:`._verdict`); ParaView and PNG writers
+(:mod:`._output`).  Units cm, g, µs, Mbar.
+
+Typical use::
+
+    from impactdyn import wall
+    result = wall.run_wall(wall_grid, deposition, "al6061-t6", wall.WallOptions(material_model="mat13"))
+    result.verdict, result.measures["crater_depth_ratio"]
+    wall.write_wall_outputs(result, "runs/x/wall", plots="runs/x/plots")
+"""
+
+from impactdyn.wall._options import HOURGLASS_FORMS, WallOptions, WallSolverError
+from impactdyn.wall._models import MODELS, WallModel, register_model, wall_model
+from impactdyn.wall._mat13 import Mat13Model
+from impactdyn.wall._johnson_cook import JohnsonCookModel
+from impactdyn.wall._mesh import SUPPORTS, WallMesh, build_mesh
+from impactdyn.wall._load import SPREADS, NodalLoad, nodal_load
+from impactdyn.wall._result import HISTORY_KEYS, WallFrame, WallResult
+from impactdyn.wall._solver import WallSolver, resolve_model, run_wall
+from impactdyn.wall._verdict import DETACHED_SPALL, NO_PERFORATION, PERFORATION, VERDICTS, classify, measures
+from impactdyn.wall._output import write_wall_outputs
+
+__all__ = [
+    "DETACHED_SPALL", "HISTORY_KEYS", "HOURGLASS_FORMS", "JohnsonCookModel", "MODELS", "Mat13Model",
+    "NO_PERFORATION", "NodalLoad", "PERFORATION", "SPREADS", "SUPPORTS", "VERDICTS", "WallFrame", "WallMesh",
+    "WallModel", "WallOptions", "WallResult", "WallSolver", "WallSolverError", "build_mesh", "classify", "measures",
+    "nodal_load", "register_model", "resolve_model", "run_wall", "wall_model", "write_wall_outputs",
+]

@@ -1,0 +1,203 @@
+"""Wall model ``"johnson_cook"``: Johnson–Cook strength, Mie–Grüneisen EOS, JC damage, spall, erosion.
+
+The modern alternative to the report's type-13 card (DESIGN §9), built on the shared
+constitutive kernels of :mod:`impactdyn.constitutive` (the SPH shield stage's EOS and
+strength code) and the library material's constants.  Per element and step::
+
+    S* = Sⁿ + Δt [2G d' + ΩSⁿ − SⁿΩ]                                  (Jaumann rate)
+    Y = (A + B εₚⁿ)(1 + C ln max(ε̇/ε̇₀, 1))(1 − T*ᵐ)                    (Johnson & Cook 1983)
+    σ_eq* > Y:  Sⁿ⁺¹ = S* Y/σ_eq*,  Δεₚ = (σ_eq* − Y)/(3G)              (radial return)
+    p = p_MG(ρ, e) = A_MG(ρ) + Γ₀ρ₀ e                                  (Mie–Grüneisen)
+
+ε̇ is the equivalent deviatoric strain rate √(⅔ d':d') (as the SPH stage uses it), T the
+temperature estimate of :func:`impactdyn.constitutive.temperature` from (ρ, e) (all
+work heats; Taylor–Quinney factor 1).  The Mie–Grüneisen pressure is linear in e with
+slope Γ₀ρ₀ (:mod:`impactdyn.constitutive`), so the trapezoidal energy equation
+
+    eⁿ⁺¹ = eⁿ + [½(Sⁿ + Sⁿ⁺¹):d − ½(pⁿ + pⁿ⁺¹) tr d − q tr d] V̄Δt/m
+
+is solved for eⁿ⁺¹ exactly with pⁿ⁺¹ = A_MG(ρⁿ⁺¹) + Γ₀ρ₀eⁿ⁺¹ (A_MG = p_MG(ρ, 0)).
+
+Damage (Johnson & Cook, Eng. Fract. Mech. 21 (1985) 31), accumulated on plastic steps::
+
+    D ← D + Δεₚ/ε_f,   ε_f = max(D1 + D2 exp(D3 σ*), ε_f,min) [1 + D4 ln max(ε̇/ε̇₀, 1)] [1 + D5 T*]
+
+σ* = −p/σ_eq (mean stress over von Mises stress).  ε_f,min = 1e-6 is a numerical floor,
+not a material constant: where the fit gives ε_f ≤ 0 (for the 6061-T6 constants, σ* > 1.35,
+beyond the triaxialities of the tests it was fitted to) any plastic increment fails the
+element.  Constants: :data:`impactdyn.materials.JOHNSON_COOK_DAMAGE` (6061-T6: Lesuer,
+Kay & LeBlanc 2001); materials without an entry run without ductile damage.
+
+Spall: p < −p_spall (the library material's spall strength; Kanel et al. 2004) fails the
+element.  Failure is for good; a failed element is eroded — removed from the force
+computation — at once (``erosion=True``, the default).  Without erosion it keeps only
+compressive pressure (S = 0, p = max(p, 0)), as the type-13 model.
+
+Sound speed: c² = c_b² + 4G/(3ρ), c_b the isentropic bulk sound speed of the EOS
+(:func:`impactdyn.constitutive.sound_speed`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numba import njit
+
+from impactdyn._errors import InputError
+from impactdyn.constitutive import (
+    C0, GAMMA0, JC_TMELT, JC_TROOM, JC_RATE0, P_SPALL, RHO0, SHEAR, SLOPE, flow_stress, jaumann_rate, pack_materials,
+    pressure, radial_return, sound_speed, temperature, von_mises)
+from impactdyn.materials import JOHNSON_COOK_DAMAGE, JohnsonCookDamage, Material, get_material
+from impactdyn.wall._models import WallModel, register_model
+from impactdyn.wall._state import DAMAGE, EPS_P, FAILED, IE, P, RATE
+
+KIND = 1
+(J_DAMAGE, J_D1, J_D2, J_D3, J_D4, J_D5, J_EFMIN, J_SPALL) = range(8)
+
+#: Numerical floor on the JC fracture strain (module docstring).
+FAILURE_STRAIN_FLOOR = 1.0e-6
+
+#: Marker for "take the library's damage constants" (None means no ductile damage).
+LIBRARY = "library"
+
+
+@register_model
+@dataclass(frozen=True)
+class JohnsonCookModel(WallModel):
+    """Johnson–Cook / Mie–Grüneisen model of a library material (module docstring).
+
+    material : Material with Johnson–Cook constants.
+    damage : JohnsonCookDamage or None (no ductile damage).
+    spall : apply the spall criterion p < −p_spall (needs the material's spall strength).
+    erosion : erode failed elements.
+    """
+
+    material: Material
+    damage: JohnsonCookDamage | None = None
+    spall: bool = True
+    erosion: bool = True
+
+    name = "johnson_cook"
+    kind = KIND
+
+    def __post_init__(self) -> None:
+        if self.material.johnson_cook is None:
+            raise InputError(f"johnson_cook: material {self.material.name!r} has no Johnson-Cook constants")
+
+    @property
+    def density(self) -> float:
+        return self.material.rho0
+
+    @property
+    def erodes(self) -> bool:
+        return self.erosion
+
+    def wave_speed(self) -> float:
+        m = self.material
+        return math.sqrt(m.c0 ** 2 + 4.0 * m.shear_modulus / (3.0 * m.rho0))
+
+    def kernel_params(self) -> np.ndarray:
+        d = self.damage
+        prm = np.zeros(8)
+        if d is not None:
+            prm[[J_DAMAGE, J_D1, J_D2, J_D3, J_D4, J_D5]] = (1.0, d.D1, d.D2, d.D3, d.D4, d.D5)
+        prm[J_EFMIN] = FAILURE_STRAIN_FLOOR
+        prm[J_SPALL] = 1.0 if self.spall and self.material.spall_strength is not None else 0.0
+        return prm
+
+    def kernel_table(self) -> np.ndarray:
+        return pack_materials([self.material])
+
+    def describe(self) -> dict[str, Any]:
+        m, jc, d = self.material, self.material.johnson_cook, self.damage
+        return {"model": self.name, "material": m.name, "source": m.source,
+                "density_g_cm3": m.rho0, "c0_cm_us": m.c0, "s": m.s, "gamma0": m.gamma0,
+                "shear_modulus_Mbar": m.shear_modulus,
+                "johnson_cook": {"A_Mbar": jc.A, "B_Mbar": jc.B, "n": jc.n, "C": jc.C, "m": jc.m,
+                                 "t_melt_K": jc.t_melt, "t_room_K": jc.t_room,
+                                 "reference_strain_rate_per_us": jc.reference_strain_rate},
+                "damage": None if d is None else {"D1": d.D1, "D2": d.D2, "D3": d.D3, "D4": d.D4, "D5": d.D5,
+                                                  "failure_strain_floor": FAILURE_STRAIN_FLOOR,
+                                                  "source": d.source},
+                "spall_strength_Mbar": m.spall_strength if self.spall else None,
+                "erosion": self.erosion}
+
+    @classmethod
+    def from_material(cls, material: Any = "al6061-t6", damage: Any = LIBRARY, spall: bool = True,
+                      erosion: bool = True) -> "JohnsonCookModel":
+        """The model of a library material; ``damage`` defaults to the library's constants (or none)."""
+        if not isinstance(material, (str, Material)):
+            raise InputError(f"johnson_cook: material must be a library name or Material, got {material!r}")
+        m = get_material(material)
+        if isinstance(damage, str) and damage == LIBRARY:
+            damage = JOHNSON_COOK_DAMAGE.get(m.name)
+        return cls(m, damage=damage, spall=spall, erosion=erosion)
+
+
+@njit(cache=True, inline="always")
+def jc_update(e, L, dt, vbar, mass, rho, q, S, es, flags, table, prm):
+    """Stress, pressure, energy and damage update of element e over Δt (module docstring).
+
+    Arguments as :func:`impactdyn.wall._mat13.mat13_update`; ``table`` the packed material
+    (row 0), ``prm`` the damage/spall switches.  Returns (c, ΔW_σ, ΔW_p).
+    """
+    wfac = vbar * dt
+    G = table[0, SHEAR]
+    rho0, c0, slope, g0 = table[0, RHO0], table[0, C0], table[0, SLOPE], table[0, GAMMA0]
+    s0, s1, s2, s3, s4, s5 = S[e, 0], S[e, 1], S[e, 2], S[e, 3], S[e, 4], S[e, 5]
+    p_old = es[e, P]
+    dep = 0.0
+    yld = 0.0
+    failed = flags[e, FAILED] != 0
+    if not failed and dt > 0.0:
+        ds, rate = jaumann_rate(s0, s1, s2, s3, s4, s5, L, e, G)
+        es[e, RATE] = rate
+        S[e, 0], S[e, 1], S[e, 2] = s0 + dt * ds[0], s1 + dt * ds[1], s2 + dt * ds[2]
+        S[e, 3], S[e, 4], S[e, 5] = s3 + dt * ds[3], s4 + dt * ds[4], s5 + dt * ds[5]
+        temp = temperature(rho, es[e, IE], table, 0)
+        yld = flow_stress(table, 0, True, es[e, EPS_P], rate, temp)
+        dep = radial_return(S, e, yld, G)
+        es[e, EPS_P] += dep
+    if failed:
+        for k in range(6):
+            S[e, k] = 0.0
+    dxx, dyy, dzz = L[e, 0, 0], L[e, 1, 1], L[e, 2, 2]
+    dxy = 0.5 * (L[e, 0, 1] + L[e, 1, 0])
+    dyz = 0.5 * (L[e, 1, 2] + L[e, 2, 1])
+    dzx = 0.5 * (L[e, 2, 0] + L[e, 0, 2])
+    trd = dxx + dyy + dzz
+    sd_old = s0 * dxx + s1 * dyy + s2 * dzz + 2.0 * (s3 * dxy + s4 * dyz + s5 * dzx)
+    sd_new = (S[e, 0] * dxx + S[e, 1] * dyy + S[e, 2] * dzz
+              + 2.0 * (S[e, 3] * dxy + S[e, 4] * dyz + S[e, 5] * dzx))
+    # energy equation solved with the pressure at the step's end (linear in e)
+    e_star = es[e, IE] + (0.5 * (sd_old + sd_new) - 0.5 * p_old * trd - q * trd) * wfac / mass
+    h = 0.5 * trd * wfac / mass
+    a_mg = pressure(rho, 0.0, rho0, c0, slope, g0)
+    e_new = (e_star - h * a_mg) / (1.0 + h * g0 * rho0)
+    p_new = a_mg + g0 * rho0 * e_new
+    if not failed:
+        if dep > 0.0 and prm[J_DAMAGE] != 0.0:
+            seq = von_mises(S, e)
+            tstar = min(max((temperature(rho, e_new, table, 0) - table[0, JC_TROOM])
+                            / (table[0, JC_TMELT] - table[0, JC_TROOM]), 0.0), 1.0)
+            eps_f = (max(prm[J_D1] + prm[J_D2] * math.exp(prm[J_D3] * (-p_new / seq)), prm[J_EFMIN])
+                     * (1.0 + prm[J_D4] * math.log(max(es[e, RATE] / table[0, JC_RATE0], 1.0)))
+                     * (1.0 + prm[J_D5] * tstar))
+            es[e, DAMAGE] += dep / max(eps_f, prm[J_EFMIN])
+        if es[e, DAMAGE] >= 1.0 or (prm[J_SPALL] != 0.0 and p_new < -table[0, P_SPALL]):
+            flags[e, FAILED] = 1
+            failed = True
+    if failed and p_new < 0.0:  # a failed element carries no tension
+        p_new = 0.0
+        e_new = e_star
+    if failed:  # released at once; this step's work used the stress it carried
+        for k in range(6):
+            S[e, k] = 0.0
+    dw = 0.5 * (sd_old + sd_new - (p_old + p_new) * trd) * wfac
+    es[e, IE] = e_new
+    es[e, P] = p_new
+    cb = sound_speed(rho, p_new, rho0, c0, slope, g0)
+    return math.sqrt(cb * cb + 4.0 * G / (3.0 * rho)), dw, yld * dep * vbar

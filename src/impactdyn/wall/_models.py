@@ -1,0 +1,94 @@
+"""The registry of wall material models.
+
+A model is a frozen dataclass deriving from :class:`WallModel`; its module registers it
+with :func:`register_model` (a class decorator) and provides the compiled stress update
+the element kernel calls for its ``kind`` (:mod:`._step` dispatches on ``kind``, so a new
+model adds its module here and one branch there).  Registered models:
+
+* ``"mat13"`` — :class:`~impactdyn.wall._mat13.Mat13Model`, DYNA3D type 13 / LS-DYNA
+  ``*MAT_013``, the report's wall card;
+* ``"johnson_cook"`` — :class:`~impactdyn.wall._johnson_cook.JohnsonCookModel`,
+  Johnson–Cook strength, Mie–Grüneisen EOS, Johnson–Cook damage, spall and erosion.
+
+:func:`wall_model` builds a registered model from a library material
+(:mod:`impactdyn.materials`).
+"""
+
+from __future__ import annotations
+
+from typing import Any, ClassVar
+
+import numpy as np
+
+from impactdyn._errors import InputError
+
+#: Registered models by name (filled by the model modules at import).
+MODELS: dict[str, type["WallModel"]] = {}
+
+
+class WallModel:
+    """Base of the wall material models (each a frozen dataclass).
+
+    Subclasses set ``name`` (the registry key) and ``kind`` (the kernel's dispatch code)
+    and implement the members below.
+    """
+
+    name: ClassVar[str] = ""
+    kind: ClassVar[int] = -1
+
+    @property
+    def density(self) -> float:
+        """ρ₀, g/cm³."""
+        raise NotImplementedError
+
+    @property
+    def erodes(self) -> bool:
+        """Whether failed elements are removed from the force computation at once."""
+        raise NotImplementedError
+
+    def wave_speed(self) -> float:
+        """Longitudinal wave speed of the undeformed material, √((K + 4G/3)/ρ₀), cm/µs."""
+        raise NotImplementedError
+
+    def kernel_params(self) -> np.ndarray:
+        """The model's parameter vector for the compiled update (float64, model's own columns)."""
+        raise NotImplementedError
+
+    def kernel_table(self) -> np.ndarray:
+        """A :func:`impactdyn.constitutive.pack_materials` table (a dummy row where unused)."""
+        from impactdyn.constitutive import N_COLD, N_PARAMS
+
+        return np.zeros((1, N_PARAMS + N_COLD))
+
+    def describe(self) -> dict[str, Any]:
+        """Every constant the model uses, with units and sources (for stage files and reports)."""
+        raise NotImplementedError
+
+    @classmethod
+    def from_material(cls, material: Any, **kwargs) -> "WallModel":
+        """The model of a library material name or :class:`~impactdyn.materials.Material`."""
+        raise NotImplementedError
+
+
+def register_model(cls: type[WallModel]) -> type[WallModel]:
+    """Class decorator: enter ``cls`` in :data:`MODELS` under ``cls.name``."""
+    if not cls.name or cls.name in MODELS:
+        raise ValueError(f"wall model name {cls.name!r} empty or registered twice")
+    MODELS[cls.name] = cls
+    return cls
+
+
+def check_model_name(name: str, key: str = "material_model") -> str:
+    """``name`` if it is a registered model, else an :class:`InputError` naming ``key``."""
+    if name not in MODELS:
+        raise InputError(f"{key}: unknown wall material model {name!r}; known: {', '.join(sorted(MODELS))}")
+    return name
+
+
+def wall_model(name: str, material: Any = "al6061-t6", **kwargs) -> WallModel:
+    """The registered model ``name`` built from ``material`` (a library name or Material).
+
+    ``kwargs`` go to the model's :meth:`WallModel.from_material` (e.g. ``damage=None``
+    for the Johnson–Cook model).  Unknown names raise :class:`InputError`.
+    """
+    return MODELS[check_model_name(name)].from_material(material, **kwargs)

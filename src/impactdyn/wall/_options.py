@@ -1,0 +1,112 @@
+"""Options of the wall solver, checked when made, and its breakdown error."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from impactdyn._errors import InputError
+from impactdyn.wall._load import SPREADS
+from impactdyn.wall._mesh import SUPPORTS
+from impactdyn.wall._models import check_model_name
+
+HOURGLASS_FORMS = ("viscous", "stiffness")
+
+
+class WallSolverError(RuntimeError):
+    """The wall solver broke down: a non-finite state, an element of non-positive volume that
+    had not failed, or a collapsing time step.  The message names the element and the time.
+
+    (The package has no common ``SimulationError`` base yet; this derives from RuntimeError
+    like the SPH stage's ``SPHError``.)
+    """
+
+
+@dataclass(frozen=True)
+class WallOptions:
+    """Numerical and physical options of :func:`impactdyn.wall.run_wall` (units µs, km/s).
+
+    refinement_thickness, refinement_plane : elements per parent element through the
+        thickness and along each in-plane axis (:mod:`._mesh`).
+    material_model : a registered model name (:data:`impactdyn.wall.MODELS`): "mat13"
+        (the report's DYNA3D type 13) or "johnson_cook".
+    supports : "dyngen" (DYNGEN's edge codes), "clamped", "free" or "uniaxial" (:mod:`._mesh`).
+    hourglass : "viscous" or "stiffness" (Flanagan–Belytschko forms, :mod:`._step`).
+    hourglass_coefficient : QH (LS-DYNA's default 0.1).
+    q1, q2 : quadratic and linear bulk-viscosity coefficients (LS-DYNA's 1.5, 0.06).
+    courant : safety factor on the smallest element step (0.9).
+    end_time_us : end of the run; None: run until the kinetic energy of the wall (nodes of
+        intact material connected to the supports, :mod:`._verdict`) has fallen below
+        ``decay_fraction`` of its peak after the last arrival, or ``max_time_us``.
+    decay_fraction : the fraction of the peak kinetic energy that ends a run (0.05).
+    max_time_us : ceiling of the run's end time (absolute time, µs).
+    output_interval_us : time between output frames; None: the first and last frames only.
+    history_interval_us : time between history samples (energies, bulge).
+    spread : how a record's impulse is shared among the front-face nodes (:mod:`._load`).
+    escape_velocity_km_s : the speed above which rear-face material attached to failed
+        material is leaving the wall (verdict, :mod:`._verdict`).
+    erosion_step_fraction : a failed element is eroded when its step falls below this
+        fraction of the initial step.
+    min_step_fraction : a step of an element that has not failed below this fraction of
+        the initial step is a breakdown (:class:`WallSolverError`).
+    """
+
+    refinement_thickness: int = 1
+    refinement_plane: int = 1
+    material_model: str = "mat13"
+    supports: str = "dyngen"
+    hourglass: str = "viscous"
+    hourglass_coefficient: float = 0.1
+    q1: float = 1.5
+    q2: float = 0.06
+    courant: float = 0.9
+    end_time_us: float | None = None
+    decay_fraction: float = 0.05
+    max_time_us: float = 100.0
+    output_interval_us: float | None = 1.0
+    history_interval_us: float = 0.1
+    spread: str = "corners"
+    escape_velocity_km_s: float = 1.0
+    erosion_step_fraction: float = 0.1
+    min_step_fraction: float = 1.0e-3
+
+    def __post_init__(self) -> None:
+        for name in ("refinement_thickness", "refinement_plane"):
+            r = getattr(self, name)
+            if isinstance(r, bool) or not isinstance(r, int) or r < 1:
+                raise InputError(f"{name}: must be a positive integer, got {r!r}")
+        check_model_name(self.material_model)
+        if self.supports not in SUPPORTS:
+            raise InputError(f"supports: {self.supports!r}, expected one of {SUPPORTS}")
+        if self.hourglass not in HOURGLASS_FORMS:
+            raise InputError(f"hourglass: {self.hourglass!r}, expected one of {HOURGLASS_FORMS}")
+        if self.spread not in SPREADS:
+            raise InputError(f"spread: {self.spread!r}, expected one of {SPREADS}")
+        for name in ("hourglass_coefficient", "q1", "q2"):
+            _check(name, getattr(self, name), lo=0.0)
+        _check("courant", self.courant, lo=0.0, lo_open=True, hi=1.0)
+        _check("decay_fraction", self.decay_fraction, lo=0.0, lo_open=True, hi=1.0)
+        _check("max_time_us", self.max_time_us, lo=0.0, lo_open=True)
+        _check("history_interval_us", self.history_interval_us, lo=0.0, lo_open=True)
+        _check("escape_velocity_km_s", self.escape_velocity_km_s, lo=0.0, lo_open=True)
+        _check("erosion_step_fraction", self.erosion_step_fraction, lo=0.0, hi=1.0)
+        _check("min_step_fraction", self.min_step_fraction, lo=0.0, lo_open=True, hi=1.0)
+        if self.end_time_us is not None:
+            _check("end_time_us", self.end_time_us, lo=0.0, lo_open=True)
+        if self.output_interval_us is not None:
+            _check("output_interval_us", self.output_interval_us, lo=0.0, lo_open=True)
+
+    @property
+    def hourglass_stiffness(self) -> bool:
+        return self.hourglass == "stiffness"
+
+
+def _check(name: str, value, lo: float | None = None, hi: float | None = None, lo_open: bool = False) -> None:
+    ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+    if ok and lo is not None:
+        ok = value > lo if lo_open else value >= lo
+    if ok and hi is not None:
+        ok = value <= hi
+    if not ok:
+        rng = f"{'(' if lo_open else '['}{lo if lo is not None else '-inf'}, {hi if hi is not None else 'inf'}]"
+        raise InputError(f"{name}: must be a finite number in {rng}, got {value!r}")

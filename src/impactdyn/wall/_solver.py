@@ -1,0 +1,341 @@
+"""The wall solver's driver: state set-up, the run loop over compiled steps, histories, verdict.
+
+The time loop is :func:`impactdyn.wall._step.advance`, compiled, called once per history
+sample (``history_interval_us``): between calls Python samples the energies, updates the
+node categories of :mod:`._verdict` (only when the set of failed elements changed), takes
+output frames and checks the end of the run.  With the report's wall the compiled loop
+runs one or a few steps per call; the Python part costs well under a millisecond per call
+(benchmarks/bench_wall.py measures both ways of driving the steps).
+
+Energy balance (g·cm²/µs²), from the work of every force (:mod:`._step`)::
+
+    E_in = W_load + K₀ = K + W_σ + W_hg + W_q + E_eroded + error
+
+K the kinetic energy of the nodes that are not orphans (½ Σ m v^{n−½}·v^{n+½}), W_σ the stress
+work of the elements not eroded (= internal energy: elastic + plastic; plastic = Σ σ_eq Δεₚ V),
+W_hg and W_q their hourglass and bulk-viscous work, E_eroded the work done on eroded
+elements plus the kinetic energy of orphan nodes (eroded material keeps its mass and
+momentum on its nodes).  ``balance_error`` = error / E_in.
+
+Momentum: the impulse applied to free translations plus the impulse taken by fixed ones
+equals the deposited impulse (:mod:`._load`); both are reported.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numba
+import numpy as np
+
+from impactdyn._errors import InputError
+from impactdyn.materials import Mat13Card, Material
+from impactdyn.wall import _step
+from impactdyn.wall._load import NodalLoad, nodal_load
+from impactdyn.wall._mesh import WallMesh, build_mesh
+from impactdyn.wall._models import MODELS, WallModel
+from impactdyn.wall._options import WallOptions, WallSolverError
+from impactdyn.wall._result import HISTORY_KEYS, WallFrame, WallResult
+from impactdyn.wall._state import (
+    C, DAMAGE, EPS_P, ERODED, FAILED, N_ES, P, VOL, W_HG, W_PLASTIC, W_Q, W_SIGMA)
+from impactdyn.wall._verdict import WALL, classify, measures, node_categories
+from impactdyn.wallgrid import WallDeposition, WallGrid
+
+_BREAKDOWN = {_step.BAD_VOLUME: "non-positive volume", _step.BAD_STEP: "time step collapsed",
+              _step.BAD_FORCE: "non-finite force"}
+
+
+def resolve_model(model: Any, options: WallOptions) -> WallModel:
+    """The model instance: ``model`` itself, or ``options.material_model`` built from a material."""
+    if isinstance(model, WallModel):
+        if model.name != options.material_model:
+            raise InputError(f"material_model: {options.material_model!r} does not match the model given "
+                             f"({model.name!r})")
+        return model
+    if isinstance(model, (str, Material, Mat13Card)):
+        return MODELS[options.material_model].from_material(model)
+    raise InputError(f"model: expected a wall model, a library material name, Material or Mat13Card, got {model!r}")
+
+
+class WallSolver:
+    """Explicit FE solver of one wall (module docstring); use :func:`run_wall` for a deposition.
+
+    mesh, model, options : the problem.  load : nodal impulses (:func:`nodal_load`) or None.
+    velocity : (n_nodes, 3) initial velocities, cm/µs (zero on fixed translations), or None.
+    t_start : initial time, µs.
+    """
+
+    def __init__(self, mesh: WallMesh, model: WallModel, options: WallOptions, load: NodalLoad | None = None,
+                 velocity: np.ndarray | None = None, t_start: float = 0.0):
+        self.mesh, self.model, self.options = mesh, model, options
+        nn, ne = mesh.n_nodes, mesh.n_elements
+        self.x0 = mesh.coordinates.copy()
+        self.x = mesh.coordinates.copy()
+        self.v = np.zeros((nn, 3))
+        self.free = (~mesh.fixed).astype(np.float64)
+        if velocity is not None:
+            self.v[:] = np.asarray(velocity, dtype=np.float64) * self.free
+        self.fixed = np.ascontiguousarray(mesh.fixed)
+        self.pext = np.zeros((nn, 3))
+        self.category = np.zeros(nn, dtype=np.int8)
+        self.rear = np.zeros(nn, dtype=np.uint8)
+        self.rear[mesh.face_nodes("rear").ravel()] = 1
+        self.F = np.zeros((ne, 8, 3))
+        self.Fflat = self.F.reshape(ne * 8, 3)
+        self.S = np.zeros((ne, 6))
+        self.es = np.zeros((ne, N_ES))
+        self.es[:, VOL] = mesh.volume
+        self.es[:, C] = model.wave_speed()
+        self.flags = np.zeros((ne, 2), dtype=np.uint8)
+        self.bad = np.zeros(ne, dtype=np.int8)
+        self.Lbuf = np.zeros((ne, 3, 3))
+        self.Qhg = np.zeros((ne, 4, 3))
+        nt = numba.config.NUMBA_NUM_THREADS
+        self.scratch = np.zeros((nt, 5, 8, 3))
+        self.gam = np.zeros((nt, 4, 8))
+        self.qd = np.zeros((nt, 4, 3))
+        self.mprm = np.ascontiguousarray(model.kernel_params(), dtype=np.float64)
+        self.table = np.ascontiguousarray(model.kernel_table(), dtype=np.float64)
+        self.acc = np.zeros(_step.N_ACC)
+        self.acc[_step.A_REAR_VMAX] = -np.inf
+        self.load = load if load is not None else nodal_load_empty()
+        self.erode_dt = 0.0
+        self.min_dt = 0.0
+        status, dtmin = self._element_pass(0.0)
+        if status or not math.isfinite(dtmin):
+            raise WallSolverError(f"wall solver: the initial mesh is not valid ({_BREAKDOWN.get(status, status)})")
+        self.dt_element0 = dtmin
+        self.erode_dt = options.erosion_step_fraction * dtmin
+        self.min_dt = options.min_step_fraction * dtmin
+        self.clock = np.array([t_start, 0.0, options.courant * dtmin, 0.0, 0.0, 0.0])
+        self._damaged_count = 0
+        self.k0 = None
+
+    # -- compiled passes ------------------------------------------------------------------------------
+    def _element_pass(self, dt: float):
+        o = self.options
+        return _step.element_pass(self.x, self.v, self.mesh.connectivity, self.mesh.volume, self.mesh.element_mass,
+                                  self.S, self.es, self.flags, self.bad, self.Lbuf, self.Qhg, self.F, self.scratch,
+                                  self.gam, self.qd, self.model.kind, self.mprm, self.table, o.hourglass_stiffness,
+                                  o.hourglass_coefficient, o.q1, o.q2, self.model.erodes, self.erode_dt, self.min_dt,
+                                  dt, 0.0)
+
+    def advance(self, t_stop: float, max_steps: int = 2**62) -> int:
+        """Step until t ≥ ``t_stop`` (or ``max_steps`` steps); returns the steps taken.
+
+        Raises :class:`WallSolverError` on a breakdown.
+        """
+        o, m, ld = self.options, self.mesh, self.load
+        status, steps = _step.advance(
+            t_stop, max_steps, self.clock, self.acc, self.x, self.v, m.node_mass, self.free, self.fixed, self.pext,
+            self.rear, self.Fflat, m.node_element_ptr, m.node_element_entry, m.connectivity, m.volume,
+            m.element_mass, self.S, self.es, self.flags, self.bad, self.Lbuf, self.Qhg, self.F, self.scratch,
+            self.gam, self.qd, self.model.kind, self.mprm, self.table, o.hourglass_stiffness, o.hourglass_coefficient, o.q1,
+            o.q2, o.courant, self.model.erodes, self.erode_dt, self.min_dt, ld.time, ld.ptr, ld.node, ld.weight,
+            ld.impulse)
+        if status:
+            bad = np.flatnonzero(self.bad)
+            ijk = m.element_ijk()[bad[0]] if bad.size else None
+            raise WallSolverError(
+                f"wall solver broke down at t = {self.time:.4g} us: {_BREAKDOWN.get(status, status)} in "
+                f"{bad.size} element(s), first element {bad[0] if bad.size else '?'} (i, j, k) = "
+                f"{tuple(int(a) for a in ijk) if ijk is not None else '?'}")
+        return steps
+
+    # -- state views ----------------------------------------------------------------------------------
+    @property
+    def time(self) -> float:
+        return float(self.clock[_step.T_NOW])
+
+    @property
+    def steps(self) -> int:
+        return int(self.clock[_step.STEPS])
+
+    @property
+    def failed(self) -> np.ndarray:
+        return self.flags[:, FAILED] != 0
+
+    @property
+    def eroded(self) -> np.ndarray:
+        return self.flags[:, ERODED] != 0
+
+    @property
+    def loads_done(self) -> bool:
+        return int(self.clock[_step.CURSOR]) >= self.load.time.size
+
+    def update_categories(self) -> None:
+        """Node categories of :mod:`._verdict`, recomputed when the set of damaged elements changed."""
+        n = int(np.count_nonzero(self.flags))
+        if n != self._damaged_count:
+            self._damaged_count = n
+            self.category[:] = node_categories(self.mesh, self.failed, self.eroded)
+
+    def energies(self) -> dict[str, float]:
+        """The energy balance at the current time (module docstring)."""
+        dt_full = 0.5 * (self.clock[_step.DT_PREV] + self.clock[_step.DT_NEXT])
+        kin, kin_wall, kin_orphan, kin_cross, mom = _step.nodal_energy(self.v, self.mesh.node_mass, self.free, self.Fflat,
+                                                            self.mesh.node_element_ptr, self.mesh.node_element_entry,
+                                                            self.category, dt_full)
+        if self.k0 is None:
+            self.k0 = kin
+        live = ~self.eroded
+        es = self.es
+        out = {
+            "load_work": float(self.acc[_step.A_LOAD_WORK]),
+            "initial_kinetic": float(self.k0),
+            "kinetic": float(kin - kin_orphan),
+            "kinetic_wall": float(kin_wall),
+            "kinetic_cd": float(kin_cross),
+            "internal": float(es[live, W_SIGMA].sum()),
+            "plastic": float(es[live, W_PLASTIC].sum()),
+            "hourglass": float(es[live, W_HG].sum()),
+            "bulk_viscous": float(es[live, W_Q].sum()),
+            "eroded": float(es[~live][:, [W_SIGMA, W_Q, W_HG]].sum() + kin_orphan),
+            "momentum_y": float(mom[1]),
+        }
+        out["elastic"] = out["internal"] - out["plastic"]
+        e_in = out["load_work"] + out["initial_kinetic"]
+        held = out["kinetic"] + out["internal"] + out["hourglass"] + out["bulk_viscous"] + out["eroded"]
+        out["balance_error"] = (e_in - held) / e_in if e_in > 0 else 0.0
+        return out
+
+    def frame(self) -> WallFrame:
+        """The current state as an output frame."""
+        es, S = self.es, self.S
+        vm = np.sqrt(1.5 * (S[:, 0] ** 2 + S[:, 1] ** 2 + S[:, 2] ** 2) + 3.0 * (S[:, 3] ** 2 + S[:, 4] ** 2 + S[:, 5] ** 2))
+        f4 = np.float32
+        return WallFrame(time=self.time, displacement=(self.x - self.x0).astype(f4), velocity=self.v.astype(f4),
+                         plastic_strain=es[:, EPS_P].astype(f4), damage=es[:, DAMAGE].astype(f4),
+                         pressure=es[:, P].astype(f4), von_mises=vm.astype(f4), failed=self.failed.copy(),
+                         eroded=self.eroded.copy())
+
+    def _surface(self) -> tuple[float, float]:
+        """(rear bulge, front dent) of the wall nodes now, cm."""
+        u = self.x[:, 1] - self.x0[:, 1]
+        out = []
+        for side, sign in (("rear", 1.0), ("front", 1.0)):
+            nodes = self.mesh.face_nodes(side).ravel()
+            nodes = nodes[self.category[nodes] == WALL]
+            out.append(float(max((sign * u[nodes]).max(), 0.0)) if nodes.size else 0.0)
+        return out[0], out[1]
+
+    # -- the run --------------------------------------------------------------------------------------
+    def run(self, progress: Callable[[float, float], None] | None = None) -> WallResult:
+        """Run to the end time of the options (:class:`WallOptions`) and judge the wall."""
+        o = self.options
+        t_end = o.end_time_us if o.end_time_us is not None else o.max_time_us
+        history: dict[str, list[float]] = {k: [] for k in HISTORY_KEYS}
+        frames: list[WallFrame] = []
+        peak_wall = 0.0
+        rear_peak = -np.inf
+        t_hist = t_out = self.time
+
+        def sample() -> dict[str, float]:
+            nonlocal rear_peak
+            en = self.energies()
+            bulge, dent = self._surface()
+            vr = float(self.acc[_step.A_REAR_VMAX])
+            rear_peak = max(rear_peak, vr)
+            self.acc[_step.A_REAR_VMAX] = -np.inf
+            row = {**en, "time": self.time, "rear_bulge": bulge, "front_dent": dent,
+                   "rear_velocity": vr if math.isfinite(vr) else 0.0}
+            for k in HISTORY_KEYS:
+                history[k].append(row[k])
+            return row
+
+        self.update_categories()
+        row = sample()
+        frames.append(self.frame())
+        while True:
+            t_hist += o.history_interval_us
+            if o.output_interval_us is not None and t_out + o.output_interval_us <= t_hist:
+                t_stop = t_out + o.output_interval_us
+            else:
+                t_stop = t_hist
+            t_stop = min(t_stop, t_end)
+            if t_stop > self.time:
+                self.advance(t_stop)
+            t_hist = max(t_hist, self.time)
+            self.update_categories()
+            row = sample()
+            peak_wall = max(peak_wall, row["kinetic_wall"])
+            if o.output_interval_us is not None and self.time >= t_out + o.output_interval_us - 1e-12:
+                frames.append(self.frame())
+                t_out = self.time
+            if progress is not None:
+                progress(self.time, t_end)
+            if self.time >= t_end:
+                break
+            if (o.end_time_us is None and self.loads_done
+                    and row["kinetic_wall"] <= o.decay_fraction * peak_wall):
+                break
+        if frames[-1].time != self.time:
+            frames.append(self.frame())
+        return self._result(history, tuple(frames), rear_peak)
+
+    def _result(self, history: dict[str, list[float]], frames: tuple[WallFrame, ...], rear_peak: float) -> WallResult:
+        o = self.options
+        final = frames[-1]
+        verdict, evidence = classify(self.mesh, final.failed, final.eroded, self.v,
+                                     o.escape_velocity_km_s * 0.1)
+        meas = measures(self.mesh, final.failed, final.eroded, self.x - self.x0)
+        en = self.energies()
+        hist = {k: np.asarray(v, dtype=np.float64) for k, v in history.items()}
+        wall_thickness = self.mesh.thickness
+        meas.update({
+            "wall_thickness_cm": wall_thickness,
+            "end_time_us": self.time,
+            "steps": self.steps,
+            "peak_rear_velocity_km_s": (rear_peak if math.isfinite(rear_peak) else 0.0) * 10.0,
+            "peak_kinetic_energy": float(hist["kinetic"].max()) if hist["kinetic"].size else 0.0,
+            "energy": {k: en[k] for k in ("load_work", "initial_kinetic", "kinetic", "internal", "elastic", "plastic",
+                                         "hourglass", "bulk_viscous", "eroded", "balance_error")},
+            "hourglass_to_internal": en["hourglass"] / en["internal"] if en["internal"] > 0 else 0.0,
+            "impulse_deposited": self.load.total_impulse.tolist(),
+            "impulse_applied": self.acc[_step.A_APPLIED:_step.A_APPLIED + 3].tolist(),
+            "impulse_supports": self.acc[_step.A_SUPPORT:_step.A_SUPPORT + 3].tolist(),
+        })
+        return WallResult(verdict=verdict, evidence=evidence, measures=meas, history=hist, frames=frames,
+                          mesh=self.mesh, options=o, model=self.model.describe())
+
+
+def nodal_load_empty() -> NodalLoad:
+    """A load with no records."""
+    return NodalLoad(time=np.zeros(0), impulse=np.zeros((0, 3)), ptr=np.zeros(1, dtype=np.int64),
+                     node=np.zeros(0, dtype=np.int64), weight=np.zeros(0))
+
+
+def run_wall(wall: WallGrid, deposition: WallDeposition, model: Any = "al6061-t6",
+             options: WallOptions | None = None,
+             progress: Callable[[float, float], None] | None = None) -> WallResult:
+    """The rear wall's response to the deposited momentum, its verdict and measures.
+
+    wall : the case's wall grid (front face y = y[0]); deposition : the records on its face grid.
+    model : a wall model (:func:`impactdyn.wall.wall_model`), or the material the model named by
+        ``options.material_model`` is built from (a library name, Material, or for "mat13" a
+        :class:`~impactdyn.materials.Mat13Card`).
+    options : :class:`WallOptions` (defaults when None).
+    progress : called as ``progress(t_us, t_end_us)`` after every history sample.
+
+    The run starts at the first arrival (nothing moves before it).  Raises
+    :class:`~impactdyn._errors.InputError` naming the key for bad input (an end time before the
+    last arrival included) and :class:`WallSolverError` on a breakdown.
+    """
+    options = options if options is not None else WallOptions()
+    if not isinstance(options, WallOptions):
+        raise InputError(f"options: expected WallOptions, got {type(options).__name__}")
+    m = resolve_model(model, options)
+    if wall.y[-1] - wall.y[0] <= 0:
+        raise InputError("wall: thickness must be > 0")
+    mesh = build_mesh(wall, m.density, options.refinement_thickness, options.refinement_plane, options.supports)
+    load = nodal_load(mesh, deposition, options.spread)
+    t_start = float(load.time.min()) if load.time.size else 0.0
+    last = float(load.time.max()) if load.time.size else 0.0
+    if options.end_time_us is not None and options.end_time_us < last:
+        raise InputError(f"end_time_us: {options.end_time_us} us is before the last arrival at {last:.6g} us")
+    if options.max_time_us < last:
+        raise InputError(f"max_time_us: {options.max_time_us} us is before the last arrival at {last:.6g} us")
+    solver = WallSolver(mesh, m, options, load=load, t_start=t_start)
+    return solver.run(progress)

@@ -1,0 +1,174 @@
+"""The wall's verdict and continuous measures, from the state at the end of the run.
+
+Definitions (elements are face-connected when they share a face: 6-connectivity on the
+brick grid; the front layer is j = 0, the rear layer j = ny − 1; y points from the front
+face into the wall and out of the rear face):
+
+* **damaged** element: failed or eroded.
+* **anchored** material: the intact (not damaged) elements face-connected, through intact
+  elements, to an intact element with a node whose y translation is fixed (the supported
+  edges).  Without such supports (``"free"``, ``"uniaxial"``), the largest face-connected
+  set of intact elements.  A node is a **wall** node when it belongs to an anchored
+  element, an **orphan** when all its elements are eroded, otherwise a **fragment** node
+  (it moves with detached material only).
+* **perforation** when (a) a face-connected set of damaged elements reaches from the front
+  layer to the rear layer (a flood fill of the damaged elements from the front layer), or
+  (b) rear-face material leaves the wall: a rear-face node that belongs to a damaged
+  element (or is an orphan) moves outward (v_y) faster than the escape velocity
+  (``WallOptions.escape_velocity_km_s``, default 1 km/s, faster than the spall scabs of
+  aluminium plates, whose free surfaces move at a few hundred m/s) at the end of the run.
+* **detached spall** when there is no perforation and rear-face material has separated: a
+  rear-face node that is not a wall node (it is held by failed, eroded or cut-off material
+  only) moves outward (v_y > 0) at the end of the run.
+* **no perforation** otherwise.
+
+Continuous measures (end of the run unless said otherwise; displacements u = x − X₀):
+
+* ``crater_depth_cm`` = max(front dent, damage depth); front dent = the largest u_y of a
+  front-face node that belongs to an intact element; damage depth = y_{j+1} − y₀ of the
+  deepest layer j reached by damaged material face-connected to the front layer (0 if the
+  front layer is intact).  ``crater_depth_ratio`` = crater depth / wall thickness.
+* ``failed_mass_g`` (failed, not eroded), ``eroded_mass_g``, ``damaged_mass_g``.
+* ``rear_bulge_cm``: the largest outward u_y of a rear-face wall node (permanent bulge).
+* ``peak_rear_velocity_km_s``: the largest outward rear-face node velocity over the run.
+* ``spall_mass_g``: mass of the detached elements (damaged, or intact not anchored) that
+  touch the rear layer.
+* the energy balance of :mod:`._solver` (work of the load, kinetic, internal = elastic +
+  plastic, hourglass, bulk viscous, eroded) and its error.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage
+
+from impactdyn.wall._mesh import WallMesh
+
+PERFORATION = "perforation"
+DETACHED_SPALL = "detached spall"
+NO_PERFORATION = "no perforation"
+VERDICTS = (PERFORATION, DETACHED_SPALL, NO_PERFORATION)
+
+#: Node categories (:func:`node_categories`).
+WALL, FRAGMENT, ORPHAN = 0, 1, 2
+
+
+def _grid(mesh: WallMesh, a: np.ndarray) -> np.ndarray:
+    """Element array in number order → (ny, nz, nx) [j, k, i]."""
+    nx, ny, nz = mesh.shape
+    return np.asarray(a).reshape(ny, nz, nx)
+
+
+def through_path(mesh: WallMesh, damaged: np.ndarray) -> np.ndarray:
+    """Elements of the face-connected damaged sets that reach from the front to the rear layer, (ne,) bool."""
+    labels, _ = ndimage.label(_grid(mesh, damaged))
+    through = np.intersect1d(labels[0][labels[0] > 0], labels[-1][labels[-1] > 0])
+    return np.isin(labels, through).ravel()
+
+
+def front_connected(mesh: WallMesh, damaged: np.ndarray) -> np.ndarray:
+    """Damaged elements face-connected (through damaged elements) to the front layer, (ne,) bool."""
+    labels, _ = ndimage.label(_grid(mesh, damaged))
+    front = np.unique(labels[0][labels[0] > 0])
+    return np.isin(labels, front).ravel()
+
+
+def anchored_elements(mesh: WallMesh, damaged: np.ndarray) -> np.ndarray:
+    """Intact elements connected to the supports through intact elements (module docstring), (ne,) bool."""
+    intact = ~np.asarray(damaged, dtype=bool)
+    labels, n = ndimage.label(_grid(mesh, intact))
+    flat = labels.ravel()
+    if n == 0:
+        return np.zeros(flat.size, dtype=bool)
+    held = mesh.fixed[:, 1][mesh.connectivity].any(axis=1) & intact
+    if held.any():
+        keep = np.unique(flat[held])
+    else:
+        counts = np.bincount(flat, minlength=n + 1)
+        counts[0] = 0
+        keep = np.array([int(np.argmax(counts))])
+    return np.isin(flat, keep)
+
+
+def node_categories(mesh: WallMesh, failed: np.ndarray, eroded: np.ndarray) -> np.ndarray:
+    """WALL (0), FRAGMENT (1) or ORPHAN (2) for every node (module docstring), (n_nodes,) int8."""
+    failed = np.asarray(failed, dtype=bool)
+    eroded = np.asarray(eroded, dtype=bool)
+    anchored = anchored_elements(mesh, failed | eroded)
+    conn = mesh.connectivity
+    cat = np.full(mesh.n_nodes, ORPHAN, dtype=np.int8)
+    cat[conn[~eroded].ravel()] = FRAGMENT
+    cat[conn[anchored].ravel()] = WALL
+    return cat
+
+
+def classify(mesh: WallMesh, failed: np.ndarray, eroded: np.ndarray, velocity: np.ndarray,
+             escape_velocity: float) -> tuple[str, dict]:
+    """The verdict (module docstring) and the evidence: which criterion, how many elements or nodes.
+
+    velocity (n_nodes, 3) cm/µs at the end of the run; escape_velocity cm/µs.
+    """
+    failed = np.asarray(failed, dtype=bool)
+    eroded = np.asarray(eroded, dtype=bool)
+    damaged = failed | eroded
+    path = through_path(mesh, damaged)
+    rear = mesh.face_nodes("rear").ravel()
+    cat = node_categories(mesh, failed, eroded)
+    on_damaged = np.zeros(mesh.n_nodes, dtype=bool)
+    on_damaged[mesh.connectivity[damaged].ravel()] = True
+    on_damaged |= cat == ORPHAN
+    vy = velocity[rear, 1]
+    escaping = rear[on_damaged[rear] & (vy > escape_velocity)]
+    separating = rear[(cat[rear] != WALL) & (vy > 0.0)]
+    evidence = {"through_path_elements": int(path.sum()), "escaping_rear_nodes": int(escaping.size),
+                "separating_rear_nodes": int(separating.size)}
+    if path.any():
+        return PERFORATION, {**evidence, "criterion": "through-thickness path of failed or eroded elements"}
+    if escaping.size:
+        return PERFORATION, {**evidence, "criterion": "rear-face material attached to failed material "
+                                                      "leaving faster than the escape velocity"}
+    if separating.size:
+        return DETACHED_SPALL, {**evidence, "criterion": "rear-face material separated from the wall, moving outward"}
+    return NO_PERFORATION, {**evidence, "criterion": "none met"}
+
+
+def measures(mesh: WallMesh, failed: np.ndarray, eroded: np.ndarray, displacement: np.ndarray) -> dict:
+    """The geometric and mass measures at the end of the run (module docstring)."""
+    failed = np.asarray(failed, dtype=bool)
+    eroded = np.asarray(eroded, dtype=bool)
+    damaged = failed | eroded
+    mass = mesh.element_mass
+    intact_nodes = np.zeros(mesh.n_nodes, dtype=bool)
+    intact_nodes[mesh.connectivity[~damaged].ravel()] = True
+    front = mesh.face_nodes("front").ravel()
+    front = front[intact_nodes[front]]
+    dent = float(max(displacement[front, 1].max(), 0.0)) if front.size else 0.0
+    deep = _grid(mesh, front_connected(mesh, damaged))
+    layers = np.flatnonzero(deep.any(axis=(1, 2)))
+    y = mesh.grid.y
+    damage_depth = float(y[layers.max() + 1] - y[0]) if layers.size else 0.0
+    cat = node_categories(mesh, failed, eroded)
+    rear = mesh.face_nodes("rear").ravel()
+    rear_wall = rear[cat[rear] == WALL]
+    bulge = float(max(displacement[rear_wall, 1].max(), 0.0)) if rear_wall.size else 0.0
+    anchored = anchored_elements(mesh, damaged)
+    rear_layer = np.zeros(mesh.n_elements, dtype=bool)
+    rear_layer[mesh.layer_elements(mesh.shape[1] - 1).ravel()] = True
+    detached = ~anchored
+    labels, _ = ndimage.label(_grid(mesh, detached))
+    rear_labels = np.unique(labels[-1][labels[-1] > 0])
+    spall = np.isin(labels, rear_labels).ravel() & detached
+    crater = max(dent, damage_depth)
+    return {
+        "crater_depth_cm": crater,
+        "crater_depth_ratio": crater / mesh.thickness,
+        "front_dent_cm": dent,
+        "damage_depth_cm": damage_depth,
+        "failed_mass_g": float(mass[failed & ~eroded].sum()),
+        "eroded_mass_g": float(mass[eroded].sum()),
+        "damaged_mass_g": float(mass[damaged].sum()),
+        "failed_elements": int((failed & ~eroded).sum()),
+        "eroded_elements": int(eroded.sum()),
+        "rear_bulge_cm": bulge,
+        "spall_mass_g": float(mass[spall].sum()),
+    }
