@@ -32,9 +32,11 @@ def test_run_folder_holds_every_stage(run):
     for path in ("case.toml", "report.html", "summary.json", "shield/particles.h5", "shield/particles.vtu",
                  "binning/handoff_grid.h5", "debris/debris.h5", "debris/areal_density.csv",
                  "debris/plots/areal_density.png", "decks/wall.k", "decks/wall_dyna3d.inp",
-                 "plots/cloud_handoff.png", "plots/ballistic_limit.png", "plots/conservation.png"):
+                 "plots/cloud_handoff.png", "plots/ballistic_limit.png", "plots/conservation.png",
+                 "wall/stage.json", "wall/wall.json", "wall/wall.pvd", "wall/plots/wall_front.png",
+                 "wall/plots/wall_rear.png", "wall/plots/wall_history.png"):
         assert (out / path).is_file(), path
-    assert set(s["timings_s"]) == {"shield", "binning", "debris", "decks"}
+    assert set(s["timings_s"]) == {"shield", "binning", "debris", "wall", "decks"}
     assert s["wall_time_s"] == pytest.approx(sum(s["timings_s"].values()))
     assert not list(out.parent.glob(".run.*"))  # no staging folder left
 
@@ -88,7 +90,7 @@ def test_summary_has_the_verdict_and_the_cloud_figures(run):
     assert 0 < cloud["centre_of_mass_speed_km_s"] < cloud["leading_edge_velocity_km_s"] <= p.velocity_km_s
     assert 0 < cloud["cone_half_angle_deg"] < 90
     html = (out / "report.html").read_text()
-    assert html.count("data:image/png;base64,") == 4
+    assert html.count("data:image/png;base64,") == 7  # 4 of the cloud, BLE and load; 3 of the wall response
     assert s["ble"]["verdict"] in html
 
 
@@ -152,3 +154,18 @@ def test_table2_examples_load_and_get_the_jsc_verdicts(name, verdict):
     case = load_whipple_case(EXAMPLES / f"table2_{name}.toml")
     assert case.wall.spacing_cm == 10.16 and case.projectile.obliquity_deg == 25.0
     assert ble_verdict(case)["verdict"] == verdict
+
+
+def test_wall_stage_takes_the_deposited_impulse_and_gives_a_verdict(run):
+    _, out, s = run
+    wall = json.loads((out / "wall" / "stage.json").read_text())
+    assert s["wall"]["verdict"] == wall["verdict"] in ("perforation", "detached spall", "no perforation")
+    m = wall["measures"]
+    deposited = np.array(m["impulse_deposited"])
+    taken = np.array(m["impulse_applied"]) + np.array(m["impulse_supports"])
+    assert np.abs(taken - deposited).max() <= 1e-12 * np.abs(deposited).max()
+    # the deposition the wall took is the debris stage's, to round-off
+    np.testing.assert_allclose(deposited, s["stages"]["debris"]["momentum_deposited"], rtol=1e-12, atol=0)
+    assert abs(m["energy"]["balance_error"]) < 1e-6 * m["energy"]["load_work"]
+    assert s["wall"]["agrees_with_equation"] == ((wall["verdict"] != "no perforation")
+                                                 == (s["ble"]["verdict"] == "perforation"))

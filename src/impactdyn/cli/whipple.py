@@ -39,7 +39,10 @@ def run(
                    f"cone half-angle {cloud['cone_half_angle_deg']:.1f}°")
     typer.echo(f"wall: peak areal momentum {dep['peak_areal_momentum_N_s_cm2']:.4g} N·s/cm², normal impulse "
                f"{dep['impulse_on_wall_normal_N_s_full_model']:.4g} N·s (full model); "
-               f"{s['wall_time_s']:.1f} s; report in {Path(out) / 'report.html'}")
+               f"{s['wall_time_s']:.1f} s")
+    w = s["wall"]
+    typer.echo(f"wall response: {w['verdict']} ({w['criterion']}); crater depth {w.get('crater_depth_ratio', 0):.2f} "
+               f"of the thickness, rear bulge {w.get('rear_bulge_cm', 0):.3g} cm; report in {Path(out) / 'report.html'}")
 
 
 @app.command()

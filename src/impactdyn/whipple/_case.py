@@ -31,6 +31,7 @@ from impactdyn.debris import (
 from impactdyn.debris import WallSection as DebrisWallSection
 from impactdyn.materials import Material, get_material
 from impactdyn.shield import BinningMethod, FlowStress, SPHOptions, bin_to_hydrogrid
+from impactdyn.wall import WallOptions
 
 
 def _known_material(name: str) -> str:
@@ -138,6 +139,42 @@ class DebrisMaterialSection(Section):
         return self
 
 
+class WallSolverSection(Section):
+    """The wall stage's solver (:class:`impactdyn.wall.WallOptions`: every default and bound is its own).
+
+    The supports are not set here: they follow ``wall.clamped_edges`` (clamped, or DYNGEN's
+    edge codes), as the decks do.
+    """
+
+    material_model: str = field_of(WallOptions, "material_model")
+    refinement_thickness: int = field_of(WallOptions, "refinement_thickness")
+    refinement_plane: int = field_of(WallOptions, "refinement_plane")
+    spread: str = field_of(WallOptions, "spread")
+    hourglass: str = field_of(WallOptions, "hourglass")
+    hourglass_coefficient: float = field_of(WallOptions, "hourglass_coefficient")
+    q1: float = field_of(WallOptions, "q1")
+    q2: float = field_of(WallOptions, "q2")
+    courant: float = field_of(WallOptions, "courant")
+    end_time_us: float | None = field_of(WallOptions, "end_time_us")
+    decay_fraction: float = field_of(WallOptions, "decay_fraction")
+    max_time_us: float = field_of(WallOptions, "max_time_us")
+    output_interval_us: float | None = field_of(WallOptions, "output_interval_us")
+    history_interval_us: float = field_of(WallOptions, "history_interval_us")
+    escape_velocity_km_s: float = field_of(WallOptions, "escape_velocity_km_s")
+
+    @model_validator(mode="after")
+    def _valid(self) -> "WallSolverSection":
+        try:
+            self.options(clamped_edges=True)
+        except InputError as err:
+            raise ValueError(str(err)) from None
+        return self
+
+    def options(self, clamped_edges: bool) -> WallOptions:
+        """The solver options, with the supports of the wall's edges."""
+        return WallOptions(**self.model_dump(), supports="clamped" if clamped_edges else "dyngen")
+
+
 class WhippleCase(Section):
     """A complete Whipple case (every table of the TOML file)."""
 
@@ -153,6 +190,7 @@ class WhippleCase(Section):
     compute: ComputeSection = ComputeSection()
     output: OutputSection = OutputSection()
     legacy: LegacySection = LegacySection()
+    wall_solver: WallSolverSection = WallSolverSection()
 
     @model_validator(mode="after")
     def _fits(self) -> "WhippleCase":

@@ -1,4 +1,4 @@
-"""The end-to-end Whipple pipeline: shield → binning → debris → decks → report (DESIGN §5–7).
+"""The end-to-end Whipple pipeline: shield → binning → debris → wall → decks → report (DESIGN §5–9).
 
 Each stage reads the artifacts of the stages before it from the run folder and
 writes its own into a subfolder with a ``stage.json`` record (its numbers, its
@@ -11,6 +11,8 @@ stage with exactly the code path of a full run::
     debris/    (an ``impactdyn debris run`` folder: summary.json, config.resolved.toml — a
                runnable debris case —, areal_density.csv, debris.h5, particles_*.vtu,
                wall_deposition.vtu, plots/)
+    wall/      wall.json (verdict, evidence, measures, energy balance), wall.pvd + wall_*.vtu (ParaView
+               time series), plots/wall_front.png, wall_rear.png, wall_history.png
     decks/     wall.k, wall_dyna3d.inp   the wall decks with the deposited momentum
     report.html, summary.json, plots/, case.toml   (the report stage)
 
@@ -131,6 +133,21 @@ def _debris(s: StageContext) -> dict:
         "arrival_time_us", "peak_areal_density_g_cm_us", "integrator", "timings_s")}
 
 
+def _wall(s: StageContext) -> dict:
+    from impactdyn.debris import read_deposition
+    from impactdyn.wall import run_wall, write_wall_outputs
+
+    s.report("wall", 0, 1)
+    wall, deposition, _ = read_deposition(s.folder.path / "debris" / "debris.h5")
+    options = s.case.wall_solver.options(s.case.wall.clamped_edges)
+    result = run_wall(wall, deposition, s.case.wall.material, options,
+                      progress=lambda t, t_end: s.report("wall", t, t_end))
+    out = s.folder.sub("wall")
+    files = write_wall_outputs(result, out.path, plots=out.path / "plots", lean=not s.case.output.vtk)
+    s.report("wall", 1, 1)
+    return result.summary() | {"files": sorted(f"wall/{p.relative_to(out.path).as_posix()}" for p in files.values())}
+
+
 def _decks(s: StageContext) -> dict:
     from impactdyn.debris import read_deposition, write_decks
     from impactdyn.materials import mat13_card
@@ -153,7 +170,7 @@ def _report(s: StageContext) -> dict:
     return record
 
 
-_RUN = {"shield": _shield, "binning": _binning, "debris": _debris, "decks": _decks, "report": _report}
+_RUN = {"shield": _shield, "binning": _binning, "debris": _debris, "wall": _wall, "decks": _decks, "report": _report}
 
 
 def run_whipple(case: WhippleCase, outdir: str | Path, *, start: str = "shield", force: bool = False,

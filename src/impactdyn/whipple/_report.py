@@ -4,11 +4,14 @@ Figures (``plots/``):
 
 ``cloud_handoff.png``     the shield and the debris cloud at hand-off, side and top views
                           coloured by speed, the cloud axis drawn (the report's Figures 9/12/15/18)
-``ballistic_limit.png``   the JSC ballistic-limit curve with this shot marked (Figure 8)
+``ballistic_limit.png``   the JSC ballistic-limit curve with this shot and the test database's
+                          shots near this shield marked (Figure 8)
 ``conservation.png``      the SPH run's energy and momentum against time
 
-and the debris stage's ``debris/plots/areal_density.png`` (Figures 10/13/16/19).
-``report.html`` embeds all four as PNG data, so it is one file to mail.
+and the debris stage's ``debris/plots/areal_density.png`` (Figures 10/13/16/19) and the
+wall stage's ``wall/plots/wall_front.png``, ``wall_rear.png`` (Figures 6–7, 11, 14, 17, 20)
+and ``wall_history.png``.  ``report.html`` embeds all seven as PNG data, so it is one
+file to mail; its "Wall response" section sets the simulated verdict beside the equation's.
 """
 
 from __future__ import annotations
@@ -60,6 +63,18 @@ def deposition_figures(debris: dict) -> dict:
     }
 
 
+def wall_figures(wall: dict, ble: dict) -> dict:
+    """The wall stage's verdict beside the equation's, and its headline measures."""
+    m = wall["measures"]
+    keys = ("crater_depth_ratio", "crater_depth_cm", "rear_bulge_cm", "peak_rear_velocity_km_s", "failed_mass_g",
+            "eroded_mass_g", "spall_mass_g", "failed_elements", "eroded_elements", "hourglass_to_internal",
+            "end_time_us", "steps")
+    return {"verdict": wall["verdict"], "criterion": wall["evidence"].get("criterion"),
+            "agrees_with_equation": (wall["verdict"] != "no perforation") == (ble["verdict"] == "perforation"),
+            "material_model": wall["model"].get("model"), "mesh": wall["mesh"],
+            "energy": m.get("energy")} | {k: m[k] for k in keys if k in m}
+
+
 def write_report(folder: FolderWriter, case: WhippleCase) -> dict:
     """Write ``summary.json``, ``plots/`` and ``report.html`` into the run folder; returns the record."""
     from impactdyn.shield import read_particles
@@ -82,6 +97,7 @@ def write_report(folder: FolderWriter, case: WhippleCase) -> dict:
         "ble": ble,
         "cloud": cloud,
         "deposition": deposition,
+        "wall": wall_figures(records["wall"], ble),
         "stages": {name: {k: v for k, v in r.items() if k not in ("stage", "settings")}
                    for name, r in records.items()},
         "timings_s": {name: r["wall_time_s"] for name, r in records.items()},
@@ -202,6 +218,18 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
         ("arrival times (first, median, last)", "–" if not dep["arrival_time_us"] else
          _fmt([dep["arrival_time_us"][k] for k in ("first", "median", "last")], "µs after hand-off")),
     ])
+    wall = s["wall"]
+    wall_rows = _rows([
+        ("simulated verdict", f"{wall['verdict']} ({wall['criterion']})"),
+        ("equation's verdict", f"{ble['verdict']} ({ble['equation']})"),
+        ("crater depth / wall thickness", _fmt(wall.get("crater_depth_ratio"))),
+        ("rear-face permanent bulge", _fmt(wall.get("rear_bulge_cm"), "cm")),
+        ("peak rear-face velocity", _fmt(wall.get("peak_rear_velocity_km_s"), "km/s")),
+        ("failed / eroded / spalled mass", _fmt([wall.get("failed_mass_g", 0.0), wall.get("eroded_mass_g", 0.0),
+                                                 wall.get("spall_mass_g", 0.0)], "g")),
+        ("hourglass / internal energy", _fmt(wall.get("hourglass_to_internal"))),
+        ("mesh (elements), material model", f"{wall['mesh']['elements']}, {wall['material_model']}"),
+    ])
     stages = _rows([
         ("shield (SPH)", f"{st['shield']['n_particles']} particles, {st['shield']['steps']} steps to "
                          f"{st['shield']['t_handoff_us']:g} µs; momentum error {st['shield']['momentum_error_rel']:.1e}, "
@@ -211,6 +239,8 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
                     f"mass error {st['binning']['mass_error_rel']:.1e}; {st['binning']['wall_time_s']:.1f} s"),
         ("debris (DC3D)", f"{st['debris']['n_particles']} particles, {st['debris']['n_arrived']} arrived, "
                           f"{st['debris']['integrator']['n_failed']} failed; {st['debris']['wall_time_s']:.1f} s"),
+        ("wall (FE)", f"{st['wall']['measures'].get('steps', 0)} steps to {_fmt(st['wall']['measures'].get('end_time_us'), 'µs')}; "
+                      f"{st['wall']['wall_time_s']:.1f} s"),
         ("decks", ", ".join(st["decks"]["files"]) + f"; {st['decks']['wall_time_s']:.1f} s"),
         ("total", f"{s['wall_time_s']:.1f} s"),
     ])
@@ -222,7 +252,8 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
 table{{border-collapse:collapse;margin:0.5em 0 1.5em}}th,td{{border:1px solid #ccc;padding:4px 10px;text-align:left}}
 th{{background:#f4f4f4;font-weight:normal}}img{{max-width:100%}}</style></head><body>
 <h1>{title}</h1>
-<p>impactdyn Whipple pipeline: SPH shield impact → debris cloud (DC3D) → momentum on the rear wall → wall decks.
+<p>impactdyn Whipple pipeline: SPH shield impact → debris cloud (DC3D) → momentum on the rear wall → the wall's
+finite-element response and verdict → wall decks.
 Half model (x ≥ 0); units as labelled.</p>
 <h2>Shot</h2><table>{shot}</table>
 <h2>Ballistic limit (NASA JSC equation)</h2><table>{verdict}</table>
@@ -230,11 +261,16 @@ Half model (x ≥ 0); units as labelled.</p>
 <h2>Simulated debris cloud and wall loading</h2><table>{figures}</table>
 <h3>Cloud at hand-off</h3>{_img(plots / "cloud_handoff.png")}
 <h3>Areal momentum density on the wall</h3>{_img(folder.path / "debris" / "plots" / "areal_density.png")}
+<h2>Wall response</h2><table>{wall_rows}</table>
+{_img(folder.path / "wall" / "plots" / "wall_front.png")}
+{_img(folder.path / "wall" / "plots" / "wall_rear.png")}
+{_img(folder.path / "wall" / "plots" / "wall_history.png")}
 <h2>Stages</h2><table>{stages}</table>
 {_img(plots / "conservation.png")}
 <h2>Files</h2><p><code>summary.json</code> (all numbers), <code>case.toml</code> (every setting used),
 <code>shield/particles.h5</code>, <code>binning/handoff_grid.h5</code>, <code>debris/</code> (an
-<code>impactdyn debris run</code> folder), <code>decks/</code> (LS-DYNA and DYNA3D wall decks).</p>
+<code>impactdyn debris run</code> folder), <code>wall/</code> (the wall's measures and ParaView time series),
+<code>decks/</code> (LS-DYNA and DYNA3D wall decks).</p>
 <script type="application/json" id="summary">{html.escape(json.dumps(s, default=str))}</script>
 </body></html>
 """

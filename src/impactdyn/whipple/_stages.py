@@ -18,7 +18,7 @@ from pathlib import Path
 from impactdyn._errors import InputError
 from impactdyn._runfolder import FolderWriter
 
-STAGES = ("shield", "binning", "debris", "decks", "report")
+STAGES = ("shield", "binning", "debris", "wall", "decks", "report")
 
 #: Case tables each stage's result depends on (cumulative: a stage depends on the ones before it).
 #: ``compute`` is left out: where the particle chunks run does not change the result.
@@ -26,6 +26,7 @@ DEPENDS = {
     "shield": ("projectile", "bumper", "shield"),
     "binning": ("binning",),
     "debris": ("wall", "debris", "filter", "integrator", "legacy"),
+    "wall": ("wall_solver",),
     "decks": ("output",),
     "report": (),
 }
