@@ -37,6 +37,9 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Annotated
+
+from pydantic import AfterValidator
 
 from impactdyn._errors import InputError
 from impactdyn.units import CM_US_PER_KM_S, MBAR_PER_GPA
@@ -194,6 +197,19 @@ def get_material(name: str | Material) -> Material:
             if _key(known) == _key(name):
                 return material
     raise InputError(f"unknown material {name!r}; known materials: {', '.join(MATERIALS)}")
+
+
+def _known_material(name: str) -> str:
+    try:
+        return get_material(name).name
+    except InputError as err:
+        raise ValueError(str(err)) from None
+
+
+MaterialName = Annotated[str, AfterValidator(_known_material)]
+"""A name of :data:`impactdyn.materials.MATERIALS`, stored as its canonical name."""
+REPORT_MATERIAL = "al6061-t6"
+"""Projectile, bumper and wall material by default: the report's Al 6061-T6."""
 
 
 # --- The wall card: DYNA3D material type 13 / LS-DYNA *MAT_013 -----------------------------

@@ -169,3 +169,18 @@ def test_wall_stage_takes_the_deposited_impulse_and_gives_a_verdict(run):
     assert abs(m["energy"]["balance_error"]) < 1e-6 * m["energy"]["load_work"]
     assert s["wall"]["agrees_with_equation"] == ((wall["verdict"] != "no perforation")
                                                  == (s["ble"]["verdict"] == "perforation"))
+
+
+def test_the_debris_case_carries_the_wall_material(tmp_path, make_case):
+    """Rerunning debris/config.resolved.toml with `impactdyn debris run` writes the decks of the same wall."""
+    from impactdyn.debris import DeckOptions
+    from impactdyn.materials import CU_OFHC, mat13_card
+    from impactdyn.whipple import load_whipple_case
+    from impactdyn.whipple._case import debris_case
+
+    case = load_whipple_case(make_case(tmp_path, wall__material="Cu-OFHC"))
+    debris = debris_case(case, "handoff_grid.h5")
+    assert debris.wall.material == CU_OFHC.name
+    card = DeckOptions.of(debris).material
+    assert card == mat13_card(CU_OFHC.name) == DeckOptions.of(case).material
+    assert card.density == CU_OFHC.rho0

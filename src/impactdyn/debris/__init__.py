@@ -18,7 +18,7 @@ from impactdyn.debris._integrators import (
     INTEGRATORS, Failure, IntegratorOptions, PropagationStats, propagate, register_integrator)
 from impactdyn.debris._particle import ParticleMaterial, pack_state, state_rates, total_energy, unpack_state
 from impactdyn.debris._debris_h5 import read_deposition
-from impactdyn.debris._decks import write_decks
+from impactdyn.debris._decks import DeckOptions, write_decks
 from impactdyn.debris._outputs import write_debris_files, write_debris_run
 from impactdyn.debris._propagate import (
     ArrivalWindow, ComputeOptions, DebrisResult, DepositionOptions, propagate_chunked, run_debris, seed_and_select)
@@ -35,6 +35,7 @@ def run_case(case: DebrisCase, progress=None, source: str = "<case>") -> DebrisR
 
 
 __all__ = [
+    "DeckOptions",
     "AL_6061_T6_MAT13", "ArrivalWindow", "ComputeOptions", "ComputeSection", "DebrisCase", "DebrisResult",
     "DepositionOptions", "Failure", "FilterSection", "HydroGrid", "INTEGRATORS", "IntegratorOptions",
     "IntegratorSection", "LegacySection", "OutputSection", "ParticleMaterial", "POINTS_PER_PARTICLE", "ParticleCloud",

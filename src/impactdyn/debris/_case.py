@@ -32,6 +32,7 @@ from impactdyn.debris._particle import ParticleMaterial
 from impactdyn.debris._propagate import ArrivalWindow, ComputeOptions, DepositionOptions, check_window
 from impactdyn.debris._seed import SeedFilter, SeedOptions
 from impactdyn.io import write_lsdyna_deck
+from impactdyn.materials import REPORT_MATERIAL, MaterialName
 
 # TOML arrays are lists; strict validation does not turn them into tuples.
 Vector = Annotated[list[float], Field(min_length=3, max_length=3)]
@@ -122,8 +123,10 @@ class RemapSection(Section):
 
 
 class WallSection(Section):
-    """The rear wall: its front face is the plane y = y_cm[0]; nodes = (x, y, z) node counts (DYNGEN)."""
+    """The rear wall: its front face is the plane y = y_cm[0]; nodes = (x, y, z) node counts (DYNGEN);
+    ``material`` (a library name) is the one its decks carry (:func:`impactdyn.materials.mat13_card`)."""
 
+    material: MaterialName = REPORT_MATERIAL
     x_cm: Range
     y_cm: Range
     z_cm: Range

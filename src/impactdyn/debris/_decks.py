@@ -1,35 +1,66 @@
-"""The wall decks of a debris run: LS-DYNA (time-resolved loads) and the legacy DYNA3D deck (DCPOST's cards)."""
+"""The wall decks of a run: LS-DYNA (time-resolved loads) and the legacy DYNA3D deck (DCPOST's cards)."""
 
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import numpy as np
 
 from impactdyn._runfolder import FolderWriter
 from impactdyn.debris._deposit import element_records
-from impactdyn.materials import AL_6061_T6_MAT13, Mat13Card
+from impactdyn.materials import AL_6061_T6_MAT13, Mat13Card, mat13_card
 from impactdyn.wallgrid import WallDeposition, WallGrid
 
 END_TIME_MARGIN_US = 10.0
 """Default LS-DYNA termination time: this long after the last arrival (``output.end_time_us``)."""
 
 
-def write_decks(folder: FolderWriter, wall: WallGrid, deposition: WallDeposition, impulse: np.ndarray, case,
-                dcpost_factor: float = 1.0, material: Mat13Card = AL_6061_T6_MAT13) -> list[str]:
-    """The wall decks ``case.output`` asks for: LS-DYNA (time-resolved loads) and DYNA3D (DCPOST's cards)."""
-    o, written = case.output, []
-    if o.lsdyna_deck:
+@dataclass(frozen=True)
+class DeckOptions:
+    """What the decks need to know beyond the wall and its load.
+
+    lsdyna, dyna3d : which decks to write; end_time_us : LS-DYNA's termination time (None:
+    the last arrival plus :data:`END_TIME_MARGIN_US`); pulse_width_us : the force pulse of each
+    deposited impulse; clamped_edges : the edge supports; material : the wall's type-13 card;
+    dcpost_factor : DCPOST's scale on the DYNA3D deck's cards; title : the decks' title.
+    """
+
+    lsdyna: bool = True
+    dyna3d: bool = True
+    end_time_us: float | None = None
+    pulse_width_us: float = 0.05
+    clamped_edges: bool = True
+    material: Mat13Card = AL_6061_T6_MAT13
+    dcpost_factor: float = 1.0
+    title: str = ""
+
+    @classmethod
+    def of(cls, case, dcpost_factor: float = 1.0) -> "DeckOptions":
+        """The options a debris or Whipple case sets (its ``output`` table, its wall's edges and
+        material, its title)."""
+        o, w = case.output, case.wall
+        return cls(lsdyna=o.lsdyna_deck, dyna3d=o.dyna3d_deck, end_time_us=o.end_time_us,
+                   pulse_width_us=o.pulse_width_us, clamped_edges=w.clamped_edges, material=mat13_card(w.material),
+                   dcpost_factor=dcpost_factor, title=case.title)
+
+
+def write_decks(folder: FolderWriter, wall: WallGrid, deposition: WallDeposition, impulse: np.ndarray,
+                options: DeckOptions = DeckOptions()) -> list[str]:
+    """The wall decks ``options`` ask for: LS-DYNA (time-resolved loads) and DYNA3D (DCPOST's cards)."""
+    o, written = options, []
+    if o.lsdyna:
         from impactdyn.io import write_lsdyna_deck
 
         end = o.end_time_us or (float(deposition.time.max()) + END_TIME_MARGIN_US if deposition.time.size
-                               else END_TIME_MARGIN_US)
-        write_lsdyna_deck(folder.file("wall.k"), wall, material, deposition, pulse_width=o.pulse_width_us,
-                          end_time=end, clamped_edges=case.wall.clamped_edges,
-                          title=case.title or "impactdyn rear wall under debris-cloud deposition")
+                                else END_TIME_MARGIN_US)
+        write_lsdyna_deck(folder.file("wall.k"), wall, o.material, deposition, pulse_width=o.pulse_width_us,
+                          end_time=end, clamped_edges=o.clamped_edges,
+                          title=o.title or "impactdyn rear wall under debris-cloud deposition")
         written.append("wall.k")
-    if o.dyna3d_deck:
+    if o.dyna3d:
         from impactdyn.io import write_dyna3d_deck
 
-        write_dyna3d_deck(folder.file("wall_dyna3d.inp"), wall, material, element_records(impulse, dcpost_factor),
-                          clamped_edges=case.wall.clamped_edges)
+        write_dyna3d_deck(folder.file("wall_dyna3d.inp"), wall, o.material,
+                          element_records(impulse, o.dcpost_factor), clamped_edges=o.clamped_edges)
         written.append("wall_dyna3d.inp")
     return written

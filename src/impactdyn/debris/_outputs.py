@@ -30,12 +30,11 @@ import numpy as np
 from impactdyn._config import dump_toml
 from impactdyn._runfolder import FolderWriter, RunFolder
 from impactdyn.debris._debris_h5 import write_hdf5
-from impactdyn.debris._decks import write_decks
+from impactdyn.debris._decks import DeckOptions, write_decks
 from impactdyn.debris._deposit import areal_density, remap_impulse
 from impactdyn.debris._plots import write_plots
 from impactdyn.debris._propagate import DebrisResult
 from impactdyn.debris._vtk_output import write_vtk
-from impactdyn.materials import AL_6061_T6_MAT13, Mat13Card
 from impactdyn.wallgrid import WallGrid
 
 AREAL_HEADER = ["i", "k", "element", "x_cm", "z_cm", "px_g_cm_us", "py_g_cm_us", "pz_g_cm_us",
@@ -61,8 +60,7 @@ def write_debris_run(result: DebrisResult, case, outdir: str | Path, *, force: b
 
 
 def write_debris_files(folder: FolderWriter, result: DebrisResult, case, *, remap: WallGrid | None = None,
-                       dcpost_factor: float = 1.0, extra_summary: dict | None = None,
-                       wall_material: Mat13Card = AL_6061_T6_MAT13, decks: bool = True) -> dict:
+                       dcpost_factor: float = 1.0, extra_summary: dict | None = None, decks: bool = True) -> dict:
     """Every file of the module docstring into ``folder``; returns the summary (also ``summary.json``).
 
     ``decks=False`` leaves the wall decks out (the Whipple pipeline writes them in a stage of their own).
@@ -87,8 +85,8 @@ def write_debris_files(folder: FolderWriter, result: DebrisResult, case, *, rema
     if o.vtk:
         files += write_vtk(result, folder.path, o.max_vtk_particles)
     if decks:
-        files += write_decks(folder, result.wall, result.deposition, result.impulse, case, dcpost_factor,
-                             wall_material)
+        files += write_decks(folder, result.wall, result.deposition, result.impulse,
+                             DeckOptions.of(case, dcpost_factor))
     if o.plots:
         write_plots(result, folder.path / "plots")
         files += ["plots/areal_density.png", "plots/cloud.png"]

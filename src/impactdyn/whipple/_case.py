@@ -20,7 +20,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated
 
-from pydantic import AfterValidator, Field, field_validator, model_validator
+from pydantic import Field, field_validator, model_validator
 
 from impactdyn import units
 from impactdyn._config import (NodeCount, NonNegative, Positive, Range, Section, check_ordered, field_of, load_toml,
@@ -29,22 +29,9 @@ from impactdyn._errors import InputError
 from impactdyn.debris import (
     ComputeSection, DebrisCase, FilterSection, IntegratorSection, LegacySection, OutputSection, check_bulk_modulus)
 from impactdyn.debris import WallSection as DebrisWallSection
-from impactdyn.materials import Material, get_material
+from impactdyn.materials import REPORT_MATERIAL, Material, MaterialName, get_material
 from impactdyn.shield import BinningMethod, FlowStress, SPHOptions, bin_to_hydrogrid
 from impactdyn.wall import WallOptions
-
-
-def _known_material(name: str) -> str:
-    try:
-        return get_material(name).name
-    except InputError as err:
-        raise ValueError(str(err)) from None
-
-
-MaterialName = Annotated[str, AfterValidator(_known_material)]
-"""A name of :data:`impactdyn.materials.MATERIALS`, stored as its canonical name."""
-REPORT_MATERIAL = "al6061-t6"
-"""Projectile, bumper and wall material by default: the report's Al 6061-T6."""
 
 
 class ProjectileSection(Section):
@@ -284,7 +271,7 @@ def debris_case(case: WhippleCase, grid_file: str) -> DebrisCase:
     return validate(DebrisCase, shared | {
         "title": case.title, "grid": {"file": grid_file}, "material": debris_material_constants(case),
         "wall": {"x_cm": list(w.x_cm), "y_cm": [y0, y0 + w.thickness_cm], "z_cm": list(w.z_cm),
-                 "nodes": list(w.nodes), "clamped_edges": w.clamped_edges}}, source="debris case of the Whipple case")
+                 "nodes": list(w.nodes), "clamped_edges": w.clamped_edges, "material": w.material}}, source="debris case of the Whipple case")
 
 
 def ble_shield(case: WhippleCase):

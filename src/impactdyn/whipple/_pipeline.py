@@ -149,13 +149,11 @@ def _wall(s: StageContext) -> dict:
 
 
 def _decks(s: StageContext) -> dict:
-    from impactdyn.debris import read_deposition, write_decks
-    from impactdyn.materials import mat13_card
+    from impactdyn.debris import DeckOptions, read_deposition, write_decks
 
     s.report("decks", 0, 1)
     wall, deposition, impulse = read_deposition(s.folder.path / "debris" / "debris.h5")
-    files = write_decks(s.folder.sub("decks"), wall, deposition, impulse, s.case,
-                        material=mat13_card(s.case.wall.material))
+    files = write_decks(s.folder.sub("decks"), wall, deposition, impulse, DeckOptions.of(s.case))
     s.report("decks", 1, 1)
     return {"files": [f"decks/{name}" for name in files], "n_records": int(deposition.element.size),
             "n_loaded_elements": int(np.count_nonzero(np.abs(impulse).sum(axis=-1)))}
