@@ -184,3 +184,18 @@ def test_the_debris_case_carries_the_wall_material(tmp_path, make_case):
     card = DeckOptions.of(debris).material
     assert card == mat13_card(CU_OFHC.name) == DeckOptions.of(case).material
     assert card.density == CU_OFHC.rho0
+
+
+@pytest.mark.parametrize("changes, message", [
+    (dict(wall_solver__refinement_thickness=0), "case.toml: wall_solver: refinement_thickness: must be a positive"),
+    (dict(wall_solver__material_model="bogus"), "material_model"),
+    (dict(wall_solver__max_time_us=-1.0), "max_time_us"),
+    (dict(wall__thickness_cm=0.0), "wall.thickness_cm"),
+])
+def test_bad_wall_solver_settings_exit_2_before_any_work(tmp_path, capsys, make_case, changes, message):
+    case = make_case(tmp_path, **changes)
+    out = tmp_path / "run"
+    assert main(["whipple", "run", str(case), "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert message in err and "Traceback" not in err
+    assert not out.exists()

@@ -155,9 +155,8 @@ def whipple(
         shot = None if diameter_cm is None else (velocity_km_s, diameter_cm, out["verdict"] == "perforation")
         plot_ballistic_limit([curve], plot, shot=shot,
                              shots=nearby_shots(shield, obliquity_deg) if test_shots else None,
-                             title=f"Whipple shield t_b = {bumper_cm:g} cm, t_w = {wall_cm:g} cm, "
-                                   f"S = {spacing_cm:g} cm, σ = {yield_ksi:g} ksi\nθ = {obliquity_deg:g}°, "
-                                   f"ρ_p = {projectile_density:g} g/cm³")
+                             title=f"Whipple shield {_shield_label(bumper_cm, wall_cm, spacing_cm, yield_ksi)}\n"
+                                   f"θ = {obliquity_deg:g}°, ρ_p = {projectile_density:g} g/cm³")
         out["plot"] = str(plot)
     if as_json:
         typer.echo(json.dumps(out, indent=2))
@@ -254,9 +253,8 @@ def validate(
 
         plot_validation(results, plot, curves, near,
                         None if shield is None else
-                        f"t_b = {bumper_cm:g} cm, t_w = {wall_cm:g} cm, S = {spacing_cm:g} cm, "
-                        f"σ = {yield_ksi:g} ksi, θ = {obliquity_deg:g}°: {len(near)} shots within "
-                        f"±{100 * band:g} %, ±{obliquity_band_deg:g}°")
+                        f"{_shield_label(bumper_cm, wall_cm, spacing_cm, yield_ksi)}, θ = {obliquity_deg:g}°: "
+                        f"{len(near)} shots within ±{100 * band:g} %, ±{obliquity_band_deg:g}°")
         out["plot"] = str(plot)
     if as_json:
         typer.echo(json.dumps(out, indent=2))
@@ -270,6 +268,10 @@ def validate(
                    + ", ".join(f"{k} {s['correct']}" for k, s in c["scores"].items()))
     if plot is not None:
         typer.echo(f"plot: {plot}")
+
+
+def _shield_label(bumper_cm: float, wall_cm: float, spacing_cm: float, yield_ksi: float) -> str:
+    return f"t_b = {bumper_cm:g} cm, t_w = {wall_cm:g} cm, S = {spacing_cm:g} cm, σ = {yield_ksi:g} ksi"
 
 
 @app.command("single-wall")

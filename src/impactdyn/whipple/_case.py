@@ -18,9 +18,9 @@ z ∈ [−4, 12] cm about the impact point).
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, get_type_hints
 
-from pydantic import Field, field_validator, model_validator
+from pydantic import Field, create_model, field_validator, model_validator
 
 from impactdyn import units
 from impactdyn._config import (NodeCount, NonNegative, Positive, Range, Section, check_ordered, field_of, load_toml,
@@ -126,31 +126,13 @@ class DebrisMaterialSection(Section):
         return self
 
 
-class WallSolverSection(Section):
-    """The wall stage's solver (:class:`impactdyn.wall.WallOptions`: every default and bound is its own).
-
-    The supports are not set here: they follow ``wall.clamped_edges`` (clamped, or DYNGEN's
-    edge codes), as the decks do.
-    """
-
-    material_model: str = field_of(WallOptions, "material_model")
-    refinement_thickness: int = field_of(WallOptions, "refinement_thickness")
-    refinement_plane: int = field_of(WallOptions, "refinement_plane")
-    spread: str = field_of(WallOptions, "spread")
-    hourglass: str = field_of(WallOptions, "hourglass")
-    hourglass_coefficient: float = field_of(WallOptions, "hourglass_coefficient")
-    q1: float = field_of(WallOptions, "q1")
-    q2: float = field_of(WallOptions, "q2")
-    courant: float = field_of(WallOptions, "courant")
-    end_time_us: float | None = field_of(WallOptions, "end_time_us")
-    decay_fraction: float = field_of(WallOptions, "decay_fraction")
-    max_time_us: float = field_of(WallOptions, "max_time_us")
-    output_interval_us: float | None = field_of(WallOptions, "output_interval_us")
-    history_interval_us: float = field_of(WallOptions, "history_interval_us")
-    escape_velocity_km_s: float = field_of(WallOptions, "escape_velocity_km_s")
+class _WallSolverBase(Section):
+    """The wall stage's solver: the settings of :class:`impactdyn.wall.WallOptions` (its defaults and
+    bounds are the only ones) but the supports, which follow ``wall.clamped_edges`` (clamped, or
+    DYNGEN's edge codes) as the decks do."""
 
     @model_validator(mode="after")
-    def _valid(self) -> "WallSolverSection":
+    def _valid(self) -> "_WallSolverBase":
         try:
             self.options(clamped_edges=True)
         except InputError as err:
@@ -160,6 +142,12 @@ class WallSolverSection(Section):
     def options(self, clamped_edges: bool) -> WallOptions:
         """The solver options, with the supports of the wall's edges."""
         return WallOptions(**self.model_dump(), supports="clamped" if clamped_edges else "dyngen")
+
+
+WallSolverSection = create_model(
+    "WallSolverSection", __base__=_WallSolverBase, __module__=__name__,
+    **{name: (kind, field_of(WallOptions, name)) for name, kind in get_type_hints(WallOptions).items()
+       if name != "supports"})
 
 
 class WhippleCase(Section):
