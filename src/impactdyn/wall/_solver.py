@@ -92,10 +92,7 @@ class WallSolver:
         self.bad = np.zeros(ne, dtype=np.int8)
         self.Lbuf = np.zeros((ne, 3, 3))
         self.Qhg = np.zeros((ne, 4, 3))
-        nt = numba.config.NUMBA_NUM_THREADS
-        self.scratch = np.zeros((nt, 5, 8, 3))
-        self.gam = np.zeros((nt, 4, 8))
-        self.qd = np.zeros((nt, 4, 3))
+        self.work = _step.work_arrays(numba.config.NUMBA_NUM_THREADS)
         self.mprm = np.ascontiguousarray(model.kernel_params(), dtype=np.float64)
         self.table = np.ascontiguousarray(model.kernel_table(), dtype=np.float64)
         self.acc = np.zeros(_step.N_ACC)
@@ -103,7 +100,7 @@ class WallSolver:
         self.load = load if load is not None else nodal_load_empty()
         self.erode_dt = 0.0
         self.min_dt = 0.0
-        status, dtmin = self._element_pass(0.0)
+        status, dtmin = self.element_pass(0.0)
         if status or not math.isfinite(dtmin):
             raise WallSolverError(f"wall solver: the initial mesh is not valid ({_BREAKDOWN.get(status, status)})")
         self.dt_element0 = dtmin
@@ -114,13 +111,15 @@ class WallSolver:
         self.k0 = None
 
     # -- compiled passes ------------------------------------------------------------------------------
-    def _element_pass(self, dt: float):
+    def element_pass(self, dt: float, dt_full_prev: float = 0.0) -> tuple[int, float]:
+        """One element pass over the current x, v (:func:`impactdyn.wall._step.element_pass`), for
+        stepping by hand (verification); returns (status, min Δt_e)."""
         o = self.options
         return _step.element_pass(self.x, self.v, self.mesh.connectivity, self.mesh.volume, self.mesh.element_mass,
-                                  self.S, self.es, self.flags, self.bad, self.Lbuf, self.Qhg, self.F, self.scratch,
-                                  self.gam, self.qd, self.model.kind, self.mprm, self.table, o.hourglass_stiffness,
+                                  self.S, self.es, self.flags, self.bad, self.Lbuf, self.Qhg, self.F, *self.work,
+                                  self.model.kind, self.mprm, self.table, o.hourglass_stiffness,
                                   o.hourglass_coefficient, o.q1, o.q2, self.model.erodes, self.erode_dt, self.min_dt,
-                                  dt, 0.0)
+                                  dt, dt_full_prev)
 
     def advance(self, t_stop: float, max_steps: int = 2**62) -> int:
         """Step until t ≥ ``t_stop`` (or ``max_steps`` steps); returns the steps taken.
@@ -131,8 +130,8 @@ class WallSolver:
         status, steps = _step.advance(
             t_stop, max_steps, self.clock, self.acc, self.x, self.v, m.node_mass, self.free, self.fixed, self.pext,
             self.rear, self.Fflat, m.node_element_ptr, m.node_element_entry, m.connectivity, m.volume,
-            m.element_mass, self.S, self.es, self.flags, self.bad, self.Lbuf, self.Qhg, self.F, self.scratch,
-            self.gam, self.qd, self.model.kind, self.mprm, self.table, o.hourglass_stiffness, o.hourglass_coefficient, o.q1,
+            m.element_mass, self.S, self.es, self.flags, self.bad, self.Lbuf, self.Qhg, self.F, *self.work,
+            self.model.kind, self.mprm, self.table, o.hourglass_stiffness, o.hourglass_coefficient, o.q1,
             o.q2, o.courant, self.model.erodes, self.erode_dt, self.min_dt, ld.time, ld.ptr, ld.node, ld.weight,
             ld.impulse)
         if status:

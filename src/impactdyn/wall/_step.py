@@ -22,11 +22,16 @@ v = v^{n+½}:
       L_ij = Σ_I v_iI b_iJ(x^{n+½}),   d = sym L,   Ω = skew L,   b = ∂V/∂x / V
 
 * bulk viscosity on compression (Hallquist, LS-DYNA Theory Manual, "artificial bulk
-  viscosity"; defaults Q1 = 1.5, Q2 = 0.06), ℓ = V^{1/3}::
+  viscosity"; defaults Q1 = 1.5, Q2 = 0.06)::
 
       q = ρ ℓ (Q1 ℓ (tr d)² − Q2 c tr d)    if tr d < 0,   else 0
 
-  (LS-DYNA's form: Q1 multiplies the quadratic term; DESIGN §9 writes Q1² there.)
+  (LS-DYNA's form: Q1 multiplies the quadratic term; DESIGN §9 writes Q1² there.)  The
+  length ℓ is the element's characteristic length L_e = V/A_max, the one of the time step
+  below: with ℓ = V^{1/3} a flat element (the report's are 0.16 × 0.079 × 0.16 cm) gets a
+  quadratic viscosity (ℓ/L_e)² times stronger than its step allows, and a compression front
+  through flat elements ran away (q grew without bound within 20 steps) — a one-dimensional
+  column of 0.05 × 0.01 × 0.05 cm elements under a 4 GPa pulse, tests/wall/test_wave.py.
 * the material update of the element's model (:mod:`._mat13`, :mod:`._johnson_cook`)
   gives S^{n+1}, p^{n+1}, the sound speed c and the failure state;
 * internal force with the end-of-step geometry, σ = S − (p + q) I::
@@ -43,7 +48,7 @@ v = v^{n+½}:
   (the stiffness form is FB's, with their 1/√8-normalised γ folded into κ; QH = 0.1 is
   LS-DYNA's default coefficient);
 * the element's stable step (Hallquist): Δt_e = L_e / (Q + √(Q² + c²)),
-  Q = Q1 ℓ|tr d| + Q2 c on compression (0 otherwise), L_e = V/A_max.
+  Q = Q1 L_e|tr d| + Q2 c on compression (0 otherwise), L_e = V/A_max.
 
 The global step is Δt^{n+½} = (Courant factor) · min_e Δt_e.
 
@@ -78,7 +83,7 @@ import math
 import numpy as np
 from numba import get_thread_id, njit, prange
 
-from impactdyn.wall._hex import hourglass_shapes, largest_face_area, volume_gradient
+from impactdyn.wall._hex import BLOCK, hourglass_shapes, largest_face_area, volume_gradient
 from impactdyn.wall._johnson_cook import KIND as JC_KIND
 from impactdyn.wall._johnson_cook import jc_update
 from impactdyn.wall._mat13 import KIND as MAT13_KIND
@@ -112,8 +117,20 @@ def _erase(F, es, e):
     es[e, P1_HG] = 0.0
 
 
+#: Rows of the per-thread block vectors ``vec`` of :func:`element_pass`.
+(V_VOL, V_VMID, V_P2, V_SIG, V_Q, V_OK, V_P1, V_BV, V_LE, V_TMP) = (0, 1, 2, 3, 9, 10, 11, 12, 13, 14)
+N_VEC = 18
+
+
+def work_arrays(n_threads: int) -> tuple[np.ndarray, ...]:
+    """Per-thread block work space of :func:`element_pass`: (geo, hg_shapes, hg_forces, lb, vec)."""
+    return (np.zeros((n_threads, 6, 3, 8, BLOCK)), np.zeros((n_threads, 4, 8, BLOCK)),
+            np.zeros((n_threads, 2, 4, 3, BLOCK)), np.zeros((n_threads, 3, 3, BLOCK)),
+            np.zeros((n_threads, N_VEC, BLOCK)))
+
+
 @njit(parallel=True, cache=True)
-def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, F, scratch, gam, qd, kind, mprm, table,
+def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, F, geo, hgs, hgf, lb, vec, kind, mprm, table,
                  hg_stiffness, qh, q1, q2, erode_failed, erode_dt, min_dt, dt, dt_full_prev):
     """Stress update and nodal forces of every element over the half step Δt = ``dt`` (module docstring).
 
@@ -121,135 +138,191 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, F, scrat
     state S, es, flags, Lbuf, Qhg (:mod:`._state`) updated in place; F (n_elements, 8, 3) holds
     the previous forces f^n on entry and receives f^{n+1} = f_int + f_hg.  ``dt_full_prev`` is
     Δt^n, the interval the previous forces acted over (their work is completed here).
-    scratch (n_threads, 5, 8, 3), gam (n_threads, 4, 8) and qd (n_threads, 4, 3) are
-    per-thread work space.  ``dt = 0`` computes the forces of the current state without
-    updating it (the first step).
+    ``dt = 0`` computes the forces of the current state without updating it (the first step).
+
+    The elements are taken in blocks of :data:`BLOCK` (one block per parallel iteration): the
+    geometry, velocity gradients, hourglass velocities and forces of a block are computed in
+    loops over its elements that vectorise (component-first block arrays, :mod:`._hex`); the
+    material update runs element by element.  geo (n_threads, 6, 3, 8, BLOCK) holds a block's
+    end and midstep coordinates, velocities, end and midstep volume gradients and forces;
+    hgs (n_threads, 4, 8, BLOCK) its γ; hgf (n_threads, 2, 4, 3, BLOCK) its hourglass velocities
+    q̇ and forces Q; lb (n_threads, 3, 3, BLOCK) its velocity gradients; vec (n_threads, N_VEC,
+    BLOCK) its per-element scalars (:func:`work_arrays`).
 
     Returns (status, min_e Δt_e): status 0, or the largest breakdown code (``bad`` marks the
     elements).
     """
+    ne = conn.shape[0]
     status = 0
     dtmin = np.inf
-    for e in prange(conn.shape[0]):
+    half = 0.5 * dt_full_prev
+    for blk in prange((ne + BLOCK - 1) // BLOCK):
         tid = get_thread_id()
-        X = scratch[tid, 0]
-        Xm = scratch[tid, 1]
-        V = scratch[tid, 2]
-        B = scratch[tid, 3]
-        Bm = scratch[tid, 4]
-        G = gam[tid]
-        QD = qd[tid]
-        if flags[e, ERODED] != 0:
-            continue
-        p2 = 0.0  # f^n · v^{n+½}: the second half of the previous forces' work
-        for a in range(8):
-            n = conn[e, a]
-            for i in range(3):
-                X[a, i] = x[n, i]
-                V[a, i] = v[n, i]
-                Xm[a, i] = x[n, i] - 0.5 * dt * v[n, i]
-                p2 += F[e, a, i] * v[n, i]
-        vol = volume_gradient(X, B)
-        vmid = volume_gradient(Xm, Bm)
-        half = 0.5 * dt_full_prev
-        if not (vol > 0.0 and vmid > 0.0):
-            es[e, W_SIGMA] += half * (es[e, P1_SIGMA] + es[e, P1_Q] + es[e, P1_HG] + p2)
-            _erase(F, es, e)
-            if flags[e, FAILED] != 0:
-                flags[e, ERODED] = 1
-            else:
-                bad[e] = BAD_VOLUME
-                status = max(status, BAD_VOLUME)
-            continue
-        # midstep velocity gradient L = Σ_I v_I ⊗ b_I
+        X, XM, V, B, BM, FS = geo[tid, 0], geo[tid, 1], geo[tid, 2], geo[tid, 3], geo[tid, 4], geo[tid, 5]
+        G, QD, QN, LB, W = hgs[tid], hgf[tid, 0], hgf[tid, 1], lb[tid], vec[tid]
+        e0 = blk * BLOCK
+        nb = min(BLOCK, ne - e0)
+        # gather the block; p2 = f^n · v^{n+½}, the second half of the previous forces' work
+        for k in range(nb):
+            e = e0 + k
+            p2 = 0.0
+            for a in range(8):
+                n = conn[e, a]
+                for i in range(3):
+                    xv = x[n, i]
+                    vv = v[n, i]
+                    X[i, a, k] = xv
+                    V[i, a, k] = vv
+                    XM[i, a, k] = xv - 0.5 * dt * vv
+                    p2 += F[e, a, i] * vv
+            W[V_P2, k] = p2
+        # geometry at the step's end and at midstep
+        volume_gradient(X, B, W[V_VOL], nb)
+        volume_gradient(XM, BM, W[V_VMID], nb)
+        hourglass_shapes(X, B, W[V_VOL], G, W[V_TMP:V_TMP + 4], nb)
+        # midstep velocity gradient L = Σ_I v_I ⊗ b_I, and hourglass velocities q̇_αi = Σ_I γ_αI v_iI
         for i in range(3):
             for j in range(3):
-                s = 0.0
-                for a in range(8):
-                    s += V[a, i] * Bm[a, j]
-                Lbuf[e, i, j] = s / vmid
-        trd = Lbuf[e, 0, 0] + Lbuf[e, 1, 1] + Lbuf[e, 2, 2]
-        # hourglass velocities q̇_αi = Σ_I γ_αI v_iI (end-of-step shape vectors)
-        hourglass_shapes(X, B, vol, G)
-        p2_hg = 0.0
+                for k in range(nb):
+                    s = 0.0
+                    for a in range(8):
+                        s += V[i, a, k] * BM[j, a, k]
+                    LB[i, j, k] = s / W[V_VMID, k]
         for al in range(4):
             for i in range(3):
-                s = 0.0
-                for a in range(8):
-                    s += G[al, a] * V[a, i]
-                QD[al, i] = s
-                p2_hg += Qhg[e, al, i] * s
-        # complete the work of the previous forces over Δt^n: ½Δt^n f^n·(v^{n−½} + v^{n+½}), split by kind
-        p2_q = -es[e, Q] * vmid * trd
-        es[e, W_SIGMA] += half * (es[e, P1_SIGMA] + p2 - p2_q - p2_hg)
-        es[e, W_Q] += half * (es[e, P1_Q] + p2_q)
-        es[e, W_HG] += half * (es[e, P1_HG] + p2_hg)
-        # bulk viscosity and the material update
-        rho = emass[e] / vol
-        ell = np.cbrt(vol)
-        q = 0.0
-        if trd < 0.0:
-            q = rho * ell * (q1 * ell * trd * trd - q2 * es[e, C] * trd)
-        vbar = 0.5 * (es[e, VOL] + vol)
-        if kind == MAT13_KIND:
-            c, dw, dwp = mat13_update(e, Lbuf, dt, vbar, emass[e], rho, vol / vol0[e], q, S, es, flags, mprm)
-        else:
-            c, dw, dwp = jc_update(e, Lbuf, dt, vbar, emass[e], rho, q, S, es, flags, table, mprm)
-        es[e, C] = c
-        es[e, Q] = q
-        es[e, VOL] = vol
-        es[e, W_PLASTIC] += dwp
-        # Flanagan–Belytschko hourglass forces f_hg,iI = Σ_α Q_αi γ_αI: the generalised forces Q first
-        if hg_stiffness:
-            bb = 0.0
-            for a in range(8):
-                bb += B[a, 0] * B[a, 0] + B[a, 1] * B[a, 1] + B[a, 2] * B[a, 2]
-            coef = qh * rho * c * c * bb / (3.0 * vol) / 8.0 * dt
-        else:
-            coef = 0.25 * qh * rho * c * ell * ell
-        p1_hg = 0.0
-        for al in range(4):
+                for k in range(nb):
+                    s = 0.0
+                    for a in range(8):
+                        s += G[al, a, k] * V[i, a, k]
+                    QD[al, i, k] = s
+        # element by element: work of the previous forces, bulk viscosity, material, hourglass forces
+        bstatus = 0
+        for k in range(nb):
+            e = e0 + k
+            W[V_OK, k] = 0.0
+            if flags[e, ERODED] != 0:
+                continue
+            vol = W[V_VOL, k]
+            vmid = W[V_VMID, k]
+            p2 = W[V_P2, k]
+            if not (vol > 0.0 and vmid > 0.0):
+                es[e, W_SIGMA] += half * (es[e, P1_SIGMA] + es[e, P1_Q] + es[e, P1_HG] + p2)
+                _erase(F, es, e)
+                if flags[e, FAILED] != 0:
+                    flags[e, ERODED] = 1
+                else:
+                    bad[e] = BAD_VOLUME
+                    bstatus = max(bstatus, BAD_VOLUME)
+                continue
             for i in range(3):
-                qnew = (Qhg[e, al, i] if hg_stiffness else 0.0) + coef * QD[al, i]
-                Qhg[e, al, i] = qnew
-                p1_hg += qnew * QD[al, i]
-        es[e, P1_HG] = p1_hg
-        # nodal forces: f_iI = σ_ij B_jI (σ = S − p I), the bulk viscosity's −q B_iI, and f_hg,iI
-        p = es[e, P]
-        sxx, syy, szz = S[e, 0] - p, S[e, 1] - p, S[e, 2] - p
-        sxy, syz, szx = S[e, 3], S[e, 4], S[e, 5]
-        p1 = 0.0
-        bv = 0.0
+                for j in range(3):
+                    Lbuf[e, i, j] = LB[i, j, k]
+            trd = LB[0, 0, k] + LB[1, 1, k] + LB[2, 2, k]
+            # complete the work of the previous forces over Δt^n: ½Δt^n f^n·(v^{n−½} + v^{n+½}), by kind
+            p2_hg = 0.0
+            for al in range(4):
+                for i in range(3):
+                    p2_hg += Qhg[e, al, i] * QD[al, i, k]
+            p2_q = -es[e, Q] * vmid * trd
+            es[e, W_SIGMA] += half * (es[e, P1_SIGMA] + p2 - p2_q - p2_hg)
+            es[e, W_Q] += half * (es[e, P1_Q] + p2_q)
+            es[e, W_HG] += half * (es[e, P1_HG] + p2_hg)
+            # bulk viscosity and the material update
+            rho = emass[e] / vol
+            ell = vol / largest_face_area(X, k)
+            W[V_LE, k] = ell
+            q = 0.0
+            if trd < 0.0:
+                q = rho * ell * (q1 * ell * trd * trd - q2 * es[e, C] * trd)
+            vbar = 0.5 * (es[e, VOL] + vol)
+            if kind == MAT13_KIND:
+                c, dw, dwp = mat13_update(e, Lbuf, dt, vbar, emass[e], rho, vol / vol0[e], q, S, es, flags, mprm)
+            else:
+                c, dw, dwp = jc_update(e, Lbuf, dt, vbar, emass[e], rho, q, S, es, flags, table, mprm)
+            es[e, C] = c
+            es[e, Q] = q
+            es[e, VOL] = vol
+            es[e, W_PLASTIC] += dwp
+            # Flanagan–Belytschko generalised hourglass forces Q_αi
+            if hg_stiffness:
+                bb = 0.0
+                for a in range(8):
+                    bb += B[0, a, k] * B[0, a, k] + B[1, a, k] * B[1, a, k] + B[2, a, k] * B[2, a, k]
+                coef = qh * rho * c * c * bb / (3.0 * vol) / 8.0 * dt
+            else:
+                cb = np.cbrt(vol)
+                coef = 0.25 * qh * rho * c * cb * cb
+            p1_hg = 0.0
+            for al in range(4):
+                for i in range(3):
+                    qnew = (Qhg[e, al, i] if hg_stiffness else 0.0) + coef * QD[al, i, k]
+                    Qhg[e, al, i] = qnew
+                    QN[al, i, k] = qnew
+                    p1_hg += qnew * QD[al, i, k]
+            es[e, P1_HG] = p1_hg
+            p = es[e, P]
+            W[V_SIG + 0, k] = S[e, 0] - p
+            W[V_SIG + 1, k] = S[e, 1] - p
+            W[V_SIG + 2, k] = S[e, 2] - p
+            W[V_SIG + 3, k] = S[e, 3]
+            W[V_SIG + 4, k] = S[e, 4]
+            W[V_SIG + 5, k] = S[e, 5]
+            W[V_Q, k] = q
+            W[V_OK, k] = 1.0
+        # nodal forces of the block: f_iI = σ_ij B_jI (σ = S − p I), the bulk viscosity's −q B_iI, and
+        # f_hg,iI = Σ_α Q_αi γ_αI; p1 = f_σ·v^{n+½} and bv = B·v^{n+½} for the work bookkeeping
+        for k in range(nb):
+            W[V_P1, k] = 0.0
+            W[V_BV, k] = 0.0
         for a in range(8):
-            b0, b1, b2 = B[a, 0], B[a, 1], B[a, 2]
-            f0 = sxx * b0 + sxy * b1 + szx * b2
-            f1 = sxy * b0 + syy * b1 + syz * b2
-            f2 = szx * b0 + syz * b1 + szz * b2
-            p1 += f0 * V[a, 0] + f1 * V[a, 1] + f2 * V[a, 2]
-            bv += b0 * V[a, 0] + b1 * V[a, 1] + b2 * V[a, 2]
-            g0, g1, g2, g3 = G[0, a], G[1, a], G[2, a], G[3, a]
-            F[e, a, 0] = f0 - q * b0 + Qhg[e, 0, 0] * g0 + Qhg[e, 1, 0] * g1 + Qhg[e, 2, 0] * g2 + Qhg[e, 3, 0] * g3
-            F[e, a, 1] = f1 - q * b1 + Qhg[e, 0, 1] * g0 + Qhg[e, 1, 1] * g1 + Qhg[e, 2, 1] * g2 + Qhg[e, 3, 1] * g3
-            F[e, a, 2] = f2 - q * b2 + Qhg[e, 0, 2] * g0 + Qhg[e, 1, 2] * g1 + Qhg[e, 2, 2] * g2 + Qhg[e, 3, 2] * g3
-        es[e, P1_SIGMA] = p1
-        es[e, P1_Q] = -q * bv
-        # stable step
-        qs = 0.0
-        if trd < 0.0:
-            qs = q1 * ell * abs(trd) + q2 * c
-        dte = vol / largest_face_area(X) / (qs + math.sqrt(qs * qs + c * c))
-        es[e, DT_E] = dte
-        if flags[e, FAILED] != 0 and (erode_failed or dte < erode_dt):
-            flags[e, ERODED] = 1
-            _erase(F, es, e)
-            continue
-        if dte < min_dt:
-            bad[e] = BAD_STEP
-            status = max(status, BAD_STEP)
-        if not math.isfinite(F[e, 0, 0] + F[e, 7, 1] + F[e, 4, 2] + dte):
-            bad[e] = BAD_FORCE
-            status = max(status, BAD_FORCE)
-        dtmin = min(dtmin, dte)
+            for k in range(nb):
+                sxx, syy, szz = W[V_SIG, k], W[V_SIG + 1, k], W[V_SIG + 2, k]
+                sxy, syz, szx = W[V_SIG + 3, k], W[V_SIG + 4, k], W[V_SIG + 5, k]
+                b0, b1, b2 = B[0, a, k], B[1, a, k], B[2, a, k]
+                f0 = sxx * b0 + sxy * b1 + szx * b2
+                f1 = sxy * b0 + syy * b1 + syz * b2
+                f2 = szx * b0 + syz * b1 + szz * b2
+                W[V_P1, k] += f0 * V[0, a, k] + f1 * V[1, a, k] + f2 * V[2, a, k]
+                W[V_BV, k] += b0 * V[0, a, k] + b1 * V[1, a, k] + b2 * V[2, a, k]
+                g0, g1, g2, g3 = G[0, a, k], G[1, a, k], G[2, a, k], G[3, a, k]
+                q = W[V_Q, k]
+                FS[0, a, k] = f0 - q * b0 + QN[0, 0, k] * g0 + QN[1, 0, k] * g1 + QN[2, 0, k] * g2 + QN[3, 0, k] * g3
+                FS[1, a, k] = f1 - q * b1 + QN[0, 1, k] * g0 + QN[1, 1, k] * g1 + QN[2, 1, k] * g2 + QN[3, 1, k] * g3
+                FS[2, a, k] = f2 - q * b2 + QN[0, 2, k] * g0 + QN[1, 2, k] * g1 + QN[2, 2, k] * g2 + QN[3, 2, k] * g3
+        # store the forces, the stable step, erosion and breakdown checks
+        bmin = np.inf
+        for k in range(nb):
+            if W[V_OK, k] == 0.0:
+                continue
+            e = e0 + k
+            for a in range(8):
+                F[e, a, 0] = FS[0, a, k]
+                F[e, a, 1] = FS[1, a, k]
+                F[e, a, 2] = FS[2, a, k]
+            es[e, P1_SIGMA] = W[V_P1, k]
+            es[e, P1_Q] = -W[V_Q, k] * W[V_BV, k]
+            vol = W[V_VOL, k]
+            c = es[e, C]
+            trd = LB[0, 0, k] + LB[1, 1, k] + LB[2, 2, k]
+            ell = W[V_LE, k]
+            qs = 0.0
+            if trd < 0.0:
+                qs = q1 * ell * abs(trd) + q2 * c
+            dte = ell / (qs + math.sqrt(qs * qs + c * c))
+            es[e, DT_E] = dte
+            if flags[e, FAILED] != 0 and (erode_failed or dte < erode_dt):
+                flags[e, ERODED] = 1
+                _erase(F, es, e)
+                continue
+            if dte < min_dt:
+                bad[e] = BAD_STEP
+                bstatus = max(bstatus, BAD_STEP)
+            if not math.isfinite(FS[0, 0, k] + FS[1, 7, k] + FS[2, 4, k] + dte):
+                bad[e] = BAD_FORCE
+                bstatus = max(bstatus, BAD_FORCE)
+            bmin = min(bmin, dte)
+        status = max(status, bstatus)
+        dtmin = min(dtmin, bmin)
     return status, dtmin
 
 
@@ -325,8 +398,8 @@ def _clear_loads(c0, c1, rec_ptr, rec_node, pext):
 
 @njit(cache=True)
 def advance(t_stop, max_steps, clock, acc, x, v, mass, free, fixed, pext, rear, Fflat, ptr, entry, conn, vol0,
-            emass, S, es, flags, bad, Lbuf, Qhg, F, scratch, gam, qd, kind, mprm, table, hg_stiffness, qh, q1, q2,
-            courant, erode_failed, erode_dt, min_dt, rec_time, rec_ptr, rec_node, rec_weight, rec_imp):
+            emass, S, es, flags, bad, Lbuf, Qhg, F, geo, hgs, hgf, lb, vec, kind, mprm, table, hg_stiffness, qh, q1,
+            q2, courant, erode_failed, erode_dt, min_dt, rec_time, rec_ptr, rec_node, rec_weight, rec_imp):
     """Steps from t^n (element pass done) until t ≥ ``t_stop`` or ``max_steps`` steps (module docstring).
 
     Each step: loads due at t^n, node pass (kick to v^{n+½}, drift to x^{n+1}), t ← t^{n+1},
@@ -348,8 +421,8 @@ def advance(t_stop, max_steps, clock, acc, x, v, mass, free, fixed, pext, rear, 
         clock[T_NOW] += clock[DT_NEXT]
         clock[DT_PREV] = clock[DT_NEXT]
         clock[DT_FULL] = dt_full
-        status, dtmin = element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, F, scratch, gam, qd,
-                                     kind, mprm, table, hg_stiffness, qh, q1, q2, erode_failed, erode_dt, min_dt,
+        status, dtmin = element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, F, geo, hgs, hgf, lb,
+                                     vec, kind, mprm, table, hg_stiffness, qh, q1, q2, erode_failed, erode_dt, min_dt,
                                      clock[DT_PREV], dt_full)
         steps += 1
         clock[STEPS] += 1

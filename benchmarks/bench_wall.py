@@ -1,0 +1,102 @@
+"""Element-steps per second of the wall solver on the report's wall (DESIGN §9, issue 11).
+
+The Table 2 wall of the 1994 report: 51 × 5 × 101 nodes (50 × 4 × 100 elements of
+0.16 × 0.079 × 0.16 cm, Al 6061-T6, the App. D type-13 card), DYNGEN's supports, loaded by
+a synthetic deposition (a Gaussian patch of impulses on the front face arriving over 2 µs,
+an 8 × 8 mm hot spot; the speed does not depend on the load while no element fails).
+After a warm-up that compiles the kernels (or loads them from numba's cache) the run is
+timed over a fixed number of steps, at the default mesh and at 2× refinement (through the
+thickness and in the plane), with the steps driven two ways:
+
+* ``compiled`` — the whole step loop in compiled code (:func:`impactdyn.wall._step.advance`
+  called once for all the timed steps; what :func:`impactdyn.wall.run_wall` does between
+  history samples);
+* ``python`` — a Python loop calling ``advance`` for one step at a time (the cost of the
+  Python-side call per step).
+
+    python benchmarks/bench_wall.py [--steps 200] [--threads 2] [--repeat 3]
+
+Prints, per mesh and driver: elements, steps, wall time, element-steps/s (median of the
+repeats).  The numba threading layer and thread count are printed too: under CPU
+oversubscription the OpenMP layer's spin-waiting costs milliseconds per parallel launch
+(``OMP_WAIT_POLICY=passive`` avoids it).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import statistics
+import time
+
+import numba
+import numpy as np
+
+from impactdyn import wall
+from impactdyn.wallgrid import WallDeposition, WallGrid
+
+
+def report_wall() -> WallGrid:
+    """The report's wall grid (examples/whipple/table2_7a.toml: x 0…8, z −4…12 cm, t = 0.3175 cm)."""
+    return WallGrid.uniform((0.0, 8.0), (0.0, 0.3175), (-4.0, 12.0), (51, 5, 101))
+
+
+def synthetic_deposition(grid: WallGrid, total_impulse: float = 0.05) -> WallDeposition:
+    """Impulses normal to the wall in a Gaussian patch (σ = 0.4 cm) about (x, z) = (0, 1.5) cm, t 10…12 µs."""
+    nx, _, nz = grid.shape
+    xc = 0.5 * (grid.x[1:] + grid.x[:-1])
+    zc = 0.5 * (grid.z[1:] + grid.z[:-1])
+    w = np.exp(-0.5 * ((xc[None, :] / 0.4) ** 2 + ((zc[:, None] - 1.5) / 0.4) ** 2)).ravel()
+    keep = np.flatnonzero(w > 1e-3 * w.max())
+    w = w[keep] / w[keep].sum()
+    time_us = 10.0 + 2.0 * np.linspace(0.0, 1.0, keep.size)
+    impulse = np.zeros((keep.size, 3))
+    impulse[:, 1] = total_impulse * w
+    return WallDeposition(element=keep.astype(np.int64), time=time_us, impulse=impulse)
+
+
+def measure(refinement: int, steps: int, driver: str) -> tuple[int, int, float]:
+    grid = report_wall()
+    options = wall.WallOptions(refinement_thickness=refinement, refinement_plane=refinement)
+    model = wall.wall_model("mat13", "al6061-t6")
+    mesh = wall.build_mesh(grid, model.density, refinement, refinement)
+    load = wall.nodal_load(mesh, synthetic_deposition(grid))
+    solver = wall.WallSolver(mesh, model, options, load=load, t_start=float(load.time.min()))
+    solver.advance(solver.time + 0.5)  # warm-up: compile or load the kernels, apply the first loads
+    n0 = solver.steps
+    t0 = time.perf_counter()
+    if driver == "compiled":
+        solver.advance(np.inf, max_steps=steps)
+    else:
+        for _ in range(steps):
+            solver.advance(np.inf, max_steps=1)
+    elapsed = time.perf_counter() - t0
+    return mesh.n_elements, solver.steps - n0, elapsed
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--steps", type=int, default=200, help="timed steps per run")
+    ap.add_argument("--threads", type=int, default=2, help="numba threads")
+    ap.add_argument("--repeat", type=int, default=3, help="runs per case (median reported)")
+    ap.add_argument("--refinements", type=int, nargs="+", default=[1, 2])
+    args = ap.parse_args()
+    numba.set_num_threads(args.threads)
+    print(f"impactdyn wall solver benchmark: {platform.processor() or platform.machine()}, "
+          f"{os.cpu_count()} cores, numba {numba.__version__}, {args.threads} threads, "
+          f"OMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY', '(unset)')}")
+    for r in args.refinements:
+        for driver in ("compiled", "python"):
+            rates = []
+            for _ in range(args.repeat):
+                ne, n, el = measure(r, args.steps, driver)
+                rates.append(ne * n / el)
+            print(f"refinement {r}: {ne} elements, {n} steps, driver {driver:8s}: "
+                  f"{statistics.median(rates) / 1e6:.2f} M element-steps/s "
+                  f"(runs {', '.join(f'{x / 1e6:.2f}' for x in rates)})")
+    print(f"threading layer: {numba.threading_layer()}")
+
+
+if __name__ == "__main__":
+    main()

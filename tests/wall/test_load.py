@@ -1,0 +1,70 @@
+"""The deposition as nodal impulses: every spread conserves the impulse exactly."""
+
+import numpy as np
+import pytest
+
+from impactdyn import wall
+from impactdyn.wallgrid import WallDeposition, WallGrid
+
+GRID = WallGrid.uniform((0.0, 0.8), (0.0, 0.3175), (-0.4, 0.4), (6, 3, 6))   # 5 × 2 × 5 elements
+
+
+def deposition(times=None, seed=0) -> WallDeposition:
+    rng = np.random.default_rng(seed)
+    n = 40
+    element = rng.integers(0, GRID.n_face_elements, n)            # interior and edge elements
+    impulse = rng.normal(size=(n, 3)) * 1e-5
+    impulse[:, 1] = np.abs(impulse[:, 1]) * 3
+    time = np.full(n, 2.0) if times is None else rng.uniform(*times, n)
+    return WallDeposition(element=element, time=time, impulse=impulse)
+
+
+@pytest.mark.parametrize("spread", wall.SPREADS)
+@pytest.mark.parametrize("refinement", [1, 2])
+def test_impulse_taken_equals_impulse_deposited(spread, refinement):
+    model = wall.wall_model("mat13")
+    mesh = wall.build_mesh(GRID, model.density, refinement, refinement)
+    dep = deposition()
+    load = wall.nodal_load(mesh, dep, spread)
+    np.testing.assert_allclose(np.add.reduceat(load.weight, load.ptr[:-1]), 1.0, rtol=1e-15)
+    s = wall.WallSolver(mesh, model, wall.WallOptions(spread=spread), load=load, t_start=2.0)
+    s.advance(np.inf, max_steps=1)          # all records arrive at the first step, on a wall at rest
+    assert s.loads_done
+    deposited = dep.impulse.sum(axis=0)
+    applied = s.acc[1:4]
+    support = s.acc[4:7]
+    assert np.abs(support).max() > 0                           # edge records: the supports took a share
+    np.testing.assert_allclose(applied + support, deposited, rtol=1e-12, atol=1e-12 * np.abs(deposited).max())
+    # the wall's momentum after the jump is the impulse applied to its free translations
+    momentum = (mesh.node_mass[:, None] * s.v).sum(axis=0)
+    np.testing.assert_allclose(momentum, applied, rtol=1e-12, atol=1e-12 * np.abs(deposited).max())
+
+
+def test_records_arrive_in_time_order_and_all_are_taken():
+    model = wall.wall_model("mat13")
+    dep = deposition(times=(1.0, 3.0), seed=4)
+    options = wall.WallOptions(supports="free", end_time_us=3.5)
+    res = wall.run_wall(GRID, dep, model, options)
+    np.testing.assert_allclose(res.measures["impulse_applied"], dep.impulse.sum(axis=0), rtol=1e-12)
+    assert np.allclose(res.measures["impulse_supports"], 0.0)
+    # free wall: internal forces conserve momentum, so it stays equal to the impulse
+    assert res.history["momentum_y"][-1] == pytest.approx(dep.impulse[:, 1].sum(), rel=1e-12)
+
+
+def test_spread_weights():
+    model = wall.wall_model("mat13")
+    one = WallDeposition(element=np.array([2 + 5 * 2]), time=np.array([0.0]), impulse=np.array([[0.0, 1e-4, 0.0]]))
+    m1 = wall.build_mesh(GRID, model.density)
+    corners, area = wall.nodal_load(m1, one, "corners"), wall.nodal_load(m1, one, "area")
+    np.testing.assert_allclose(corners.weight, 0.25)
+    assert sorted(corners.node) == sorted(area.node[area.weight > 0])
+    np.testing.assert_allclose(np.sort(area.weight[area.weight > 0]), 0.25)
+    m3 = wall.build_mesh(GRID, model.density, 1, 3)
+    corners3 = wall.nodal_load(m3, one, "corners")
+    area3 = wall.nodal_load(m3, one, "area")
+    assert corners3.node.size == 4 and area3.node.size == 16
+    # area weights of a uniform 3 × 3 sub-grid: 1, 2, 2, 1 over 36 in each direction product
+    np.testing.assert_allclose(np.sort(area3.weight), np.sort(np.outer([1, 2, 2, 1], [1, 2, 2, 1]).ravel() / 36.0))
+    mass3 = wall.nodal_load(m3, one, "mass")
+    dv = mass3.weight / m3.node_mass[mass3.node]               # the same velocity jump on every node
+    np.testing.assert_allclose(dv, dv[0], rtol=1e-13)
