@@ -97,11 +97,12 @@ from impactdyn.beam._modes import foreshortening_integrals, modal_integrals, sha
 RHO_L, J0, C_JOINT, TORQUE, GRAV_THETA, GRAV_MODAL, RHO_G, LENGTH, MOMENT_ARM, GAP_ARM, \
     STOP_OFFSET, COUPLED, IN_CONTACT, V0 = range(14)
 N_SCALARS = 14
-# slots of the coupled model's workspace ``fw`` (N_FW, n + 1, n + 1): the mass matrix
-# (Cholesky factor after assembly), then n × n matrices of the module docstring and of
-# the Jacobian (:func:`_coupled_jacobian`), then vectors (rows of VECTORS)
-MASS, LAMBDA, GAMMA, PSI, XI, PHI, PI, OMEGA, B_DOT, PHI_CROSS, E_ACC_PAIR, E_ACC_CROSS, VECTORS = range(13)
-N_FW = 13
+# slots of the coupled model's workspace ``fw`` (N_FW + 2n, n + 1, n + 1): the mass matrix
+# (Cholesky factor after assembly), n × n matrices of the module docstring and of the
+# Jacobian (:func:`_coupled_jacobian`), vectors (rows of VECTORS), then from N_FW the
+# partial contractions E·q and F·q, n slots each (:func:`_contract_last`)
+MASS, LAMBDA, GAMMA, PSI, XI, PHI, PI, OMEGA, B_DOT, PHI_CROSS, E_ACC, VECTORS = range(12)
+N_FW = 12
 
 
 @njit(cache=True, inline="always")
@@ -198,49 +199,44 @@ def _p_times(y, sc, G, i, off):
 
 
 @njit(cache=True, inline="always")
-def _pair(T, u, v, out):
-    """out[a, b] = Σₖₗ T[a, b, k, l] uₖ vₗ (the second index pair against u, v), a, b < n."""
-    n = u.shape[0]
-    for a in range(n):
-        for b in range(n):
-            s = 0.0
-            for k in range(n):
-                for l in range(n):
-                    s += T[a, b, k, l] * u[k] * v[l]
-            out[a, b] = s
+def _contract_last(T, v, out):
+    """out[a, k, b] = Σₗ T[a, k, b, l] vₗ for T symmetric in (a, k) (e and f), a, k, b < n.
 
-
-@njit(cache=True, inline="always")
-def _cross(T, u, v, out):
-    """out[a, b] = Σₖₗ T[a, k, b, l] uₖ vₗ (one index of each pair against u, v), a, b < n."""
-    n = u.shape[0]
+    Every contraction of E or F with q in the kernels is one of out·q or out·(a vector)
+    (n³ each), using the pair symmetry T[a, k, b, l] = T[b, l, a, k]."""
+    n = v.shape[0]
     for a in range(n):
-        for b in range(n):
-            s = 0.0
-            for k in range(n):
+        for k in range(a, n):
+            for b in range(n):
+                s = 0.0
                 for l in range(n):
-                    s += T[a, k, b, l] * u[k] * v[l]
-            out[a, b] = s
+                    s += T[a, k, b, l] * v[l]
+                out[a, k, b] = s
+                out[k, a, b] = s
 
 
 @njit(cache=True)
 def mass_matrix_kernel(y, sc, m0, G, C, E, F, fw):
-    """The coupled model's M(q) into fw[MASS] (module docstring), and Λ, Γ, Ψ, Φ
-    (n × n) into their slots."""
+    """The coupled model's M(q) into fw[MASS] (module docstring), Λ, Γ, Ψ, Φ (n × n)
+    into their slots, and E·q, F·q (:func:`_contract_last`) after N_FW."""
     n = m0.shape[0]
     q = y[1 : n + 1]
-    lam, gam, psi, M = fw[LAMBDA], fw[GAMMA], fw[PSI], fw[MASS]
+    lam, gam, psi, phi, M = fw[LAMBDA], fw[GAMMA], fw[PSI], fw[PHI], fw[MASS]
+    e_q, f_q = fw[N_FW : N_FW + n], fw[N_FW + n : N_FW + 2 * n]
+    _contract_last(E, q, e_q)
+    _contract_last(F, q, f_q)
     for a in range(n):
         for c in range(n):
-            lam_ac = 0.0
-            gam_ac = 0.0
+            lam_ac = gam_ac = psi_ac = phi_ac = 0.0
             for j in range(n):
                 lam_ac += C[j, a, c] * q[j]
                 gam_ac += C[a, c, j] * q[j]
+                psi_ac += e_q[a, j, c] * q[j]  # Ψ = Σⱼₗ E[a, j, c, l] qⱼqₗ
+                phi_ac += f_q[a, c, j] * q[j]  # Φ = Σⱼₗ F[a, c, j, l] qⱼqₗ
             lam[a, c] = lam_ac
             gam[a, c] = gam_ac
-    _cross(E, q, q, psi)
-    _pair(F, q, q, fw[PHI])
+            psi[a, c] = psi_ac
+            phi[a, c] = phi_ac
     m00 = sc[J0]
     for a in range(n):
         psi_q = 0.0
@@ -266,8 +262,14 @@ def _coupled_forces(y, sc, m0, G, h, b, C, E, F, work, fw):
     cth, sth = np.cos(y[0]), np.sin(y[0])
     rho_g = sc[RHO_G]
     mass_matrix_kernel(y, sc, m0, G, C, E, F, fw)
-    _cross(E, q, qd, fw[XI])
     lam, gam, psi, xi, phi = fw[LAMBDA], fw[GAMMA], fw[PSI], fw[XI], fw[PHI]
+    e_q = fw[N_FW : N_FW + n]
+    for a in range(n):
+        for c in range(n):
+            xi_ac = 0.0
+            for l in range(n):
+                xi_ac += e_q[c, l, a] * qd[l]  # Ξ = Σₖₗ E[a, k, c, l] qₖq̇ₗ, E[a, k, c, l] = E[c, l, a, k]
+            xi[a, c] = xi_ac
     h0 = 0.0
     for a in range(n):
         psi_q = 0.0
@@ -297,7 +299,7 @@ def accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw):
     J_F = [moment arm, φ₁(x_p/L), …] is the generalized direction of the contact
     force, so the accelerations under a contact force F are a₀ + F u. Both (n + 1,),
     written to rows 0 and 1 of ``work`` (2n + 4, n + 1); the coupled model leaves its
-    terms in ``fw`` (N_FW, n + 1, n + 1).
+    terms in ``fw`` (N_FW + 2n, n + 1, n + 1).
     """
     n = m0.shape[0]
     thd = y[n + 1]
@@ -355,7 +357,7 @@ def rhs_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw, law_id, 
 def rhs_into(t, y, dy, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw, law_id, lawp):
     """dy/dt of the state into ``dy``; shapes: y, dy (2n+7,), m0/kd/cd/b/phi_p (n,),
     G/h (n,n), C (n,n,n), E/F (n,n,n,n) (size 0 for the linearised model),
-    work (2n+4, n+1), fw (N_FW, n+1, n+1)."""
+    work (2n+4, n+1), fw (N_FW + 2n, n+1, n+1)."""
     n = m0.shape[0]
     f_c = contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw, law_id, lawp)
     thd = y[n + 1]
@@ -411,23 +413,35 @@ def _coupled_jacobian(y, sc, G, h, b, C, E, F, work, fw, hub_acc, f_c):
     cth, sth = np.cos(y[0]), np.sin(y[0])
     rho_g = sc[RHO_G]
     lam, gam, psi, xi, phi = fw[LAMBDA], fw[GAMMA], fw[PSI], fw[XI], fw[PHI]
-    pi, omega, b_dot, phi_x = fw[PI], fw[OMEGA], fw[B_DOT], fw[PHI_CROSS]
+    pi, omega, b_dot, phi_x, e_acc = fw[PI], fw[OMEGA], fw[B_DOT], fw[PHI_CROSS], fw[E_ACC]
+    e_q, f_q = fw[N_FW : N_FW + n], fw[N_FW + n : N_FW + 2 * n]
     a_q, nu = fw[VECTORS, 0, :n], fw[VECTORS, 1, :n]
     for a in range(n):
         a_q[a] = work[0, 1 + a] + f_c * work[1, 1 + a]
-    _pair(E, q, q, pi)
-    _pair(E, qd, qd, omega)
-    _cross(F, q, q, phi_x)
-    _pair(E, a_q, q, fw[E_ACC_PAIR])
-    _cross(E, q, a_q, fw[E_ACC_CROSS])
+    for a in range(n):
+        for m in range(a, n):
+            omega_am = 0.0
+            for k in range(n):
+                e_qd = 0.0
+                for l in range(n):
+                    e_qd += E[a, m, k, l] * qd[l]
+                omega_am += e_qd * qd[k]
+            omega[a, m] = omega_am
+            omega[m, a] = omega_am
     for m in range(n):
         nu_m = 0.0
         for a in range(n):
-            b_dot_am = 0.0
+            b_dot_am = pi_am = phi_x_am = e_acc_am = 0.0
             for k in range(n):
                 b_dot_am += (C[k, a, m] - C[a, k, m]) * qd[k]
                 nu_m += C[m, a, k] * qd[a] * qd[k]
+                pi_am += e_q[a, m, k] * q[k]
+                phi_x_am += f_q[a, k, m] * q[k]
+                e_acc_am += (e_q[a, m, k] + e_q[m, k, a]) * a_q[k]
             b_dot[a, m] = b_dot_am
+            pi[a, m] = pi_am
+            phi_x[a, m] = phi_x_am
+            e_acc[a, m] = e_acc_am
         nu[m] = nu_m
     for m in range(n):
         pq_m = _p_times(y, sc, G, m, 1)
@@ -459,7 +473,7 @@ def _coupled_jacobian(y, sc, G, h, b, C, E, F, work, fw, hub_acc, f_c):
             work[3 + m, 1 + a] += (rho_g * sth * h[a, m] - phi[a, m] - 2.0 * phi_x[a, m]
                                    + 0.5 * thd * thd * (pi[a, m] + 2.0 * psi[a, m]) - 2.0 * thd * b_dot[a, m]
                                    - omega[a, m] - (lam[a, m] + b_am) * hub_acc
-                                   - fw[E_ACC_PAIR, a, m] - fw[E_ACC_CROSS, a, m])
+                                   - e_acc[a, m])
 
 
 @njit(cache=True)
@@ -774,8 +788,8 @@ class BeamModel:
         return np.sqrt(np.sort(np.linalg.eigvalsh(k_eff / self.sc[RHO_L])))
 
     def _workspace(self) -> np.ndarray:
-        """fw (N_FW, n + 1, n + 1) of the coupled kernels."""
-        return np.empty((N_FW, self.n + 1, self.n + 1))
+        """fw (N_FW + 2n, n + 1, n + 1) of the coupled kernels."""
+        return np.empty((N_FW + 2 * self.n, self.n + 1, self.n + 1))
 
     def kernel_args(self, sc: np.ndarray) -> tuple:
         """The model arrays after ``sc``, in the order every kernel takes them, with
