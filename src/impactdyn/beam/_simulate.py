@@ -1,8 +1,10 @@
 """Event-driven integration of the beam with impacts (IMPACTC / IMPACTB, modernised).
 
-The run is a hybrid system with three modes, each integrated by a stiff SciPy
-solver (Radau by default; BDF and LSODA selectable) stepped one step at a time, with
-a compiled right-hand side:
+The run is a hybrid system with three modes. Each smooth segment is integrated by
+the compiled Rosenbrock 4(3) method of ``_integrator`` with the model's analytic
+Jacobian (the default, ``solver.method = "rosenbrock"``), or, for cross-checks, by
+SciPy's Radau, BDF or LSODA stepped one step at a time with the compiled right-hand
+side:
 
 * **free** — no contact force. Event: the gap g crosses zero downward.
 * **contact** (compliant laws) — the law's force acts while δ = −g > 0. Events:
@@ -12,11 +14,13 @@ a compiled right-hand side:
 * **resting** (impulsive law) — the stop point slides along the stop with g = ġ = 0,
   held by the multiplier λ ≥ 0. Event: λ crosses zero (the stop would pull).
 
-Events are located on the solver's dense output with Brent's method (time to
-~1e-14 s); the solver restarts at every event and at the torque-pulse corners, so
-no step straddles a discontinuity. Each step is sampled at interior points so a
-crossing and recrossing inside one step is not missed, and a restart just after an
-impact brackets the next crossing from the first instant the stop point is clear.
+Events are located with Brent's method (time to ~1e-14 s) on the cubic Hermite
+interpolant of the step, the dense output every solver path shares
+(``_integrator.process_step``); the solver restarts at every event and at the
+torque-pulse corners, so no step straddles a discontinuity. Each step is sampled at
+interior points so a crossing and recrossing inside one step is not missed, and a
+restart just after an impact brackets the next crossing from the first instant the
+stop point is clear.
 
 **Chattering (momentum law).** The hub is light (IR = 0.002), so after the first
 strike the hub–beam motion rings against the stop in a rapid sequence of ever
