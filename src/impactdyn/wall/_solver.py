@@ -283,7 +283,11 @@ class WallSolver:
         en = self.energies()
         hist = {k: np.asarray(v, dtype=np.float64) for k, v in history.items()}
         wall_thickness = self.mesh.thickness
+        t_last = float(self.load.time.max()) if self.load.time.size else float(hist["time"][0])
+        t = hist["time"]
+        window = t >= t_last + 0.75 * (t[-1] - t_last)
         meas.update({
+            "rear_bulge_cm": float(hist["rear_bulge"][window].mean()) if window.any() else meas["rear_bulge_end_cm"],
             "wall_thickness_cm": wall_thickness,
             "end_time_us": self.time,
             "steps": self.steps,

@@ -24,12 +24,18 @@ face into the wall and out of the rear face):
 
 Continuous measures (end of the run unless said otherwise; displacements u = x − X₀):
 
-* ``crater_depth_cm`` = max(front dent, damage depth); front dent = the largest u_y of a
-  front-face node that belongs to an intact element; damage depth = y_{j+1} − y₀ of the
-  deepest layer j reached by damaged material face-connected to the front layer (0 if the
-  front layer is intact).  ``crater_depth_ratio`` = crater depth / wall thickness.
+* ``crater_depth_cm`` = max(thinning, damage depth): thinning = the largest loss of wall
+  thickness, u_y(front node) − u_y(rear node) of one node column (i, k), over the columns
+  whose front and rear nodes are both wall nodes; damage depth = y_{j+1} − y₀ of the deepest
+  layer j reached by damaged material face-connected to the front layer (0 if the front
+  layer is intact).  ``crater_depth_ratio`` = crater depth / wall thickness.  The thinning,
+  not the front face's displacement, because a thin wall's front face moves mostly with the
+  wall's bulge; the largest front-face displacement of a wall node is reported as
+  ``front_dent_cm`` (bulge plus crater).
 * ``failed_mass_g`` (failed, not eroded), ``eroded_mass_g``, ``damaged_mass_g``.
-* ``rear_bulge_cm``: the largest outward u_y of a rear-face wall node (permanent bulge).
+* ``rear_bulge_cm``: the permanent bulge: the largest outward u_y of a rear-face wall node,
+  averaged over the last quarter of the time after the last arrival (the wall still rings
+  elastically when the run ends); ``rear_bulge_end_cm``: the same at the end of the run.
 * ``peak_rear_velocity_km_s``: the largest outward rear-face node velocity over the run.
 * ``spall_mass_g``: mass of the detached elements (damaged, or intact not anchored) that
   touch the rear layer.
@@ -138,16 +144,18 @@ def measures(mesh: WallMesh, failed: np.ndarray, eroded: np.ndarray, displacemen
     eroded = np.asarray(eroded, dtype=bool)
     damaged = failed | eroded
     mass = mesh.element_mass
-    intact_nodes = np.zeros(mesh.n_nodes, dtype=bool)
-    intact_nodes[mesh.connectivity[~damaged].ravel()] = True
+    cat = node_categories(mesh, failed, eroded)
     front = mesh.face_nodes("front").ravel()
-    front = front[intact_nodes[front]]
+    front = front[cat[front] == WALL]
     dent = float(max(displacement[front, 1].max(), 0.0)) if front.size else 0.0
+    front_g, rear_g = mesh.face_nodes("front"), mesh.face_nodes("rear")
+    both = (cat[front_g] == WALL) & (cat[rear_g] == WALL)
+    thinning = displacement[front_g, 1] - displacement[rear_g, 1]
+    thinning = float(max(thinning[both].max(), 0.0)) if both.any() else 0.0
     deep = _grid(mesh, front_connected(mesh, damaged))
     layers = np.flatnonzero(deep.any(axis=(1, 2)))
     y = mesh.grid.y
     damage_depth = float(y[layers.max() + 1] - y[0]) if layers.size else 0.0
-    cat = node_categories(mesh, failed, eroded)
     rear = mesh.face_nodes("rear").ravel()
     rear_wall = rear[cat[rear] == WALL]
     bulge = float(max(displacement[rear_wall, 1].max(), 0.0)) if rear_wall.size else 0.0
@@ -158,10 +166,11 @@ def measures(mesh: WallMesh, failed: np.ndarray, eroded: np.ndarray, displacemen
     labels, _ = ndimage.label(_grid(mesh, detached))
     rear_labels = np.unique(labels[-1][labels[-1] > 0])
     spall = np.isin(labels, rear_labels).ravel() & detached
-    crater = max(dent, damage_depth)
+    crater = max(thinning, damage_depth)
     return {
         "crater_depth_cm": crater,
         "crater_depth_ratio": crater / mesh.thickness,
+        "thinning_cm": thinning,
         "front_dent_cm": dent,
         "damage_depth_cm": damage_depth,
         "failed_mass_g": float(mass[failed & ~eroded].sum()),
@@ -169,6 +178,6 @@ def measures(mesh: WallMesh, failed: np.ndarray, eroded: np.ndarray, displacemen
         "damaged_mass_g": float(mass[damaged].sum()),
         "failed_elements": int((failed & ~eroded).sum()),
         "eroded_elements": int(eroded.sum()),
-        "rear_bulge_cm": bulge,
+        "rear_bulge_end_cm": bulge,
         "spall_mass_g": float(mass[spall].sum()),
     }
