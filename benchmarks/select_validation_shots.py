@@ -1,0 +1,102 @@
+"""The validation shots of the wall stage, chosen from the test database by a rule fixed before any is run.
+
+Rule (written down 2026-11-24, before a single database shot was simulated; issue 11):
+
+1. Eligible: the pipeline can model the shot with library materials and its case validates:
+   - projectile AA2017-T4 (modelled as Al 2024-T4, the same Al–Cu family; ρ 2.79 vs 2.785),
+     AA2024-* (as Al 2024-T4) or AA6061-T6; bumper and wall AA6061-T6 (as Al 6061-T6) or
+     AA2024-T3 (as Al 2024-T4).  Pure and annealed aluminium (AA1100-O, 99.9 %) has no library
+     entry and is left out;
+   - 3 ≤ V ≤ 8 km/s; 0.2 ≤ d ≤ 1.0 cm (the default SPH spacing puts ≥ 8 particles across);
+   - stand-off S ≥ 4 cm (the hand-off grid must fit between bumper and wall at 8 km/s);
+   - wall thickness ≥ 0.1 cm.
+2. Distance to the report's Table 2 shield (t_b 0.127, t_w 0.3175, S 10.16 cm):
+   D = |ln(t_b/0.127)| + |ln(t_w/0.3175)| + |ln(S/10.16)|.
+3. Take the 6 perforated (P) and the 6 not perforated (NP) eligible shots of smallest D (ties:
+   file line).  If fewer than 3 of the 12 are oblique (θ > 0), replace, alternating P and NP,
+   the normal-incidence shot of largest D in that outcome by the nearest oblique one of the
+   same outcome not yet taken, until 3 are.
+
+The simulated verdicts of these shots are compared with the test outcome and with the JSC
+equation's on the same shots (accuracy and false-safe rate, BENCHMARKS.md).  No constant of
+the pipeline is calibrated on them.
+
+    python benchmarks/select_validation_shots.py [--json]
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+
+import numpy as np
+
+from impactdyn.ble import read_database
+
+TABLE2 = {"bumper_thickness_cm": 0.127, "wall_thickness_cm": 0.3175, "spacing_cm": 10.16}
+PROJECTILE = {"AA2017-T4": "al2024-t4", "AA2024-T3": "al2024-t4", "AA2024-T4": "al2024-t4", "AA6061-T6": "al6061-t6"}
+PLATE = {"AA6061-T6": "al6061-t6", "AA2024-T3": "al2024-t4"}
+N_PER_OUTCOME = 6
+MIN_OBLIQUE = 3
+
+
+def _materials(path) -> dict[int, tuple[str, str, str]]:
+    """Line number → (projectile, bumper, wall) alloy names, read from the CSV (the reader keeps numbers only)."""
+    import csv
+
+    out = {}
+    with open(path, encoding="utf-8-sig", newline="") as fh:
+        for line, row in enumerate(csv.DictReader(fh), start=2):
+            out[line] = (row["proj_mat"].strip(), row["bumper_mat"].strip(), row["wall_mat"].strip())
+    return out
+
+
+def select() -> list[dict]:
+    db = read_database()
+    mats = _materials(db.path)
+    rows = []
+    for i in range(len(db)):
+        p, b, w = mats[int(db.line[i])]
+        if p not in PROJECTILE or b not in PLATE or w not in PLATE:
+            continue
+        v, d, s, tw = db.velocity_km_s[i], db.diameter_cm[i], db.spacing_cm[i], db.wall_thickness_cm[i]
+        if not (3.0 <= v <= 8.0 and 0.2 <= d <= 1.0 and s >= 4.0 and tw >= 0.1):
+            continue
+        dist = sum(abs(np.log(getattr(db, k)[i] / ref)) for k, ref in TABLE2.items())
+        rows.append({"line": int(db.line[i]), "source": str(db.source[i]), "shot_id": str(db.shot_id[i]),
+                     "projectile": PROJECTILE[p], "bumper": PLATE[b], "wall": PLATE[w],
+                     "diameter_cm": float(d), "velocity_km_s": float(v), "obliquity_deg": float(db.obliquity_deg[i]),
+                     "bumper_thickness_cm": float(db.bumper_thickness_cm[i]), "wall_thickness_cm": float(tw),
+                     "spacing_cm": float(s), "wall_yield_ksi": float(db.wall_yield_ksi[i]),
+                     "perforated": bool(db.perforated[i]), "distance": float(dist)})
+    rows.sort(key=lambda r: (r["distance"], r["line"]))
+    chosen = {o: [r for r in rows if r["perforated"] == o][:N_PER_OUTCOME] for o in (True, False)}
+    outcome = True
+    while sum(r["obliquity_deg"] > 0 for o in chosen for r in chosen[o]) < MIN_OBLIQUE:
+        normal = [r for r in chosen[outcome] if r["obliquity_deg"] == 0]
+        spare = [r for r in rows if r["perforated"] == outcome and r["obliquity_deg"] > 0
+                 and r not in chosen[outcome]]
+        if normal and spare:
+            chosen[outcome].remove(max(normal, key=lambda r: r["distance"]))
+            chosen[outcome].append(spare[0])
+        elif not any(r["obliquity_deg"] > 0 and r not in chosen[o] for o in (True, False) for r in rows
+                     if r["perforated"] == o):
+            break
+        outcome = not outcome
+    return sorted(chosen[True] + chosen[False], key=lambda r: r["line"])
+
+
+def main() -> None:
+    shots = select()
+    if "--json" in sys.argv:
+        print(json.dumps(shots, indent=2))
+        return
+    for r in shots:
+        print(f"line {r['line']:4d} {r['source']:<22} {r['shot_id']:<12} {'P ' if r['perforated'] else 'NP'} "
+              f"d {r['diameter_cm']:.3f} V {r['velocity_km_s']:.2f} θ {r['obliquity_deg']:g} "
+              f"t_b {r['bumper_thickness_cm']:.4g} t_w {r['wall_thickness_cm']:.4g} S {r['spacing_cm']:.4g} "
+              f"{r['projectile']}/{r['bumper']}/{r['wall']} D {r['distance']:.3f}")
+
+
+if __name__ == "__main__":
+    main()
