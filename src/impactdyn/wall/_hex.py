@@ -78,7 +78,7 @@ def _fb(y2, y3, y4, y5, y6, y8, z2, z3, z4, z5, z6, z8):
             + y5 * ((z8 - z6) - (z2 - z4)) + y6 * (z5 - z2) + y8 * (z4 - z5))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _node_gradient(B, a, X, n2, n3, n4, n5, n6, n8, nb):
     """B[:, a, k] of bricks k < nb from the local nodes in places 2…6, 8 of FB's formula."""
     for k in range(nb):

@@ -67,7 +67,7 @@ class WallOptions:
     decay_fraction: float = 0.05
     max_time_us: float = 100.0
     output_interval_us: float | None = 1.0
-    history_interval_us: float = 0.1
+    history_interval_us: float = 0.2
     spread: str = "corners"
     escape_velocity_km_s: float = 1.0
     erosion_step_fraction: float = 0.1

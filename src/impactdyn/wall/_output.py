@@ -32,6 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from impactdyn.io import atomic_output, write_mesh
+from impactdyn.units import KM_S_PER_CM_US
 from impactdyn.wall._result import WallFrame, WallResult
 
 #: Unit of the energies in the history plot: 1 g·cm²/µs² = 10⁵ J; the plot shows J.
@@ -180,7 +181,7 @@ def plot_history(result: WallResult, path: str | os.PathLike) -> Path:
     bx.set_ylabel("displacement, cm")
     bx.set_xlabel("t, us")
     cx = bx.twinx()
-    cx.plot(t, h["rear_velocity"] * 10.0, color="0.5", lw=0.8, label="largest rear-face v_y")
+    cx.plot(t, h["rear_velocity"] * KM_S_PER_CM_US, color="0.5", lw=0.8, label="largest rear-face v_y")
     cx.set_ylabel("rear-face velocity, km/s")
     lines = bx.get_lines() + cx.get_lines()
     bx.legend(lines, [ln.get_label() for ln in lines], fontsize=8)

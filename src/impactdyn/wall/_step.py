@@ -15,12 +15,16 @@ Element pass (one-point hexahedron, Flanagan & Belytschko, IJNME 17 (1981) 679, 
 :mod:`._hex` for the geometry), for element e at step n+1 with the nodal velocities
 v = v^{n+½}:
 
-* strain rate at the midstep configuration x^{n+½} = x^{n+1} − ½Δt^{n+½} v (FB; an exactly
-  skew velocity gradient for a rigid rotation — the Hughes–Winget midpoint property — so a
-  spinning element gains no strain)::
+* strain rate at the midstep configuration x^{n+½} = x^{n+1} − ½Δt^{n+½} v (FB; Hughes &
+  Winget's midpoint rule, with which a spinning element gains no strain).  With the gradient
+  G = Σ_I v_I ⊗ b_I(x^{n+1}) of the element's uniform motion in the end configuration,
+  v = G x^{n+1} + c, the midstep gradient of that motion is exactly (:func:`midstep_gradient`)::
 
-      L_ij = Σ_I v_iI b_iJ(x^{n+½}),   d = sym L,   Ω = skew L,   b = ∂V/∂x / V
+      L = G (I − ½Δt G)⁻¹,   d = sym L,   Ω = skew L
 
+  the same as Σ_I v_I ⊗ b_I(x^{n+½}) for every linear (uniform) velocity field — all the
+  one-point element strains with — at the price of a 3 × 3 inverse instead of a second volume
+  gradient; for a rigid rotation it is exactly skew (the Cayley form);
 * bulk viscosity on compression (Hallquist, LS-DYNA Theory Manual, "artificial bulk
   viscosity"; defaults Q1 = 1.5, Q2 = 0.06)::
 
@@ -60,13 +64,19 @@ result does not depend on the thread count), and both passes are plain ``prange`
 The price is one extra write and read of 24 doubles per element, cheap next to the
 element's arithmetic.
 
-Energy bookkeeping (per element, in the state array, :mod:`._state`): the stress work
-W_σ += ½(σⁿ + σⁿ⁺¹):d V̄Δt (elastic + plastic), the bulk-viscous work W_q += −q tr d V̄Δt,
-the hourglass work W_hg += Q̄·q̇ Δt (Q̄ = Q for the viscous form, ½(Qⁿ + Qⁿ⁺¹) for the
-stiffness form) and the plastic work W_p += σ_eq Δεₚ V̄.  Kinetic energy at t^n is the one
-the central-difference scheme conserves with the trapezoidal work, ½ Σ m v^{n−½}·v^{n+½}
-(exactly, for a linear system at a constant step).  The load's work is Σ I·½(v^{n−½} + v^{n+½})
-over the loaded degrees of freedom (|I|²/2m for a node at rest).
+Energy bookkeeping, exact: the force f^n of an element acts over Δt^n, so its work is
+Δt^n f^n·½(v^{n−½} + v^{n+½}).  The element pass that makes f^n knows v^{n−½} and stores the
+first half's power P₁ = f^n·v^{n−½}, split by kind (stress σ = S − pI, bulk viscosity,
+hourglass); the next pass, which sees v^{n+½} and still has f^n in F[e], adds
+½Δt^n (P₁ + P₂) with P₂ = f^n·v^{n+½} to the element's works W_σ (elastic + plastic),
+W_q and W_hg.  P₂ is exact in total; its split takes the bulk-viscous part as −qⁿ V̄ tr d and
+the hourglass part as Qⁿ·q̇ with the current shape vectors (both a step's geometry change
+off), the stress part as the rest.  With the kinetic energy ½ Σ m |v^{n+½}|² and the load's
+work Σ I·½(v^{n−½} + v^{n+½}) (|I|²/2m on a node at rest), the balance
+K + W_σ + W_q + W_hg = W_load closes to round-off (:mod:`._solver`).  The plastic work
+W_p += σ_eq Δεₚ V̄ is kept beside, for the elastic/plastic split.  (The kinetic energy
+½ Σ m v^{n−½}·v^{n+½} is the one the central-difference scheme conserves together with the
+strain energy of a linear system, at a constant step; :func:`nodal_energy` returns both.)
 
 Element failure and erosion: a failed element keeps what its model says (mat13: compressive
 pressure only); it is eroded — its forces are zero from then on — when its model erodes
@@ -84,7 +94,6 @@ import numpy as np
 from numba import get_thread_id, njit, prange
 
 from impactdyn.wall._hex import BLOCK, hourglass_shapes, largest_face_area, volume_gradient
-from impactdyn.wall._johnson_cook import KIND as JC_KIND
 from impactdyn.wall._johnson_cook import jc_update
 from impactdyn.wall._mat13 import KIND as MAT13_KIND
 from impactdyn.wall._mat13 import mat13_update
@@ -118,13 +127,38 @@ def _erase(F, es, e):
 
 
 #: Rows of the per-thread block vectors ``vec`` of :func:`element_pass`.
-(V_VOL, V_VMID, V_P2, V_SIG, V_Q, V_OK, V_P1, V_BV, V_LE, V_TMP) = (0, 1, 2, 3, 9, 10, 11, 12, 13, 14)
-N_VEC = 18
+(V_VOL, V_P2, V_SIG, V_Q, V_OK, V_P1, V_BV, V_LE, V_TMP) = (0, 1, 2, 8, 9, 10, 11, 12, 13)
+N_VEC = 17
+
+
+@njit(cache=True, inline="always")
+def midstep_gradient(G, k, h, L, e):
+    """L[e] = G (I − h G)⁻¹: the midstep velocity gradient of element k's uniform motion (h = ½Δt).
+
+    G[:, :, k] is the gradient of the element's velocities in the end configuration x^{n+1}.
+    For the linear (uniform) part of the motion, v = G x^{n+1} + c and x^{n+½} = x^{n+1} − h v,
+    so v = G (I − h G)⁻¹ x^{n+½} + c': this is the mean gradient in the midstep configuration,
+    exactly, for all the motion the one-point element strains with (the hourglass part aside).
+    For a rigid rotation it is the Cayley form (2/Δt)(I − Q)(I + Q)⁻¹, Q = Rⁿ(Rⁿ⁺¹)ᵀ, exactly
+    skew: no strain.
+    """
+    m00, m01, m02 = 1.0 - h * G[0, 0, k], -h * G[0, 1, k], -h * G[0, 2, k]
+    m10, m11, m12 = -h * G[1, 0, k], 1.0 - h * G[1, 1, k], -h * G[1, 2, k]
+    m20, m21, m22 = -h * G[2, 0, k], -h * G[2, 1, k], 1.0 - h * G[2, 2, k]
+    c00, c01, c02 = m11 * m22 - m12 * m21, m02 * m21 - m01 * m22, m01 * m12 - m02 * m11
+    c10, c11, c12 = m12 * m20 - m10 * m22, m00 * m22 - m02 * m20, m02 * m10 - m00 * m12
+    c20, c21, c22 = m10 * m21 - m11 * m20, m01 * m20 - m00 * m21, m00 * m11 - m01 * m10
+    r = 1.0 / (m00 * c00 + m01 * c10 + m02 * c20)
+    for i in range(3):
+        g0, g1, g2 = G[i, 0, k], G[i, 1, k], G[i, 2, k]
+        L[e, i, 0] = (g0 * c00 + g1 * c10 + g2 * c20) * r
+        L[e, i, 1] = (g0 * c01 + g1 * c11 + g2 * c21) * r
+        L[e, i, 2] = (g0 * c02 + g1 * c12 + g2 * c22) * r
 
 
 def work_arrays(n_threads: int) -> tuple[np.ndarray, ...]:
     """Per-thread block work space of :func:`element_pass`: (geo, hg_shapes, hg_forces, lb, vec)."""
-    return (np.zeros((n_threads, 6, 3, 8, BLOCK)), np.zeros((n_threads, 4, 8, BLOCK)),
+    return (np.zeros((n_threads, 4, 3, 8, BLOCK)), np.zeros((n_threads, 4, 8, BLOCK)),
             np.zeros((n_threads, 2, 4, 3, BLOCK)), np.zeros((n_threads, 3, 3, BLOCK)),
             np.zeros((n_threads, N_VEC, BLOCK)))
 
@@ -143,8 +177,8 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, F, geo, 
     The elements are taken in blocks of :data:`BLOCK` (one block per parallel iteration): the
     geometry, velocity gradients, hourglass velocities and forces of a block are computed in
     loops over its elements that vectorise (component-first block arrays, :mod:`._hex`); the
-    material update runs element by element.  geo (n_threads, 6, 3, 8, BLOCK) holds a block's
-    end and midstep coordinates, velocities, end and midstep volume gradients and forces;
+    material update runs element by element.  geo (n_threads, 4, 3, 8, BLOCK) holds a block's
+    end coordinates, velocities, volume gradients and forces;
     hgs (n_threads, 4, 8, BLOCK) its γ; hgf (n_threads, 2, 4, 3, BLOCK) its hourglass velocities
     q̇ and forces Q; lb (n_threads, 3, 3, BLOCK) its velocity gradients; vec (n_threads, N_VEC,
     BLOCK) its per-element scalars (:func:`work_arrays`).
@@ -158,7 +192,7 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, F, geo, 
     half = 0.5 * dt_full_prev
     for blk in prange((ne + BLOCK - 1) // BLOCK):
         tid = get_thread_id()
-        X, XM, V, B, BM, FS = geo[tid, 0], geo[tid, 1], geo[tid, 2], geo[tid, 3], geo[tid, 4], geo[tid, 5]
+        X, V, B, FS = geo[tid, 0], geo[tid, 1], geo[tid, 2], geo[tid, 3]
         G, QD, QN, LB, W = hgs[tid], hgf[tid, 0], hgf[tid, 1], lb[tid], vec[tid]
         e0 = blk * BLOCK
         nb = min(BLOCK, ne - e0)
@@ -173,21 +207,20 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, F, geo, 
                     vv = v[n, i]
                     X[i, a, k] = xv
                     V[i, a, k] = vv
-                    XM[i, a, k] = xv - 0.5 * dt * vv
                     p2 += F[e, a, i] * vv
             W[V_P2, k] = p2
-        # geometry at the step's end and at midstep
+        # geometry at the step's end
         volume_gradient(X, B, W[V_VOL], nb)
-        volume_gradient(XM, BM, W[V_VMID], nb)
         hourglass_shapes(X, B, W[V_VOL], G, W[V_TMP:V_TMP + 4], nb)
-        # midstep velocity gradient L = Σ_I v_I ⊗ b_I, and hourglass velocities q̇_αi = Σ_I γ_αI v_iI
+        # velocity gradient in the end configuration G = Σ_I v_I ⊗ b_I, and hourglass velocities
+        # q̇_αi = Σ_I γ_αI v_iI
         for i in range(3):
             for j in range(3):
                 for k in range(nb):
                     s = 0.0
                     for a in range(8):
-                        s += V[i, a, k] * BM[j, a, k]
-                    LB[i, j, k] = s / W[V_VMID, k]
+                        s += V[i, a, k] * B[j, a, k]
+                    LB[i, j, k] = s / W[V_VOL, k]
         for al in range(4):
             for i in range(3):
                 for k in range(nb):
@@ -203,9 +236,9 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, F, geo, 
             if flags[e, ERODED] != 0:
                 continue
             vol = W[V_VOL, k]
-            vmid = W[V_VMID, k]
+            vbar = 0.5 * (es[e, VOL] + vol)
             p2 = W[V_P2, k]
-            if not (vol > 0.0 and vmid > 0.0):
+            if not (vol > 0.0 and vbar > 0.0):
                 es[e, W_SIGMA] += half * (es[e, P1_SIGMA] + es[e, P1_Q] + es[e, P1_HG] + p2)
                 _erase(F, es, e)
                 if flags[e, FAILED] != 0:
@@ -214,16 +247,14 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, F, geo, 
                     bad[e] = BAD_VOLUME
                     bstatus = max(bstatus, BAD_VOLUME)
                 continue
-            for i in range(3):
-                for j in range(3):
-                    Lbuf[e, i, j] = LB[i, j, k]
-            trd = LB[0, 0, k] + LB[1, 1, k] + LB[2, 2, k]
+            midstep_gradient(LB, k, 0.5 * dt, Lbuf, e)
+            trd = Lbuf[e, 0, 0] + Lbuf[e, 1, 1] + Lbuf[e, 2, 2]
             # complete the work of the previous forces over Δt^n: ½Δt^n f^n·(v^{n−½} + v^{n+½}), by kind
             p2_hg = 0.0
             for al in range(4):
                 for i in range(3):
                     p2_hg += Qhg[e, al, i] * QD[al, i, k]
-            p2_q = -es[e, Q] * vmid * trd
+            p2_q = -es[e, Q] * vbar * trd
             es[e, W_SIGMA] += half * (es[e, P1_SIGMA] + p2 - p2_q - p2_hg)
             es[e, W_Q] += half * (es[e, P1_Q] + p2_q)
             es[e, W_HG] += half * (es[e, P1_HG] + p2_hg)
@@ -234,8 +265,7 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, F, geo, 
             q = 0.0
             if trd < 0.0:
                 q = rho * ell * (q1 * ell * trd * trd - q2 * es[e, C] * trd)
-            vbar = 0.5 * (es[e, VOL] + vol)
-            if kind == MAT13_KIND:
+            if kind == MAT13_KIND:          # the registry's kinds (_models.py); a new model adds a branch
                 c, dw, dwp = mat13_update(e, Lbuf, dt, vbar, emass[e], rho, vol / vol0[e], q, S, es, flags, mprm)
             else:
                 c, dw, dwp = jc_update(e, Lbuf, dt, vbar, emass[e], rho, q, S, es, flags, table, mprm)
@@ -303,8 +333,8 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, F, geo, 
             es[e, P1_Q] = -W[V_Q, k] * W[V_BV, k]
             vol = W[V_VOL, k]
             c = es[e, C]
-            trd = LB[0, 0, k] + LB[1, 1, k] + LB[2, 2, k]
             ell = W[V_LE, k]
+            trd = Lbuf[e, 0, 0] + Lbuf[e, 1, 1] + Lbuf[e, 2, 2]
             qs = 0.0
             if trd < 0.0:
                 qs = q1 * ell * abs(trd) + q2 * c
@@ -471,3 +501,17 @@ def nodal_energy(v, mass, free, Fflat, ptr, entry, category, dt_full):
         py += m * v[n, 1]
         pz += m * v[n, 2]
     return kin, kin_wall, kin_orphan, kin_cross, np.array([px, py, pz])
+
+
+@njit(cache=True)
+def energy_sums(es, flags):
+    """Σ over live and over eroded elements of (W_σ, W_p, W_hg, W_q): two arrays (4,)."""
+    live = np.zeros(4)
+    gone = np.zeros(4)
+    for e in range(es.shape[0]):
+        out = gone if flags[e, ERODED] != 0 else live
+        out[0] += es[e, W_SIGMA]
+        out[1] += es[e, W_PLASTIC]
+        out[2] += es[e, W_HG]
+        out[3] += es[e, W_Q]
+    return live, gone
