@@ -27,6 +27,11 @@ The integrator is A-stable, costs no Python per step and allocates nothing per
 step (the hot loop works in buffers made once per segment, through views that
 numba does not reference-count, :func:`_borrow`): a 1-s sample run takes about
 50,000 steps of 2–3 µs each.
+
+numba's on-disk cache keys each compiled function on its own source file only, and
+the step loop here compiles the kernels of ``_model`` into itself: after editing
+``_model`` alone, touch this file (or delete ``__pycache__/_integrator.*.nb*``), or the
+loop keeps running the old kernels.
 """
 
 from __future__ import annotations
