@@ -232,7 +232,9 @@ class WallSolver:
         frames: list[WallFrame] = []
         peak_wall = 0.0
         rear_peak = -np.inf
-        t_hist = t_out = self.time
+        out_dt = o.output_interval_us if o.output_interval_us is not None else math.inf
+        next_hist = self.time + o.history_interval_us
+        next_out = self.time + out_dt
 
         def sample() -> dict[str, float]:
             nonlocal rear_peak
@@ -248,24 +250,20 @@ class WallSolver:
             return row
 
         self.update_categories()
-        row = sample()
+        sample()
         frames.append(self.frame())
         while True:
-            t_hist += o.history_interval_us
-            if o.output_interval_us is not None and t_out + o.output_interval_us <= t_hist:
-                t_stop = t_out + o.output_interval_us
-            else:
-                t_stop = t_hist
-            t_stop = min(t_stop, t_end)
+            t_stop = min(next_hist, next_out, t_end)
             if t_stop > self.time:
                 self.advance(t_stop)
-            t_hist = max(t_hist, self.time)
             self.update_categories()
             row = sample()
             peak_wall = max(peak_wall, row["kinetic_wall"])
-            if o.output_interval_us is not None and self.time >= t_out + o.output_interval_us - 1e-12:
+            if self.time >= next_hist:
+                next_hist = self.time + o.history_interval_us
+            if self.time >= next_out:
                 frames.append(self.frame())
-                t_out = self.time
+                next_out = self.time + out_dt
             if progress is not None:
                 progress(self.time, t_end)
             if self.time >= t_end:
