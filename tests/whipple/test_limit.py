@@ -65,3 +65,18 @@ def test_bad_search_settings(tmp_path, make_case, kwargs, message):
     with pytest.raises(InputError, match=message.replace("+", r"\+")):
         _limit.run_limit(raw, [7.0], tmp_path / "limit", scheduler="serial", **kwargs)
     assert not (tmp_path / "limit").exists()
+
+
+def test_a_lean_shot_folder_keeps_what_a_user_reads(tmp_path):
+    from impactdyn.whipple._shots import prune_run
+
+    keep = ["summary.json", "report.html", "case.toml", "plots/ballistic_limit.png", "wall/stage.json",
+            "wall/wall.json", "wall/plots/wall_rear.png", "debris/areal_density.csv", "debris/summary.json"]
+    drop = ["shield/particles.h5", "binning/handoff_grid.h5", "debris/debris.h5", "debris/particles_arrival.vtu",
+            "wall/wall.pvd", "wall/wall_series/frame_0001.vtu", "decks/wall.k", "decks/wall_dyna3d.inp"]
+    for name in keep + drop:
+        (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / name).write_text(name)
+    prune_run(tmp_path)
+    assert sorted(p.relative_to(tmp_path).as_posix() for p in tmp_path.rglob("*") if p.is_file()) == sorted(keep)
+    assert not (tmp_path / "wall" / "wall_series").exists() and not (tmp_path / "decks").exists()

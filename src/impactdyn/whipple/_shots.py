@@ -3,7 +3,8 @@
 A Table 2 run folder holds ~400 MB (SPH particles, every debris particle's states,
 ParaView files); a family of dozens of shots keeps by default only what a user reads
 afterwards (:data:`LEAN_KEEP`): the summary and report, the stage records, the plots,
-the DCPOST table, the wall's measures and pictures and the decks: a few MB per shot.
+the DCPOST table, the wall's measures and pictures: a few MB per shot (the decks of a
+Table 2 shot alone are ~250 MB: their time-resolved load curves).
 ``keep_all`` keeps everything.
 """
 
@@ -16,8 +17,7 @@ from pathlib import Path
 
 #: Files a lean shot folder keeps (glob patterns relative to the run folder).
 LEAN_KEEP = ("summary.json", "report.html", "case.toml", "plots/*", "*/stage.json", "*/summary.json",
-             "*/plots/*", "debris/areal_density.csv", "debris/config.resolved.toml", "wall/*.json", "wall/*.png",
-             "decks/*")
+             "*/plots/*", "debris/areal_density.csv", "debris/config.resolved.toml", "wall/*.json")
 
 
 @dataclass(frozen=True)
