@@ -11,10 +11,10 @@ import pytest
 from impactdyn.beam import simulate
 
 
-def free_run(make_case, coupled):
+def free_run(make_case, coupled, gravity=0.0):
     return simulate(make_case(
         "impactc_sample.toml", torque={"amplitude_N_m": 0.0}, damping={"joint_N_m_s": 0.0},
-        model={"n_modes": 4, "gravity_m_s2": 0.0, "coupled": coupled},
+        model={"n_modes": 4, "gravity_m_s2": gravity, "coupled": coupled},
         contact={"model": "momentum", "restitution_law": "constant", "restitution": 1.0, "rest_velocity_m_s": 1e-9},
         initial={"theta_rad": 0.4, "theta_dot_rad_s": -12.0, "tip_deflection_m": 0.06},
         time={"end_s": 0.3, "output_step_s": 1e-3}, solver={"rtol": 1e-9, "atol": 1e-12}))
@@ -37,6 +37,16 @@ def test_energy_is_conserved(coupled_run):
     """max |E(t) − E(0)| ≤ 1e-8 E(0) (measured 8.5e-10 at rtol 1e-9; 5e-11 at 1e-10)."""
     e = coupled_run.energy
     assert np.max(np.abs(e - e[0])) <= 1e-8 * e[0]
+
+
+def test_energy_is_conserved_with_gravity(make_case):
+    """Gravity is conservative too, the fourth-order terms of its potential included:
+    E changes by less than 1e-8 of the kinetic energy's range (measured 2.7e-10, five impacts)."""
+    r = free_run(make_case, True, gravity=9.81)
+    e = r.energy
+    kinetic = e - np.array([r.model.energy(np.concatenate([y[: r.model.n + 1], 0.0 * y[r.model.n + 1 :]]))
+                            for y in r.y])
+    assert np.max(np.abs(e - e[0])) <= 1e-8 * np.ptp(kinetic)
 
 
 def test_linearised_model_does_not_conserve_it(make_case):

@@ -13,11 +13,12 @@ its impulse ∫F_c dt (impulsive impacts add their jumps separately). ẋ = [θ�
 and e_t its normal, both turning with θ. The inextensible beam's point x sits at
 r = (A + x + u) e_r + w e_t, where (1 + u')² + w'² = 1 gives the foreshortening
 
-    u(x) = −½ ∫₀ˣ w'² dη + O(w⁴) = −(1/2L) Σⱼₖ Sⱼₖ(ξ) qⱼqₖ,   Sⱼₖ(ξ) = ∫₀^ξ φⱼ'φₖ' dη
+    u(x) = −½ ∫₀ˣ w'² dη + u₄ + O(w⁶) = −(1/2L) Σⱼₖ Sⱼₖ(ξ) qⱼqₖ + u₄,   Sⱼₖ(ξ) = ∫₀^ξ φⱼ'φₖ' dη
 
 (Kane, Ryan & Banerjee, J. Guidance 10 (1987) 139; primes on φ are d/dξ, ξ = x/L;
-S and the integrals c, e, f below are in ``_modes``), and its velocity is
-ṙ = (u̇ − θ̇w) e_r + (ẇ + θ̇(A + x + u)) e_t.
+S and the integrals c, e, f, d below are in ``_modes``), and its velocity is
+ṙ = (u̇ − θ̇w) e_r + (ẇ + θ̇(A + x + u)) e_t. The kinetic energy uses u to second order;
+u₄ = −⅛∫₀ˣ w'⁴ enters the gravity potential only (*Order*, below).
 
 **Kinetic energy.** T = ½J_h θ̇² + ½∫ρ|ṙ|² dx = ½ ẋᵀ M(q) ẋ, M the Gram matrix of the
 velocity fields ∂ṙ/∂θ̇ = (A + x + u) e_t − w e_r and ∂ṙ/∂q̇ᵢ = φᵢ e_t − sᵢ e_r
@@ -32,12 +33,14 @@ the deflection: T₂ = ½θ̇² qᵀPq (∫ρ(w² + 2(A + x)u)), T₃ = θ̇ q̇
 the foreshortened moment arm), T₄ = ½∫ρ(u̇² + θ̇²u²) (the foreshortening's own motion).
 
 **Potential energy.** Bending of the inextensible beam, curvature w''/√(1 − w'²)
-(Crespo da Silva & Glynn, J. Struct. Mech. 6 (1978) 437), and gravity along −e(π/2)::
+(Crespo da Silva & Glynn, J. Struct. Mech. 6 (1978) 437), and gravity along −e(π/2),
+ρg∫[(A + x + u) sin θ + w cos θ] dx with u to fourth order (u₄ = −⅛∫₀ˣ w'⁴)::
 
-    V = ½ Σ Kᵢqᵢ² + ¼ Σᵢⱼₖₗ Fᵢⱼₖₗ qᵢqⱼqₖqₗ + ρg[L(A + L/2) sin θ + L cos θ bᵀq − ½ sin θ qᵀhq],
+    V = ½ Σ Kᵢqᵢ² + ¼ Σᵢⱼₖₗ Fᵢⱼₖₗ qᵢqⱼqₖqₗ + ρg[L(A + L/2) sin θ + L cos θ bᵀq − ½ sin θ qᵀhq]
+        − ¼ sin θ Σᵢⱼₖₗ Dᵢⱼₖₗ qᵢqⱼqₖqₗ,
 
-Kᵢ = EIβᵢ⁴/L³, F = (2EI/L⁵) f from ½EI∫w''²(1 + w'²) dx; the gravity term is exact for
-this u (it is linear in u: ρ∫u dx = −½ρ qᵀhq).
+Kᵢ = EIβᵢ⁴/L³, F = (2EI/L⁵) f from ½EI∫w''²(1 + w'²) dx, D = (ρg/2L²) d from
+ρg sin θ ∫u₄ dx (ρ∫u dx = −½ρ qᵀhq − (ρ/8L²) Σ dᵢⱼₖₗ qᵢqⱼqₖqₗ).
 
 **Linearised model** (default, the listing's EQNS): M = M(0) and, of all the above,
 only the centrifugal term θ̇²(Pq)ᵢ of ∂T₂/∂qᵢ::
@@ -51,29 +54,32 @@ complement s = J₀ − |M₀⁰|²/ρL.
 
 **Coupled model** (``coupled = true``): Lagrange's equations of T − V,
 
-    M(q) ẍ = Q − h + [ρg(½ cos θ qᵀhq + L sin θ bᵀq);  ρg sin θ (hq)ᵢ − (Φq)ᵢ],
+    M(q) ẍ = Q − h + [ρg(½ cos θ qᵀhq + L sin θ bᵀq) + ¼ cos θ qᵀΔq;
+                      ρg sin θ (hq)ᵢ + sin θ (Δq)ᵢ − (Φq)ᵢ],
     h₀ = 2θ̇ q̇ᵀPq + θ̇ q̇ᵀΨq + q̇ᵀΛq̇,
     hᵢ = −θ̇²(Pq)ᵢ − ½θ̇²(Ψq)ᵢ + 2θ̇(Bq̇)ᵢ + (Ξq̇)ᵢ,
 
 with Q as above but Qᵢ without θ̇²(Pq)ᵢ (it is the first term of hᵢ), Λₐᵦ = Σⱼ Cⱼₐᵦ qⱼ,
 Γₐᵦ = Σⱼ Cₐᵦⱼ qⱼ, B = Γᵀ − Γ (antisymmetric: gyroscopic, no work), Ξₐᵦ = Σₖₗ Eₐₖᵦₗ qₖq̇ₗ,
-Φₐᵦ = Σₖₗ Fₐᵦₖₗ qₖqₗ. The velocity terms h = Ṁẋ − ½∇(ẋᵀMẋ) are written as d'Alembert's
+Φₐᵦ = Σₖₗ Fₐᵦₖₗ qₖqₗ, Δₐᵦ = Σₖₗ Dₐᵦₖₗ qₖqₗ. The velocity terms h = Ṁẋ − ½∇(ẋᵀMẋ) are written as d'Alembert's
 ∫ρ (∂r/∂xₐ)·r̈ dx with the acceleration r̈ = a_r e_r + a_t e_t, R = A + x + u::
 
     a_r = ü − θ̈w − 2θ̇ẇ − θ̇²R,   a_t = ẅ + θ̈R + 2θ̇u̇ − θ̇²w,   ü = −Σ q̈ⱼsⱼ − Σⱼₖ q̇ⱼq̇ₖSⱼₖ/L.
 
-*Order.* Counting q and θ̇ as first order (a torque pulse drives both), the Lagrangian
-holds every term through fourth order: T₂, T₃, ½∫ρu̇² and the quartic bending term
-(the linearised model keeps only second order and the centrifugal part of T₂; dropping
+*Order.* Counting q and θ̇ as first order (a torque pulse drives both; g is not small),
+the Lagrangian holds every term through fourth order: T₂, T₃, ½∫ρu̇², the quartic
+bending term and the gravity potential of u₄ (the linearised model keeps only second
+order and the centrifugal part of T₂; dropping
 T₃ and ½∫ρu̇² while keeping T₂, as this option did before, leaves M₀₀ with an O(q²)
 correction but the Schur complement M₀₀ − M₀ᵀM_qq⁻¹M₀ without its equally large ones, and
 with a light hub it turns negative). It also keeps ½θ̇²∫ρu² (sixth order) so that T is
 the exact kinetic energy of the displacement field: M(q) is then a Gram matrix, positive
 definite for every q, and the hub can be as light as the user likes. Left out, sixth
-order: −⅛∫w'⁴ in u and ½EI∫w''²w'⁴ in V (adding either alone moves the hub angle
-away from the rigid-link chain of ``_chain``: they partly cancel each other and the
-sixth-order kinetic terms; benchmarks/BENCHMARKS.md). The gap stays linear in the
-coordinates (the stop lies at θ ≈ 0, where u sin θ is negligible).
+order: u₄ in the kinetic energy (θ̇²∫ρ(A + x)u₄, θ̇∫ρ(ẇu₄ − wu̇₄), …) and ½EI∫w''²w'⁴ in V;
+added on their own (no five-index integrals for the kinetic ones) they move the hub
+angle away from the rigid-link chain of ``_chain``, not toward it
+(benchmarks/BENCHMARKS.md). The gap stays linear in the coordinates (the stop lies at
+θ ≈ 0, where u sin θ is negligible).
 
 With no damping, torque or contact the coupled model conserves E = ½ẋᵀMẋ + V exactly,
 and an impact with e = 1 keeps it (the momentum balance uses M(q)). The linearised one
@@ -91,18 +97,18 @@ from numba import njit
 
 from impactdyn.beam._case import BeamCase
 from impactdyn.beam._contact import force_kernel, release_kernel
-from impactdyn.beam._modes import foreshortening_integrals, modal_integrals, shapes
+from impactdyn.beam._modes import large_deflection_integrals, modal_integrals, shapes
 
 # slots of the packed scalar parameter array ``sc``
 RHO_L, J0, C_JOINT, TORQUE, GRAV_THETA, GRAV_MODAL, RHO_G, LENGTH, MOMENT_ARM, GAP_ARM, \
     STOP_OFFSET, COUPLED, IN_CONTACT, V0 = range(14)
 N_SCALARS = 14
-# slots of the coupled model's workspace ``fw`` (N_FW + 2n, n + 1, n + 1): the mass matrix
+# slots of the coupled model's workspace ``fw`` (N_FW + 3n, n + 1, n + 1): the mass matrix
 # (Cholesky factor after assembly), n × n matrices of the module docstring and of the
 # Jacobian (:func:`_coupled_jacobian`), vectors (rows of VECTORS), then from N_FW the
-# partial contractions E·q and F·q, n slots each (:func:`_contract_last`)
-MASS, LAMBDA, GAMMA, PSI, XI, PHI, PI, OMEGA, B_DOT, PHI_CROSS, E_ACC, VECTORS = range(12)
-N_FW = 12
+# partial contractions E·q, F·q and D·q, n slots each (:func:`_contract_last`)
+MASS, LAMBDA, GAMMA, PSI, XI, PHI, DELTA, PI, OMEGA, B_DOT, PHI_CROSS, E_ACC, VECTORS = range(13)
+N_FW = 13
 
 
 @njit(cache=True, inline="always")
@@ -216,27 +222,30 @@ def _contract_last(T, v, out):
 
 
 @njit(cache=True)
-def mass_matrix_kernel(y, sc, m0, G, C, E, F, fw):
-    """The coupled model's M(q) into fw[MASS] (module docstring), Λ, Γ, Ψ, Φ (n × n)
-    into their slots, and E·q, F·q (:func:`_contract_last`) after N_FW."""
+def mass_matrix_kernel(y, sc, m0, G, C, E, F, D, fw):
+    """The coupled model's M(q) into fw[MASS] (module docstring), Λ, Γ, Ψ, Φ, Δ (n × n)
+    into their slots, and E·q, F·q, D·q (:func:`_contract_last`) after N_FW."""
     n = m0.shape[0]
     q = y[1 : n + 1]
-    lam, gam, psi, phi, M = fw[LAMBDA], fw[GAMMA], fw[PSI], fw[PHI], fw[MASS]
-    e_q, f_q = fw[N_FW : N_FW + n], fw[N_FW + n : N_FW + 2 * n]
+    lam, gam, psi, phi, delta, M = fw[LAMBDA], fw[GAMMA], fw[PSI], fw[PHI], fw[DELTA], fw[MASS]
+    e_q, f_q, d_q = fw[N_FW : N_FW + n], fw[N_FW + n : N_FW + 2 * n], fw[N_FW + 2 * n : N_FW + 3 * n]
     _contract_last(E, q, e_q)
     _contract_last(F, q, f_q)
+    _contract_last(D, q, d_q)
     for a in range(n):
         for c in range(n):
-            lam_ac = gam_ac = psi_ac = phi_ac = 0.0
+            lam_ac = gam_ac = psi_ac = phi_ac = delta_ac = 0.0
             for j in range(n):
                 lam_ac += C[j, a, c] * q[j]
                 gam_ac += C[a, c, j] * q[j]
                 psi_ac += e_q[a, j, c] * q[j]  # Ψ = Σⱼₗ E[a, j, c, l] qⱼqₗ
                 phi_ac += f_q[a, c, j] * q[j]  # Φ = Σⱼₗ F[a, c, j, l] qⱼqₗ
+                delta_ac += d_q[a, c, j] * q[j]  # Δ = Σⱼₗ D[a, c, j, l] qⱼqₗ
             lam[a, c] = lam_ac
             gam[a, c] = gam_ac
             psi[a, c] = psi_ac
             phi[a, c] = phi_ac
+            delta[a, c] = delta_ac
     m00 = sc[J0]
     for a in range(n):
         psi_q = 0.0
@@ -253,7 +262,7 @@ def mass_matrix_kernel(y, sc, m0, G, C, E, F, fw):
 
 
 @njit(cache=True, inline="always")
-def _coupled_forces(y, sc, m0, G, h, b, C, E, F, work, fw):
+def _coupled_forces(y, sc, m0, G, h, b, C, E, F, D, work, fw):
     """Turn the linearised model's generalized forces in work[0] into the coupled
     model's (module docstring: gravity terms, −h without its first term, −Φq), and
     factorise M(q) in fw[MASS]."""
@@ -261,8 +270,8 @@ def _coupled_forces(y, sc, m0, G, h, b, C, E, F, work, fw):
     q, qd, thd = y[1 : n + 1], y[n + 2 : 2 * n + 2], y[n + 1]
     cth, sth = np.cos(y[0]), np.sin(y[0])
     rho_g = sc[RHO_G]
-    mass_matrix_kernel(y, sc, m0, G, C, E, F, fw)
-    lam, gam, psi, xi, phi = fw[LAMBDA], fw[GAMMA], fw[PSI], fw[XI], fw[PHI]
+    mass_matrix_kernel(y, sc, m0, G, C, E, F, D, fw)
+    lam, gam, psi, xi, phi, delta = fw[LAMBDA], fw[GAMMA], fw[PSI], fw[XI], fw[PHI], fw[DELTA]
     e_q = fw[N_FW : N_FW + n]
     for a in range(n):
         for c in range(n):
@@ -272,12 +281,7 @@ def _coupled_forces(y, sc, m0, G, h, b, C, E, F, work, fw):
             xi[a, c] = xi_ac
     h0 = 0.0
     for a in range(n):
-        psi_q = 0.0
-        hq = 0.0
-        lam_qd = 0.0
-        b_qd = 0.0
-        xi_qd = 0.0
-        phi_q = 0.0
+        psi_q = hq = lam_qd = b_qd = xi_qd = phi_q = delta_q = 0.0
         for c in range(n):
             psi_q += psi[a, c] * q[c]
             hq += h[a, c] * q[c]
@@ -285,21 +289,23 @@ def _coupled_forces(y, sc, m0, G, h, b, C, E, F, work, fw):
             b_qd += (gam[c, a] - gam[a, c]) * qd[c]
             xi_qd += xi[a, c] * qd[c]
             phi_q += phi[a, c] * q[c]
+            delta_q += delta[a, c] * q[c]
         h0 += qd[a] * (2.0 * thd * _p_times(y, sc, G, a, 1) + thd * psi_q + lam_qd)
-        work[0, 0] += rho_g * (0.5 * cth * q[a] * hq + sc[LENGTH] * sth * b[a] * q[a])
-        work[0, 1 + a] += (rho_g * sth * hq + 0.5 * thd * thd * psi_q - 2.0 * thd * b_qd - xi_qd) - phi_q
+        work[0, 0] += rho_g * (0.5 * cth * q[a] * hq + sc[LENGTH] * sth * b[a] * q[a]) + 0.25 * cth * q[a] * delta_q
+        work[0, 1 + a] += (rho_g * sth * hq + sth * delta_q + 0.5 * thd * thd * psi_q - 2.0 * thd * b_qd - xi_qd
+                           - phi_q)
     work[0, 0] -= h0
     _cholesky(fw[MASS])
 
 
 @njit(cache=True, inline="always")
-def accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw):
+def accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw):
     """Free accelerations a₀ = M⁻¹Q (no contact) and the unit-force response u = M⁻¹J_F.
 
     J_F = [moment arm, φ₁(x_p/L), …] is the generalized direction of the contact
     force, so the accelerations under a contact force F are a₀ + F u. Both (n + 1,),
     written to rows 0 and 1 of ``work`` (2n + 4, n + 1); the coupled model leaves its
-    terms in ``fw`` (N_FW + 2n, n + 1, n + 1).
+    terms in ``fw`` (N_FW + 3n, n + 1, n + 1).
     """
     n = m0.shape[0]
     thd = y[n + 1]
@@ -311,7 +317,7 @@ def accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw):
         work[0, 1 + i] = -kd[i] * y[1 + i] + thd * thd * pq_i - cd[i] * y[n + 2 + i] - sc[GRAV_MODAL] * b[i] * cth
         work[1, 1 + i] = phi_p[i]
     if sc[COUPLED] > 0.0:
-        _coupled_forces(y, sc, m0, G, h, b, C, E, F, work, fw)
+        _coupled_forces(y, sc, m0, G, h, b, C, E, F, D, work, fw)
     _solve(sc, m0, fw, work, 0)
     _solve(sc, m0, fw, work, 1)
 
@@ -339,27 +345,27 @@ def _mode_force(y, sc, phi_p, work, law_id, lawp):
 
 
 @njit(cache=True, inline="always")
-def contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw, law_id, lawp):
+def contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw, law_id, lawp):
     """F_c in the segment's mode (:func:`_mode_force`); leaves a₀ and u in ``work``."""
-    accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw)
+    accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw)
     return _mode_force(y, sc, phi_p, work, law_id, lawp)
 
 
 @njit(cache=True)
-def rhs_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw, law_id, lawp):
+def rhs_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw, law_id, lawp):
     """dy/dt of the state (module docstring), allocated; see :func:`rhs_into`."""
     dy = np.empty_like(y)
-    rhs_into(t, y, dy, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw, law_id, lawp)
+    rhs_into(t, y, dy, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw, law_id, lawp)
     return dy
 
 
 @njit(cache=True)
-def rhs_into(t, y, dy, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw, law_id, lawp):
+def rhs_into(t, y, dy, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw, law_id, lawp):
     """dy/dt of the state into ``dy``; shapes: y, dy (2n+7,), m0/kd/cd/b/phi_p (n,),
-    G/h (n,n), C (n,n,n), E/F (n,n,n,n) (size 0 for the linearised model),
-    work (2n+4, n+1), fw (N_FW + 2n, n+1, n+1)."""
+    G/h (n,n), C (n,n,n), E/F/D (n,n,n,n) (size 0 for the linearised model),
+    work (2n+4, n+1), fw (N_FW + 3n, n+1, n+1)."""
     n = m0.shape[0]
-    f_c = contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw, law_id, lawp)
+    f_c = contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw, law_id, lawp)
     thd = y[n + 1]
     dy[0] = thd
     dy[n + 1] = work[0, 0] + f_c * work[1, 0]
@@ -391,7 +397,7 @@ def _law_slopes(law_id, delta, delta_dot, v0, lawp, force):
 
 
 @njit(cache=True, inline="always")
-def _coupled_jacobian(y, sc, G, h, b, C, E, F, work, fw, hub_acc, f_c):
+def _coupled_jacobian(y, sc, G, h, b, C, E, F, D, work, fw, hub_acc, f_c):
     """Add the coupled model's terms to ∂Q/∂xₖ − (∂M/∂xₖ) a in work[2 + k] (columns θ,
     q_m, θ̇, q̇_m; :func:`jacobian_kernel`), a = [hub_acc, a_q] the accelerations under
     the contact force f_c. With Λ, Γ, B, Ψ, Ξ, Φ of the module docstring and
@@ -406,13 +412,14 @@ def _coupled_jacobian(y, sc, G, h, b, C, E, F, work, fw, hub_acc, f_c):
         ∂hₐ/∂q̇ₘ = 2θ̇Bₐₘ + 2Ξₐₘ,   ∂(Φq)ₐ/∂qₘ = (Φ + 2Φˣ)ₐₘ
 
     (the θ̇²P and 2θ̇Pq parts of hₐ's derivatives are the linearised model's, already
-    in ``work``), plus the derivatives of the gravity terms.
+    in ``work``), plus the derivatives of the gravity terms, among them ∂(Δq)ₐ/∂qₘ = 3Δₐₘ
+    (d is symmetric in all four indices).
     """
     n = G.shape[0]
     q, qd, thd = y[1 : n + 1], y[n + 2 : 2 * n + 2], y[n + 1]
     cth, sth = np.cos(y[0]), np.sin(y[0])
     rho_g = sc[RHO_G]
-    lam, gam, psi, xi, phi = fw[LAMBDA], fw[GAMMA], fw[PSI], fw[XI], fw[PHI]
+    lam, gam, psi, xi, phi, delta = fw[LAMBDA], fw[GAMMA], fw[PSI], fw[XI], fw[PHI], fw[DELTA]
     pi, omega, b_dot, phi_x, e_acc = fw[PI], fw[OMEGA], fw[B_DOT], fw[PHI_CROSS], fw[E_ACC]
     e_q, f_q = fw[N_FW : N_FW + n], fw[N_FW + n : N_FW + 2 * n]
     a_q, nu = fw[VECTORS, 0, :n], fw[VECTORS, 1, :n]
@@ -446,9 +453,10 @@ def _coupled_jacobian(y, sc, G, h, b, C, E, F, work, fw, hub_acc, f_c):
     for m in range(n):
         pq_m = _p_times(y, sc, G, m, 1)
         pqd_m = _p_times(y, sc, G, m, n + 2)
-        psi_q = psi_qd = pi_qd = lam_qd = b_qd = hq = m_acc = 0.0
+        psi_q = psi_qd = pi_qd = lam_qd = b_qd = hq = delta_q = m_acc = 0.0
         for c in range(n):
             psi_q += psi[m, c] * q[c]
+            delta_q += delta[m, c] * q[c]
             psi_qd += psi[m, c] * qd[c]
             pi_qd += pi[m, c] * qd[c]
             lam_qd += lam[m, c] * qd[c]
@@ -456,28 +464,28 @@ def _coupled_jacobian(y, sc, G, h, b, C, E, F, work, fw, hub_acc, f_c):
             hq += h[m, c] * q[c]
             m_acc += (lam[c, m] + gam[m, c] - gam[c, m]) * a_q[c]
         # θ column (gravity)
-        work[2, 0] += rho_g * (-0.5 * sth * q[m] * hq + sc[LENGTH] * cth * b[m] * q[m])
-        work[2, 1 + m] += rho_g * cth * hq
+        work[2, 0] += rho_g * (-0.5 * sth * q[m] * hq + sc[LENGTH] * cth * b[m] * q[m]) - 0.25 * sth * q[m] * delta_q
+        work[2, 1 + m] += rho_g * cth * hq + cth * delta_q
         # θ̇ column
         work[n + 3, 0] -= qd[m] * (2.0 * pq_m + psi_q)
         work[n + 3, 1 + m] += thd * psi_q - 2.0 * b_qd
         # q̇ₘ column
         work[n + 4 + m, 0] -= 2.0 * thd * pq_m + thd * psi_q + 2.0 * lam_qd
         # qₘ column
-        work[3 + m, 0] += (rho_g * (cth * hq + sc[LENGTH] * sth * b[m])
+        work[3 + m, 0] += (rho_g * (cth * hq + sc[LENGTH] * sth * b[m]) + cth * delta_q
                            - 2.0 * thd * pqd_m - thd * (pi_qd + 2.0 * psi_qd) - nu[m]
                            - (2.0 * pq_m + psi_q) * hub_acc - m_acc)
         for a in range(n):
             b_am = gam[m, a] - gam[a, m]
             work[n + 4 + m, 1 + a] -= 2.0 * thd * b_am + 2.0 * xi[a, m]
-            work[3 + m, 1 + a] += (rho_g * sth * h[a, m] - phi[a, m] - 2.0 * phi_x[a, m]
+            work[3 + m, 1 + a] += (rho_g * sth * h[a, m] + 3.0 * sth * delta[a, m] - phi[a, m] - 2.0 * phi_x[a, m]
                                    + 0.5 * thd * thd * (pi[a, m] + 2.0 * psi[a, m]) - 2.0 * thd * b_dot[a, m]
                                    - omega[a, m] - (lam[a, m] + b_am) * hub_acc
                                    - e_acc[a, m])
 
 
 @njit(cache=True)
-def jacobian_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw, law_id, lawp, jac):
+def jacobian_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw, law_id, lawp, jac):
     """∂f/∂y of :func:`rhs_into` into ``jac`` (2n + 7, 2n + 7), analytically.
 
     The right-hand side is autonomous within a segment (the torque is constant
@@ -505,7 +513,7 @@ def jacobian_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw, law
     rho_l = sc[RHO_L]
     thd = y[n + 1]
     sth = np.sin(y[0])
-    accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw)
+    accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw)
     f_c = _mode_force(y, sc, phi_p, work, law_id, lawp)
     # ∂Q/∂xₖ into work[2 + k]: θ, q_j, θ̇, q̇_j columns
     for k in range(nd):
@@ -521,7 +529,7 @@ def jacobian_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw, law
             work[3 + j, 1 + i] = -thd * thd * G[i, j]
         work[3 + i, 1 + i] += thd * thd * rho_l - kd[i]
     if sc[COUPLED] > 0.0:
-        _coupled_jacobian(y, sc, G, h, b, C, E, F, work, fw, work[0, 0] + f_c * work[1, 0], f_c)
+        _coupled_jacobian(y, sc, G, h, b, C, E, F, D, work, fw, work[0, 0] + f_c * work[1, 0], f_c)
     for k in range(nd):
         _solve(sc, m0, fw, work, 2 + k)
     ns = nd + 5
@@ -568,33 +576,34 @@ def jacobian_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw, law
 
 
 @njit(cache=True)
-def coupled_energy_kernel(states, sc, m0, G, C, E, F, fw):
-    """½ẋᵀM(q)ẋ + ¼ qᵀΦq (kinetic and quartic bending energy of the coupled model) of
-    each row of ``states`` (m, 2n + 7); returns (m,)."""
+def coupled_energy_kernel(states, sc, m0, G, C, E, F, D, fw):
+    """½ẋᵀM(q)ẋ + ¼ qᵀΦq − ¼ sin θ qᵀΔq (the coupled model's kinetic energy and quartic
+    potential terms) of each row of ``states`` (m, 2n + 7); returns (m,)."""
     n = m0.shape[0]
     out = np.empty(states.shape[0])
     for r in range(states.shape[0]):
         y = states[r]
-        mass_matrix_kernel(y, sc, m0, G, C, E, F, fw)
-        M, phi = fw[MASS], fw[PHI]
+        mass_matrix_kernel(y, sc, m0, G, C, E, F, D, fw)
+        M, phi, delta = fw[MASS], fw[PHI], fw[DELTA]
+        sth = np.sin(y[0])
         e = 0.0
         for a in range(n + 1):
             for c in range(n + 1):
                 e += 0.5 * y[n + 1 + a] * M[a, c] * y[n + 1 + c]
         for a in range(n):
             for c in range(n):
-                e += 0.25 * y[1 + a] * phi[a, c] * y[1 + c]
+                e += 0.25 * y[1 + a] * (phi[a, c] - sth * delta[a, c]) * y[1 + c]
         out[r] = e
     return out
 
 
 @njit(cache=True)
-def event_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw, law_id, lawp):
+def event_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw, law_id, lawp):
     """The two event functions of the current mode: free: (g, 0); contact:
     (g, release indicator); resting: (λ, 0)."""
     mode = sc[IN_CONTACT]
     if mode == 2.0:
-        return contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, work, fw, law_id, lawp), 0.0
+        return contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw, law_id, lawp), 0.0
     g = gap_kernel(y, sc, phi_p)
     if mode == 1.0:
         return g, release_kernel(law_id, -g, -gap_rate_kernel(y, sc, phi_p), sc[V0], lawp)
@@ -614,9 +623,8 @@ class BeamModel:
     h : (n, n) the integral h (for the coupled gravity terms).      b : (n,) ∫φᵢ.
     phi_p : (n,) φᵢ(x_p/L), the gap Jacobian's modal part.
     phi_r, phi2_r : (n,) φᵢ and φᵢ'' at the response point (for deflection and strain).
-    C : (n, n, n) ρc,  E : (n, n, n, n) (ρ/L)e,  F : (n, n, n, n) (2EI/L⁵)f: the coupled
-        model's foreshortening and curvature coefficients (``_modes``); size 0 for the
-        linearised model.
+    C : (n, n, n) ρc,  E, F, D : (n, n, n, n) (ρ/L)e, (2EI/L⁵)f, (ρg/2L²)d: the coupled
+        model's large-deflection coefficients (``_modes``); size 0 for the linearised model.
     impact_j00 : M₀₀ used by the momentum balance (differs only under the legacy option).
     """
 
@@ -634,6 +642,7 @@ class BeamModel:
     C: np.ndarray
     E: np.ndarray
     F: np.ndarray
+    D: np.ndarray
     impact_j00: float
     length: float
     strain_radius: float
@@ -675,15 +684,15 @@ class BeamModel:
         xr = case.output.response_point_m / L
         impact_j00 = rho_l * (A * A + L * L / 3.0) * (1.0 + bm.inertia_ratio) if lg.impact_inertia_drops_AL else j0
         if case.model.coupled:
-            fi = foreshortening_integrals(n)
-            C, E, F = rho * fi.c, (rho / L) * fi.e, (2.0 * bm.EI_N_m2 / L**5) * fi.f
+            li = large_deflection_integrals(n)
+            C, E, F, D = rho * li.c, (rho / L) * li.e, (2.0 * bm.EI_N_m2 / L**5) * li.f, (rho * g / (2 * L**2)) * li.d
         else:
-            C, E, F = np.zeros((0, 0, 0)), np.zeros((0, 0, 0, 0)), np.zeros((0, 0, 0, 0))
+            C, E, F, D = np.zeros((0, 0, 0)), np.zeros((0, 0, 0, 0)), np.zeros((0, 0, 0, 0)), np.zeros((0, 0, 0, 0))
         return cls(
             n=n, sc=sc, m0=m0, kd=kd, cd=cd, G=G, h=np.array(h), b=mi.b.copy(),
             phi_p=shapes(mi.beta, np.float64(case.stop.x_m / L)).reshape(n),
             phi_r=shapes(mi.beta, np.float64(xr)).reshape(n),
-            phi2_r=(shapes(mi.beta, np.float64(xr), 2) / L**2).reshape(n), C=C, E=E, F=F,
+            phi2_r=(shapes(mi.beta, np.float64(xr), 2) / L**2).reshape(n), C=C, E=E, F=F, D=D,
             impact_j00=impact_j00, length=L, strain_radius=bm.strain_radius_m,
         )
 
@@ -723,7 +732,7 @@ class BeamModel:
         if self.sc[COUPLED] > 0:
             fw = self._workspace()
             mass_matrix_kernel(np.ascontiguousarray(y, dtype=float), self.sc, self.m0, self.G, self.C, self.E,
-                               self.F, fw)
+                               self.F, self.D, fw)
             return fw[MASS].copy()
         M = np.zeros((n + 1, n + 1))
         M[0, 0] = self.sc[J0] if j00 is None else j00
@@ -734,7 +743,7 @@ class BeamModel:
     def energy(self, y: np.ndarray) -> np.ndarray:
         """E = T + V (module docstring) of states ``y`` (..., 2n + 7).
 
-        Coupled model: ½ẋᵀM(q)ẋ + V with the quartic bending term, its invariant.
+        Coupled model: ½ẋᵀM(q)ẋ + V with its quartic terms, its invariant.
         Linearised model: T = ½(J₀ + qᵀPq)θ̇² + θ̇ M₀⁰·q̇ + ½ρL|q̇|² (its centrifugal term is
         −∂/∂q of −½θ̇²qᵀPq) and the quadratic V; its equations do not conserve this E.
         """
@@ -746,7 +755,7 @@ class BeamModel:
         if sc[COUPLED] > 0:
             states = np.ascontiguousarray(y, dtype=float).reshape(-1, self.n_state)
             kinetic_and_quartic = coupled_energy_kernel(states, sc, self.m0, self.G, self.C, self.E, self.F,
-                                                        self._workspace())
+                                                        self.D, self._workspace())
             return kinetic_and_quartic.reshape(np.shape(y)[:-1]) + V
         P = sc[RHO_L] * np.eye(self.n) - self.G
         qpq = np.einsum("...i,ij,...j->...", q, P, q)
@@ -788,13 +797,13 @@ class BeamModel:
         return np.sqrt(np.sort(np.linalg.eigvalsh(k_eff / self.sc[RHO_L])))
 
     def _workspace(self) -> np.ndarray:
-        """fw (N_FW + 2n, n + 1, n + 1) of the coupled kernels."""
-        return np.empty((N_FW + 2 * self.n, self.n + 1, self.n + 1))
+        """fw (N_FW + 3n, n + 1, n + 1) of the coupled kernels."""
+        return np.empty((N_FW + 3 * self.n, self.n + 1, self.n + 1))
 
     def kernel_args(self, sc: np.ndarray) -> tuple:
         """The model arrays after ``sc``, in the order every kernel takes them, with
         fresh workspaces ``work`` and ``fw``."""
-        return (sc, self.m0, self.kd, self.cd, self.G, self.h, self.b, self.phi_p, self.C, self.E, self.F,
+        return (sc, self.m0, self.kd, self.cd, self.G, self.h, self.b, self.phi_p, self.C, self.E, self.F, self.D,
                 np.empty((2 * self.n + 4, self.n + 1)), self._workspace())
 
     def jacobian(self, y: np.ndarray, sc: np.ndarray, law_id: int = 0, lawp=None) -> np.ndarray:

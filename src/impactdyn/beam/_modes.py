@@ -28,22 +28,23 @@ Modal integrals (INTEG; primes are d/dξ)::
 k and h are computed by composite Gauss–Legendre quadrature (exact to rounding
 for these smooth integrands; INTEG used Romberg), any number of modes.
 
-Foreshortening integrals (the ``coupled`` model, ``impactdyn.beam._model``). The
-inextensible beam's axial displacement is u = −½∫₀ˣ w′² to second order, i.e. in
-modes u(ξ) = −(1/2L) Σⱼₖ Sⱼₖ(ξ) qⱼqₖ with the running product integrals::
+Large-deflection integrals (the ``coupled`` model, ``impactdyn.beam._model``). The
+inextensible beam's axial displacement is u = −½∫₀ˣ w'² − ⅛∫₀ˣ w'⁴ − …, i.e. in modes
+u(ξ) = −(1/2L) Σⱼₖ Sⱼₖ(ξ) qⱼqₖ + O(q⁴) with the running product integrals::
 
     Sⱼₖ(ξ) = ∫₀^ξ φⱼ' φₖ' dη      (Sⱼₖ(1) = ∫φⱼ'φₖ',  ∫₀¹ Sⱼₖ = hⱼₖ,  ∫₀¹ ξ Sⱼₖ = kⱼₖ),
     cᵢⱼₖ  = ∫₀¹ φᵢ Sⱼₖ dξ = −βᵢ⁻⁴ ∫₀¹ φᵢ''' φⱼ' φₖ' dξ,
     eᵢⱼₖₗ = ∫₀¹ Sᵢⱼ Sₖₗ dξ,
-    fᵢⱼₖₗ = ½ ∫₀¹ (φᵢ''φⱼ''φₖ'φₗ' + φₖ''φₗ''φᵢ'φⱼ') dξ.
+    fᵢⱼₖₗ = ½ ∫₀¹ (φᵢ''φⱼ''φₖ'φₗ' + φₖ''φₗ''φᵢ'φⱼ') dξ      (the curvature's quartic term),
+    dᵢⱼₖₗ = ∫₀¹ (1 − ξ) φᵢ'φⱼ'φₖ'φₗ' dξ                   (∫₀¹ of the w'⁴ term of u).
 
 The second form of c integrates by parts with Φᵢ(ξ) = ∫_ξ¹ φᵢ = −φᵢ'''(ξ)/βᵢ⁴ (from
 φᵢ'''' = βᵢ⁴φᵢ and the free end's φᵢ'''(1) = 0), a single quadrature like k and h.
 e and f have the symmetries of an inner product of symmetric pairs: (i j), (k l) and
-(i j) ↔ (k l). S is accumulated panel by panel with the Gauss–Legendre integration
-matrix (the antiderivative of the interpolant through a panel's nodes, exact for
-polynomials below the rule's order), so every integrand is built from the stable
-shapes and all three are exact to rounding for any β.
+(i j) ↔ (k l); d is symmetric in all four indices. S is accumulated panel by panel
+with the Gauss–Legendre integration matrix (the antiderivative of the interpolant
+through a panel's nodes, exact for polynomials below the rule's order), so every
+integrand is built from the stable shapes and all four are exact to rounding for any β.
 """
 
 from __future__ import annotations
@@ -213,35 +214,39 @@ def modal_integrals(n: int) -> ModalIntegrals:
 
 
 @dataclass(frozen=True)
-class ForeshorteningIntegrals:
-    """The three- and four-index integrals of the foreshortening (module docstring), L = 1.
+class LargeDeflectionIntegrals:
+    """The three- and four-index integrals of the large-deflection model (module
+    docstring), L = 1.
 
     Attributes
     ----------
     c : (n, n, n)  cᵢⱼₖ = ∫ φᵢ Sⱼₖ dξ, symmetric in (j, k).
     e : (n, n, n, n)  eᵢⱼₖₗ = ∫ Sᵢⱼ Sₖₗ dξ.
     f : (n, n, n, n)  fᵢⱼₖₗ = ½∫ (φᵢ''φⱼ''φₖ'φₗ' + φₖ''φₗ''φᵢ'φⱼ') dξ.
+    d : (n, n, n, n)  dᵢⱼₖₗ = ∫ (1 − ξ) φᵢ'φⱼ'φₖ'φₗ' dξ.
     """
 
     c: np.ndarray
     e: np.ndarray
     f: np.ndarray
+    d: np.ndarray
 
 
 @lru_cache(maxsize=4)
-def foreshortening_integrals(n: int) -> ForeshorteningIntegrals:
-    """c, e and f for ``n`` modes, on the quadrature of :func:`modal_integrals`
-    (n⁴ numbers each for e and f: 50 MB at the largest n = 50)."""
+def large_deflection_integrals(n: int) -> LargeDeflectionIntegrals:
+    """c, e, f and d for ``n`` modes, on the quadrature of :func:`modal_integrals`
+    (n⁴ numbers each for e, f and d: 50 MB each at the largest n = 50)."""
     beta = eigenvalues(n)
     n_panels = _panels(beta)
     xi, w = _gauss_legendre(n_panels, _ORDER)
-    d1, d2, d3 = (shapes(beta, xi, k) for k in (1, 2, 3))
-    slope2 = d1[:, None, :] * d1[None, :, :]  # φⱼ'φₖ' (n, n, nodes)
+    slope, curvature, shear = (shapes(beta, xi, k) for k in (1, 2, 3))
+    slope2 = slope[:, None, :] * slope[None, :, :]  # φⱼ'φₖ' (n, n, nodes)
     S = _running_integral(slope2, n_panels, _ORDER)
-    c = np.einsum("ix,jkx->ijk", -d3 / beta[:, None] ** 4 * w, slope2)
+    c = np.einsum("ix,jkx->ijk", -shear / beta[:, None] ** 4 * w, slope2)
     e = np.tensordot(S * w, S, axes=(2, 2))
-    f = np.tensordot(d2[:, None, :] * d2[None, :, :] * w, slope2, axes=(2, 2))
+    f = np.tensordot(curvature[:, None, :] * curvature[None, :, :] * w, slope2, axes=(2, 2))
     f = 0.5 * (f + f.transpose(2, 3, 0, 1))
-    for arr in (c, e, f):
+    d = np.tensordot(slope2 * (w * (1.0 - xi)), slope2, axes=(2, 2))
+    for arr in (c, e, f, d):
         arr.setflags(write=False)
-    return ForeshorteningIntegrals(c=c, e=e, f=f)
+    return LargeDeflectionIntegrals(c=c, e=e, f=f, d=d)
