@@ -206,10 +206,10 @@ def _p_times(y, sc, G, i, off):
 
 @njit(cache=True, inline="always")
 def _contract_last(T, v, out):
-    """out[a, k, b] = Σₗ T[a, k, b, l] vₗ for T symmetric in (a, k) (e and f), a, k, b < n.
+    """out[a, k, b] = Σₗ T[a, k, b, l] vₗ for T symmetric in (a, k) (e, f and d), a, k, b < n.
 
-    Every contraction of E or F with q in the kernels is one of out·q or out·(a vector)
-    (n³ each), using the pair symmetry T[a, k, b, l] = T[b, l, a, k]."""
+    Every contraction of E, F or D with q in the kernels is one of out·q or out·(a
+    vector) (n³ each), using the pair symmetry T[a, k, b, l] = T[b, l, a, k]."""
     n = v.shape[0]
     for a in range(n):
         for k in range(a, n):
@@ -264,8 +264,8 @@ def mass_matrix_kernel(y, sc, m0, G, C, E, F, D, fw):
 @njit(cache=True, inline="always")
 def _coupled_forces(y, sc, m0, G, h, b, C, E, F, D, work, fw):
     """Turn the linearised model's generalized forces in work[0] into the coupled
-    model's (module docstring: gravity terms, −h without its first term, −Φq), and
-    factorise M(q) in fw[MASS]."""
+    model's (module docstring: gravity terms with Δ, −h without its first term, −Φq),
+    and factorise M(q) in fw[MASS]."""
     n = m0.shape[0]
     q, qd, thd = y[1 : n + 1], y[n + 2 : 2 * n + 2], y[n + 1]
     cth, sth = np.cos(y[0]), np.sin(y[0])
