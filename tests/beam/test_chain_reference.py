@@ -3,8 +3,8 @@
 (a) The chain's clamped, non-rotating frequencies converge to the Euler–Bernoulli
 cantilever's βᵢ²·√(EI/ρL⁴) at second order in 1/N.
 (b) A large-deflection spin-up (tip deflection ≈ 10 % of L): the ``coupled`` modal
-model follows the chain's hub angle 6–10× closer than the linearised one (with the
-sample's light hub it does not: see the record). The tolerances come from the
+model follows the chain's hub angle 6–10× closer than the linearised one (the light
+hub is covered by ``test_coupled_chain.py``). The tolerances come from the
 convergence study recorded in benchmarks/BENCHMARKS.md ("Coupled model vs rigid-link
 chain", ``python benchmarks/bench_beam_chain.py``).
 """
@@ -84,8 +84,7 @@ def test_coupled_model_follows_the_chain_hub_angle(spin_up):
 
 def test_tip_deflection_matches_the_chain(spin_up):
     """max |w_tip,modal − w_tip,chain|: both models ≈ 0.3 % of the 51-mm peak deflection,
-    the coupled one no worse (their modal equations are the same; the coupled terms
-    act on the hub)."""
+    the coupled one no worse."""
     theta, tip, linear, coupled = spin_up
     d_lin = np.max(np.abs(linear.model.deflection(linear.y) - tip))
     d_cpl = np.max(np.abs(coupled.model.deflection(coupled.y) - tip))

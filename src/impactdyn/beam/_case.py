@@ -42,7 +42,8 @@ class ModelSection(Section):
     n_modes: Annotated[int, Field(ge=0, le=50)] = 3
     gravity_m_s2: NonNegative = 9.81
     coupled: bool = False
-    """Keep the terms second order in the elastic motion (see ``_model``)."""
+    """The large-deflection model: the consistent Lagrangian with the foreshortening, complete to
+    fourth order in the elastic motion, instead of the 1988 linearised one (see ``_model``)."""
 
 
 class LegacySection(Section):

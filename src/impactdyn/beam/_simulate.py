@@ -41,7 +41,7 @@ import numpy as np
 from scipy.integrate import BDF, LSODA, Radau
 from scipy.optimize import brentq
 
-from impactdyn._errors import InputError
+from impactdyn._errors import InputError, SimulationError
 from impactdyn.beam._case import BeamCase, MomentumContact
 from impactdyn.beam._contact import CONTACT_LAWS, ContactLaw
 from impactdyn.beam._integrator import (
@@ -190,10 +190,6 @@ def initial_state(case: BeamCase, model: BeamModel) -> np.ndarray:
         y[1] += ic.tip_deflection_m / tip
         y[n + 2] += ic.tip_velocity_m_s / tip
     return y
-
-
-class SimulationError(RuntimeError):
-    """A run that cannot continue (e.g. endless chattering past ``max_impacts``)."""
 
 
 @dataclass
