@@ -16,8 +16,10 @@ thickness and in the plane), with the steps driven two ways:
 
     python benchmarks/bench_wall.py [--steps 200] [--threads 2] [--repeat 3]
 
-Prints, per mesh and driver: elements, steps, wall time, element-steps/s (median of the
-repeats).  The numba threading layer and thread count are printed too: under CPU
+Prints, per mesh and driver: elements, steps, element-steps per second of wall time (median of
+the repeats) and per CPU-second of the process (all threads; on a machine shared with other
+work the wall-time rate falls with the load, the CPU-time rate much less: threads × the
+CPU-time rate is what the threads would do on cores of their own, if they scaled perfectly).  The numba threading layer and thread count are printed too: under CPU
 oversubscription the OpenMP layer's spin-waiting costs milliseconds per parallel launch
 (``OMP_WAIT_POLICY=passive`` avoids it).
 """
@@ -56,7 +58,7 @@ def synthetic_deposition(grid: WallGrid, total_impulse: float = 0.05) -> WallDep
     return WallDeposition(element=keep.astype(np.int64), time=time_us, impulse=impulse)
 
 
-def measure(refinement: int, steps: int, driver: str) -> tuple[int, int, float]:
+def measure(refinement: int, steps: int, driver: str) -> tuple[int, int, float, float]:
     grid = report_wall()
     options = wall.WallOptions(refinement_thickness=refinement, refinement_plane=refinement)
     model = wall.wall_model("mat13", "al6061-t6")
@@ -65,14 +67,14 @@ def measure(refinement: int, steps: int, driver: str) -> tuple[int, int, float]:
     solver = wall.WallSolver(mesh, model, options, load=load, t_start=float(load.time.min()))
     solver.advance(solver.time + 0.5)  # warm-up: compile or load the kernels, apply the first loads
     n0 = solver.steps
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     if driver == "compiled":
         solver.advance(np.inf, max_steps=steps)
     else:
         for _ in range(steps):
             solver.advance(np.inf, max_steps=1)
-    elapsed = time.perf_counter() - t0
-    return mesh.n_elements, solver.steps - n0, elapsed
+    elapsed, cpu = time.perf_counter() - t0, time.process_time() - c0
+    return mesh.n_elements, solver.steps - n0, elapsed, cpu
 
 
 def main() -> None:
@@ -88,13 +90,15 @@ def main() -> None:
           f"OMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY', '(unset)')}")
     for r in args.refinements:
         for driver in ("compiled", "python"):
-            rates = []
+            rates, cpu_rates = [], []
             for _ in range(args.repeat):
-                ne, n, el = measure(r, args.steps, driver)
+                ne, n, el, cpu = measure(r, args.steps, driver)
                 rates.append(ne * n / el)
+                cpu_rates.append(ne * n / cpu)
             print(f"refinement {r}: {ne} elements, {n} steps, driver {driver:8s}: "
                   f"{statistics.median(rates) / 1e6:.2f} M element-steps/s "
-                  f"(runs {', '.join(f'{x / 1e6:.2f}' for x in rates)})")
+                  f"(runs {', '.join(f'{x / 1e6:.2f}' for x in rates)}); "
+                  f"{statistics.median(cpu_rates) / 1e6:.2f} M per CPU-second")
     print(f"threading layer: {numba.threading_layer()}")
 
 

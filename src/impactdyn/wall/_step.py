@@ -163,7 +163,8 @@ def work_arrays(n_threads: int) -> tuple[np.ndarray, ...]:
             np.zeros((n_threads, N_VEC, BLOCK)))
 
 
-@njit(parallel=True, cache=True)
+# fastmath 'contract' only: fused multiply-adds (5 % faster), no change to NaN/inf semantics
+@njit(parallel=True, cache=True, fastmath={"contract"})
 def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, F, geo, hgs, hgf, lb, vec, kind, mprm, table,
                  hg_stiffness, qh, q1, q2, erode_failed, erode_dt, min_dt, dt, dt_full_prev):
     """Stress update and nodal forces of every element over the half step Δt = ``dt`` (module docstring).
