@@ -108,3 +108,13 @@ def test_no_import_cycle():
         if node not in state:
             visit(node)
     assert cycles == []
+
+
+def test_every_solver_failure_is_a_simulation_error():
+    """The CLI's exit-1 contract ("simulation failed: …") covers every solver's breakdown type."""
+    from impactdyn import SimulationError
+    from impactdyn.beam import SimulationError as BeamFailure
+    from impactdyn.shield import SPHError
+    from impactdyn.wall import WallSolverError
+
+    assert all(issubclass(kind, SimulationError) for kind in (BeamFailure, SPHError, WallSolverError))

@@ -52,7 +52,7 @@ from impactdyn.constitutive import (
     pressure, radial_return, sound_speed, temperature, von_mises)
 from impactdyn.materials import JOHNSON_COOK_DAMAGE, JohnsonCookDamage, Material, get_material
 from impactdyn.wall._models import WallModel, register_model
-from impactdyn.wall._state import DAMAGE, EPS_P, FAILED, IE, P, RATE
+from impactdyn.wall._state import DAMAGE, EPS_P, FAILED, IE, P, RATE, stress_power
 
 KIND = 1
 (J_DAMAGE, J_D1, J_D2, J_D3, J_D4, J_D5, J_EFMIN, J_SPALL) = range(8)
@@ -164,14 +164,7 @@ def jc_update(e, L, dt, vbar, mass, rho, q, S, es, flags, table, prm):
     if failed:
         for k in range(6):
             S[e, k] = 0.0
-    dxx, dyy, dzz = L[e, 0, 0], L[e, 1, 1], L[e, 2, 2]
-    dxy = 0.5 * (L[e, 0, 1] + L[e, 1, 0])
-    dyz = 0.5 * (L[e, 1, 2] + L[e, 2, 1])
-    dzx = 0.5 * (L[e, 2, 0] + L[e, 0, 2])
-    trd = dxx + dyy + dzz
-    sd_old = s0 * dxx + s1 * dyy + s2 * dzz + 2.0 * (s3 * dxy + s4 * dyz + s5 * dzx)
-    sd_new = (S[e, 0] * dxx + S[e, 1] * dyy + S[e, 2] * dzz
-              + 2.0 * (S[e, 3] * dxy + S[e, 4] * dyz + S[e, 5] * dzx))
+    trd, sd_old, sd_new = stress_power(L, e, S, s0, s1, s2, s3, s4, s5)
     # energy equation solved with the pressure at the step's end (linear in e)
     e_star = es[e, IE] + (0.5 * (sd_old + sd_new) - 0.5 * p_old * trd - q * trd) * wfac / mass
     h = 0.5 * trd * wfac / mass

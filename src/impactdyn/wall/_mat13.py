@@ -43,7 +43,7 @@ from impactdyn._errors import InputError
 from impactdyn.constitutive import jaumann_rate, radial_return, von_mises
 from impactdyn.materials import Mat13Card, Material, get_material, mat13_card
 from impactdyn.wall._models import WallModel, register_model
-from impactdyn.wall._state import EPS_P, DAMAGE, FAILED, IE, P, RATE
+from impactdyn.wall._state import DAMAGE, EPS_P, FAILED, IE, P, RATE, stress_power
 
 KIND = 0
 (M_RHO, M_G, M_K, M_SIGY, M_EH, M_EPSF, M_PCUT) = range(7)
@@ -131,14 +131,7 @@ def mat13_update(e, L, dt, vbar, mass, rho, vratio, q, S, es, flags, prm):
     if flags[e, FAILED] != 0:
         for k in range(6):
             S[e, k] = 0.0
-    dxx, dyy, dzz = L[e, 0, 0], L[e, 1, 1], L[e, 2, 2]
-    dxy = 0.5 * (L[e, 0, 1] + L[e, 1, 0])
-    dyz = 0.5 * (L[e, 1, 2] + L[e, 2, 1])
-    dzx = 0.5 * (L[e, 2, 0] + L[e, 0, 2])
-    trd = dxx + dyy + dzz
-    sd_old = s0 * dxx + s1 * dyy + s2 * dzz + 2.0 * (s3 * dxy + s4 * dyz + s5 * dzx)
-    sd_new = (S[e, 0] * dxx + S[e, 1] * dyy + S[e, 2] * dzz
-              + 2.0 * (S[e, 3] * dxy + S[e, 4] * dyz + S[e, 5] * dzx))
+    trd, sd_old, sd_new = stress_power(L, e, S, s0, s1, s2, s3, s4, s5)
     p_new = K * (1.0 - vratio)
     epsf = prm[M_EPSF]
     if flags[e, FAILED] == 0 and ((epsf > 0.0 and es[e, EPS_P] >= epsf) or p_new < prm[M_PCUT]):

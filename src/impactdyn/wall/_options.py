@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from impactdyn._errors import InputError
+from impactdyn._errors import InputError, SimulationError
 from impactdyn.wall._load import SPREADS
 from impactdyn.wall._mesh import SUPPORTS
 from impactdyn.wall._models import check_model_name
@@ -13,12 +13,10 @@ from impactdyn.wall._models import check_model_name
 HOURGLASS_FORMS = ("viscous", "stiffness")
 
 
-class WallSolverError(RuntimeError):
+class WallSolverError(SimulationError):
     """The wall solver broke down: a non-finite state, an element of non-positive volume that
     had not failed, or a collapsing time step.  The message names the element and the time.
-
-    (The package has no common ``SimulationError`` base yet; this derives from RuntimeError
-    like the SPH stage's ``SPHError``.)
+    The CLI reports it as "simulation failed" with exit code 1 (:mod:`impactdyn._errors`).
     """
 
 

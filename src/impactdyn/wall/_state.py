@@ -8,7 +8,11 @@ reads and writes one row at a time):
 * ``flags`` (n_elements, 2) uint8 — FAILED, ERODED;
 * ``Lbuf`` (n_elements, 3, 3) — the midstep velocity gradient ∂v_i/∂x_j, 1/µs;
 * ``Qhg`` (n_elements, 4, 3) — generalised hourglass forces Q_αi of the last step.
+
+and :func:`stress_power`, the rates the material models' energy updates share.
 """
+
+from numba import njit
 
 #: Columns of ``es``: pressure p (Mbar), bulk viscosity q (Mbar), specific internal energy e
 #: (cm²/µs²), effective plastic strain εₚ, damage D (Johnson–Cook D, or εₚ/ε_f for mat13),
@@ -22,3 +26,21 @@ N_ES = 16
 
 #: Columns of ``flags``.
 FAILED, ERODED = 0, 1
+
+
+@njit(cache=True, inline="always")
+def stress_power(L, e, S, s0, s1, s2, s3, s4, s5):
+    """tr d, S_old : d and S_new : d of element ``e``, d = ½(L + Lᵀ) its midstep rate of deformation.
+
+    ``S_old`` = (s0 … s5) and ``S[e]`` (the updated deviatoric stress) in the order (xx, yy, zz,
+    xy, yz, zx); the shear terms count twice (S : d = Σ_ij S_ij d_ij).  The trapezoidal mean of
+    the two powers is the deviatoric work rate of the energy equation (Wilkins 1964).
+    """
+    dxx, dyy, dzz = L[e, 0, 0], L[e, 1, 1], L[e, 2, 2]
+    dxy = 0.5 * (L[e, 0, 1] + L[e, 1, 0])
+    dyz = 0.5 * (L[e, 1, 2] + L[e, 2, 1])
+    dzx = 0.5 * (L[e, 2, 0] + L[e, 0, 2])
+    sd_old = s0 * dxx + s1 * dyy + s2 * dzz + 2.0 * (s3 * dxy + s4 * dyz + s5 * dzx)
+    sd_new = (S[e, 0] * dxx + S[e, 1] * dyy + S[e, 2] * dzz
+              + 2.0 * (S[e, 3] * dxy + S[e, 4] * dyz + S[e, 5] * dzx))
+    return dxx + dyy + dzz, sd_old, sd_new
