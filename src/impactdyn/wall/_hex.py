@@ -169,22 +169,26 @@ def element_volumes(coords, conn):
 
 
 @njit(cache=True)
-def brick_gradient(X):
-    """(B (8, 3), V) of one brick X (8, 3): the volume gradient ∂V/∂x_ia and the volume (tests, tools)."""
+def _one_brick(X):
+    """One brick X (8, 3) in the kernels' blocked layout: (Xb (3, 8, 1), B (3, 8, 1), V (1,)), B and V filled."""
     Xb = np.ascontiguousarray(X.T).reshape(3, 8, 1)
     B = np.empty((3, 8, 1))
     vol = np.empty(1)
     volume_gradient(Xb, B, vol, 1)
+    return Xb, B, vol
+
+
+@njit(cache=True)
+def brick_gradient(X):
+    """(B (8, 3), V) of one brick X (8, 3): the volume gradient ∂V/∂x_ia and the volume (tests, tools)."""
+    _, B, vol = _one_brick(X)
     return np.ascontiguousarray(B[:, :, 0].T), vol[0]
 
 
 @njit(cache=True)
 def brick_hourglass(X):
     """γ (4, 8) of one brick X (8, 3) (tests, tools)."""
-    Xb = np.ascontiguousarray(X.T).reshape(3, 8, 1)
-    B = np.empty((3, 8, 1))
-    vol = np.empty(1)
-    volume_gradient(Xb, B, vol, 1)
+    Xb, B, vol = _one_brick(X)
     G = np.empty((4, 8, 1))
     hourglass_shapes(Xb, B, vol, G, np.empty((4, 1)), 1)
     return np.ascontiguousarray(G[:, :, 0])
