@@ -16,6 +16,7 @@ model adds its module here and one branch there).  Registered models:
 
 from __future__ import annotations
 
+from abc import ABC, abstractmethod
 from typing import Any, ClassVar
 
 import numpy as np
@@ -26,33 +27,33 @@ from impactdyn._errors import InputError
 MODELS: dict[str, type["WallModel"]] = {}
 
 
-class WallModel:
+class WallModel(ABC):
     """Base of the wall material models (each a frozen dataclass).
 
     Subclasses set ``name`` (the registry key) and ``kind`` (the kernel's dispatch code)
-    and implement the members below.
+    and implement the abstract members below.
     """
 
     name: ClassVar[str] = ""
     kind: ClassVar[int] = -1
 
     @property
+    @abstractmethod
     def density(self) -> float:
         """ρ₀, g/cm³."""
-        raise NotImplementedError
 
     @property
+    @abstractmethod
     def erodes(self) -> bool:
         """Whether failed elements are removed from the force computation at once."""
-        raise NotImplementedError
 
+    @abstractmethod
     def wave_speed(self) -> float:
         """Longitudinal wave speed of the undeformed material, √((K + 4G/3)/ρ₀), cm/µs."""
-        raise NotImplementedError
 
+    @abstractmethod
     def kernel_params(self) -> np.ndarray:
         """The model's parameter vector for the compiled update (float64, model's own columns)."""
-        raise NotImplementedError
 
     def kernel_table(self) -> np.ndarray:
         """A :func:`impactdyn.constitutive.pack_materials` table (a dummy row where unused)."""
@@ -60,14 +61,14 @@ class WallModel:
 
         return np.zeros((1, N_PARAMS + N_COLD))
 
+    @abstractmethod
     def describe(self) -> dict[str, Any]:
         """Every constant the model uses, with units and sources (for stage files and reports)."""
-        raise NotImplementedError
 
     @classmethod
+    @abstractmethod
     def from_material(cls, material: Any, **kwargs) -> "WallModel":
         """The model of a library material name or :class:`~impactdyn.materials.Material`."""
-        raise NotImplementedError
 
 
 def register_model(cls: type[WallModel]) -> type[WallModel]:

@@ -357,6 +357,21 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, F, geo, 
     return status, dtmin
 
 
+@njit(cache=True, inline="always")
+def nodal_force(Fflat, ptr, entry, n):
+    """The force on node ``n``: the sum of its elements' corner forces (node → (element, corner)
+    CSR map ``ptr``/``entry`` into Fflat (8 n_elements, 3)), as (f_x, f_y, f_z)."""
+    f0 = 0.0
+    f1 = 0.0
+    f2 = 0.0
+    for k in range(ptr[n], ptr[n + 1]):
+        j = entry[k]
+        f0 += Fflat[j, 0]
+        f1 += Fflat[j, 1]
+        f2 += Fflat[j, 2]
+    return f0, f1, f2
+
+
 @njit(parallel=True, cache=True)
 def node_pass(x, v, mass, free, pext, has_ext, Fflat, ptr, entry, rear, dt_full, dt_next):
     """Gather the nodal forces, kick and drift every node (module docstring).
@@ -370,14 +385,7 @@ def node_pass(x, v, mass, free, pext, has_ext, Fflat, ptr, entry, rear, dt_full,
     work = 0.0
     vrear = -np.inf
     for n in prange(x.shape[0]):
-        f0 = 0.0
-        f1 = 0.0
-        f2 = 0.0
-        for k in range(ptr[n], ptr[n + 1]):
-            j = entry[k]
-            f0 += Fflat[j, 0]
-            f1 += Fflat[j, 1]
-            f2 += Fflat[j, 2]
+        f0, f1, f2 = nodal_force(Fflat, ptr, entry, n)
         m = mass[n]
         for d in range(3):
             f = f0 if d == 0 else (f1 if d == 1 else f2)
@@ -482,14 +490,7 @@ def nodal_energy(v, mass, free, Fflat, ptr, entry, category, dt_full):
     py = 0.0
     pz = 0.0
     for n in prange(v.shape[0]):
-        f0 = 0.0
-        f1 = 0.0
-        f2 = 0.0
-        for k in range(ptr[n], ptr[n + 1]):
-            j = entry[k]
-            f0 += Fflat[j, 0]
-            f1 += Fflat[j, 1]
-            f2 += Fflat[j, 2]
+        f0, f1, f2 = nodal_force(Fflat, ptr, entry, n)
         m = mass[n]
         kh = 0.5 * m * (v[n, 0] ** 2 + v[n, 1] ** 2 + v[n, 2] ** 2)
         kin += kh

@@ -18,7 +18,7 @@ from impactdyn._errors import InputError
 from impactdyn._runfolder import RunFolder
 from impactdyn._sweep import case_variants, run_all
 from impactdyn.whipple._case import WhippleCase
-from impactdyn.whipple._shots import Shot, run_shot, shot_name, threads_per_shot
+from impactdyn.whipple._shots import Shot, run_shot, shot_name, shot_workers, threads_per_shot
 
 CAMPAIGN_HEADER = [
     "velocity_km_s", "diameter_cm", "ble_critical_diameter_cm", "ble_regime", "ble_verdict",
@@ -58,7 +58,7 @@ def run_campaign(raw: dict, velocities: list[float], diameters: list[float], out
     if not velocities or not diameters:
         raise InputError("campaign: needs at least one velocity and one diameter")
     grid = campaign_shots(raw, velocities, diameters, source)
-    n_workers = 1 if scheduler == "serial" else max(1, min(workers or threads_per_shot(1), len(grid)))
+    n_workers = shot_workers(scheduler, workers, len(grid))
     with RunFolder(outdir, force=force) as rf:
         tasks = [Shot(case, rf.path / "runs" / shot_name(v, d), threads_per_shot(n_workers), keep_all)
                  for v, d, case in grid]

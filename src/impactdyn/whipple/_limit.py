@@ -40,7 +40,7 @@ from impactdyn._runfolder import RunFolder
 from impactdyn._sweep import case_variants, run_all
 from impactdyn.whipple._case import WhippleCase
 from impactdyn.whipple._report import ble_verdict
-from impactdyn.whipple._shots import Shot, run_shot, shot_name, threads_per_shot
+from impactdyn.whipple._shots import Shot, run_shot, shot_name, shot_workers, threads_per_shot
 
 LIMIT_HEADER = ["velocity_km_s", "limit_diameter_cm", "half_width_cm", "largest_safe_cm", "smallest_failed_cm",
                 "jsc_critical_diameter_cm", "n_shots", "status"]
@@ -116,14 +116,12 @@ def run_limit(raw: dict, velocities: list[float], outdir: str | Path, *, source:
     bases = limit_velocities(raw, velocities, source)
     searches = [_Search(velocity=float(v), jsc=ble_verdict(case)["threshold_cm"], ratio=bracket_ratio)
                  for v, case in zip(velocities, bases)]
-    n_workers = 1 if scheduler == "serial" else max(1, workers or threads_per_shot(1))
     done = 0
     with RunFolder(outdir, force=force) as rf:
-        while any(s.pending() for s in searches):
-            batch = [(s, d) for s in searches for d in s.pending()]
+        while batch := [(s, d) for s in searches for d in s.pending()]:
+            n_workers = shot_workers(scheduler, workers, len(batch))
             cases = case_variants(WhippleCase, raw, [shot_variant(bases[0], s.velocity, d) for s, d in batch], source)
-            tasks = [Shot(case, rf.path / "runs" / shot_name(s.velocity, d),
-                          threads_per_shot(min(n_workers, len(batch))), keep_all)
+            tasks = [Shot(case, rf.path / "runs" / shot_name(s.velocity, d), threads_per_shot(n_workers), keep_all)
                      for (s, d), case in zip(batch, cases)]
 
             def tick(i: int, summary: dict) -> None:
@@ -132,7 +130,7 @@ def run_limit(raw: dict, velocities: list[float], outdir: str | Path, *, source:
                 if progress:
                     progress(done)
 
-            summaries = run_all(run_shot, tasks, scheduler=scheduler, workers=min(n_workers, len(batch)),
+            summaries = run_all(run_shot, tasks, scheduler=scheduler, workers=n_workers,
                                 address=address, on_result=tick)
             for (s, d), case, summary in zip(batch, cases, summaries):
                 verdict = summary["wall"]["verdict"]

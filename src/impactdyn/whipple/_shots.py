@@ -34,6 +34,13 @@ def shot_name(velocity_km_s: float, diameter_cm: float) -> str:
     return f"V{velocity_km_s:g}_d{diameter_cm:g}"
 
 
+def shot_workers(scheduler: str, workers: int | None, n_shots: int) -> int:
+    """Shots run at once: one when serial, else ``workers`` (default: one per core), at most ``n_shots``."""
+    if scheduler == "serial":
+        return 1
+    return max(1, min(workers or os.cpu_count() or 1, n_shots))
+
+
 def threads_per_shot(n_workers: int) -> int:
     """The cores of this machine shared among ``n_workers`` concurrent shots (at least one each)."""
     return max(1, (os.cpu_count() or 1) // max(1, n_workers))

@@ -50,11 +50,6 @@ def read_stage(folder: Path, stage: str) -> dict:
     return json.loads(path.read_text())
 
 
-def stage_file(folder: Path, stage: str, name: str) -> Path:
-    """Path of an artifact ``name`` of ``stage`` in a run folder."""
-    return Path(folder) / stage / name
-
-
 @dataclass
 class StageContext:
     """What a stage function gets: the case, the staging folder and the progress callback."""
