@@ -15,6 +15,13 @@ DOP853 at rtol 1e-12 on a random subset of particles.
 
 Prints a markdown table, and the speed ratio of the default integrator over
 legacy at eps = 1e-6.
+
+Deposition equivalence (issue 13): with ``--equivalence RUN [RUN ...]`` (Whipple run
+folders with a ``debris/`` stage, e.g. of ``impactdyn whipple run
+examples/whipple/table2_7a.toml``) the debris propagation of each run is repeated
+from its hand-off grid with :data:`DEFAULT` and with each ``--methods`` entry, and
+the script prints the stage's wall time and the L1 difference of the wall's
+element impulses relative to the total impulse (:func:`impulse_difference`).
 """
 
 from __future__ import annotations
@@ -28,7 +35,7 @@ import numba
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from impactdyn.debris._integrators import propagate
+from impactdyn.debris._integrators import IntegratorOptions, propagate
 from impactdyn.debris._particle import F_SLICE, ParticleMaterial, C_SLICE, state_rates
 from impactdyn.debris._tets import initial_state, tet_vertices
 
@@ -47,6 +54,8 @@ CONFIGURATIONS = [
     ("splitting4", {"steps_per_period": 6}),
     DEFAULT,
     ("splitting4", {"steps_per_period": 16}),
+    ("slow", {}),
+    ("slow", {"steps_per_period": 24}),
 ]
 
 
@@ -86,6 +95,35 @@ def reference_states(states, J, m, t_end):
     return out
 
 
+def impulse_difference(impulse, reference) -> float:
+    """Σₑ |Iₑ − Iₑʳᵉᶠ| / Σₑ |Iₑʳᵉᶠ|: L1 over the face elements e of the element impulse vectors ``(nx, nz, 3)``.
+
+    |·| is the Euclidean norm of an element's impulse vector; 0 when every element
+    receives the same impulse as with the reference integrator.
+    """
+    return float(np.linalg.norm(impulse - reference, axis=-1).sum() / np.linalg.norm(reference, axis=-1).sum())
+
+
+def deposition_equivalence(run: str, methods: list[str]) -> None:
+    """Repeat the debris propagation of a Whipple run folder with DEFAULT and ``methods``; print times and L1."""
+    from pathlib import Path
+
+    from impactdyn.debris import build, load_debris_case, run_debris
+
+    case = load_debris_case(Path(run) / "debris" / "config.resolved.toml")
+    kwargs = build(case, source=run)
+    results = {}
+    for method in [DEFAULT[0], *methods]:
+        integrator = IntegratorOptions(method=method, max_steps=case.integrator.max_steps)  # at its default step
+        w0 = time.perf_counter()
+        result = run_debris(**{**kwargs, "integrator": integrator})
+        results[method] = (time.perf_counter() - w0, result)
+    ref_time, ref = results[DEFAULT[0]]
+    for method, (w, result) in results.items():
+        print(f"| {Path(run).name} | {label(method, {})} | {w:.1f} | {int(result.stats.steps.sum() / len(result.stats.steps))} "
+              f"| {result.stats.n_failed} | {impulse_difference(result.impulse, ref.impulse):.2e} |")
+
+
 def label(method: str, options: dict) -> str:
     return method + "".join(f", {k}={v:g}" for k, v in options.items())
 
@@ -96,7 +134,15 @@ def main() -> None:
     parser.add_argument("--n-ref", type=int, default=16, help="particles checked against DOP853")
     parser.add_argument("--t-max", type=float, default=15.0, help="longest flight time (µs)")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--equivalence", nargs="+", metavar="RUN", help="Whipple run folders (only this part runs)")
+    parser.add_argument("--methods", nargs="+", default=["slow"], help="integrators compared with the default")
     args = parser.parse_args()
+    if args.equivalence:
+        print("| run | integrator | debris stage wall (s) | steps/particle | failed | L1 impulse difference vs default |")
+        print("|---|---|---|---|---|---|")
+        for run in args.equivalence:
+            deposition_equivalence(run, args.methods)
+        return
 
     rng = np.random.default_rng(args.seed)
     x0, states, J, m, t_end = synthetic_cloud(args.n, args.t_max, rng)
