@@ -32,8 +32,8 @@ The problem, the same in both codes:
   number on the *DYNAMIC line, the minimum increment below which CalculiX scales masses, is
   set far below it: no mass scaling).
 
-Diagnostics (impactdyn only, cheap; they change no default): the same plate with other
-hourglass settings, which is where the two codes differ most (CalculiX's C3D8R has a fixed
+Diagnostics (impactdyn only, cheap; they change no default): the same plate with every
+other hourglass form (:data:`impactdyn.wall.HOURGLASS_FORMS`) and QH values on every mesh, which is where the two codes differ most (CalculiX's C3D8R has a fixed
 Flanagan–Belytschko hourglass stiffness 0.0005·C·ΣB²/V, about QH ≈ 0.01 in the wall solver's
 normalisation ``QH ρc² ΣB²/(24 V)`` — see BENCHMARKS.md), and a finer impactdyn-only mesh.
 
@@ -252,7 +252,7 @@ def main() -> int:
     workdir = args.keep or tempfile.mkdtemp(prefix="verify_wall_ccx_")
     os.makedirs(workdir, exist_ok=True)
     T = args.end_time
-    defaults = wall.WallOptions(supports="clamped", end_time_us=T, output_interval_us=None)
+    defaults = wall.WallOptions(supports="clamped", end_time_us=T, output_interval_us=None)  # acceptance: defaults
     print(f"clamped plate 2 x 2 x {THICKNESS} cm (half model), Al 6061-T6 type 13 without failure "
           f"(E {CARD.youngs_modulus:.4f} Mbar, nu {CARD.poisson_ratio:.4f}, sigma_y {CARD.yield_stress}, "
           f"E_h {CARD.hardening_modulus}), V0 {args.v0} cm/us on |x|,|z| <= {args.patch} cm, {T} us; "
@@ -328,11 +328,11 @@ def main() -> int:
         print("\ndiagnostics (impactdyn only; defaults unchanged): permanent centre deflection, cm")
         diag = []
         h0 = args.mesh[0]
+        forms = [{"hourglass": f} for f in wall.HOURGLASS_FORMS if f != defaults.hourglass]
         cases = [(h0, {}), (h0, {"hourglass_coefficient": 0.03}), (h0, {"hourglass_coefficient": 0.01}),
-                 (h0, {"hourglass": "viscous"}), (h0, {"q1": 0.0, "q2": 0.0})]
-        for h in args.mesh[1:]:
-            cases += [(h, {}), (h, {"hourglass_coefficient": 0.01})]
-        cases += [(min(args.mesh) / 2, {}), (min(args.mesh) / 2, {"hourglass_coefficient": 0.01})]
+                 (h0, {"q1": 0.0, "q2": 0.0})] + [(h0, f) for f in forms]
+        for h in args.mesh[1:] + [min(args.mesh) / 2]:
+            cases += [(h, {}), (h, {"hourglass_coefficient": 0.01})] + [(h, f) for f in forms]
         for h, change in cases:
             mesh = plate_mesh(h, args.layers)
             v = initial_velocity(mesh, args.v0, args.patch)

@@ -20,7 +20,7 @@ def solver_for(model, mesh, **opts):
     return wall.WallSolver(mesh, model, options)
 
 
-@pytest.mark.parametrize("hourglass", ["viscous", "stiffness"])
+@pytest.mark.parametrize("hourglass", wall.HOURGLASS_FORMS)
 def test_linear_velocity_field(model_name, hourglass):
     model = elastic_model(model_name)
     mesh = distorted_grid_mesh(model)

@@ -121,7 +121,7 @@ class WallSolver:
         o = self.options
         return _step.element_pass(self.x, self.v, self.mesh.connectivity, self.mesh.volume, self.mesh.element_mass,
                                   self.S, self.es, self.flags, self.bad, self.Lbuf, self.Qhg, self.F, *self.work,
-                                  self.model.kind, self.mprm, self.table, o.hourglass_stiffness,
+                                  self.model.kind, self.mprm, self.table, o.hourglass_form,
                                   o.hourglass_coefficient, o.q1, o.q2, self.model.erodes, self.erode_dt, self.min_dt,
                                   dt, dt_full_prev)
 
@@ -135,7 +135,7 @@ class WallSolver:
             t_stop, max_steps, self.clock, self.acc, self.x, self.v, m.node_mass, self.free, self.fixed, self.pext,
             self.rear, self.Fflat, m.node_element_ptr, m.node_element_entry, m.connectivity, m.volume,
             m.element_mass, self.S, self.es, self.flags, self.bad, self.Lbuf, self.Qhg, self.F, *self.work,
-            self.model.kind, self.mprm, self.table, o.hourglass_stiffness, o.hourglass_coefficient, o.q1,
+            self.model.kind, self.mprm, self.table, o.hourglass_form, o.hourglass_coefficient, o.q1,
             o.q2, o.courant, self.model.erodes, self.erode_dt, self.min_dt, ld.time, ld.ptr, ld.node, ld.weight,
             ld.impulse)
         if status:
