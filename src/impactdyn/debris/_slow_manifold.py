@@ -278,7 +278,8 @@ def _advance_one(Y, Jinv, t_end, steps_per_rotation, dt, max_steps):
     P = Q
     for _ in range(taken):
         pi0, pi1, pi2, P = _rigid_step(h, pi0, pi1, pi2, inertia, P)
-    Fr = m3.mm(P, m3.mtm(Q, G))  # F = R G, R = P Qᵀ
+    # F = R G, R = P Qᵀ; without angular momentum R = I exactly (P Qᵀ would be I to rounding)
+    Fr = m3.mm(P, m3.mtm(Q, G)) if l0 != 0.0 or l1 != 0.0 or l2 != 0.0 else G
     w = m3.mm(P, (pi0 / inertia[0], 0.0, 0.0, pi1 / inertia[1], 0.0, 0.0, pi2 / inertia[2], 0.0, 0.0))
     Hr = m3.mm(_skew(w[0], w[3], w[6]), m3.mm(Fr, J))  # H = [ω]ₓ F J, ω = P ω_b
     for k in range(9):
