@@ -14,19 +14,32 @@ be less than or equal to 1``.  Where a case table spells a setting differently f
 the option it feeds, :func:`field_of` declares it with the option's default and
 bounds.  The validators the debris and Whipple cases share are here
 (:data:`Range`, :data:`NodeCount`, :func:`check_ordered`).
+
+Each default and bound is written once, where the library takes the value: a
+field of a :class:`Section` (``debris.ParticleMaterial``, ``debris.ShellCloud``), or
+an annotated keyword of a function decorated with :func:`checked`
+(``pulse_width: Positive = 0.05``).  A case table declares the setting with
+:func:`field_of`, which carries the default and the bounds along (the TOML key is
+named in the error); a rule between several values is a public check function of
+the library that its validator and the case's both call
+(``debris.check_bulk_modulus``).
 """
 
 from __future__ import annotations
 
 import dataclasses
+import functools
 import inspect
 import math
 import tomllib
+import typing
+from collections.abc import Callable
 from pathlib import Path
 from typing import Annotated, Any, TypeVar
 
 import tomli_w
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError, model_validator
+from pydantic.fields import FieldInfo
 
 from impactdyn._errors import InputError, reading
 
@@ -65,23 +78,96 @@ class Section(BaseModel, metaclass=_Built):
     model_config = ConfigDict(extra="forbid", allow_inf_nan=False, frozen=True, strict=True)
 
 
-def field_of(source: Any, name: str) -> Any:
+_NO_DEFAULT: Any = object()
+
+
+def field_of(source: Any, name: str, default: Any = _NO_DEFAULT) -> Any:
     """The setting ``name`` of ``source``, to declare it again under another name or in another table.
 
     ``source`` is a :class:`Section` (the field's default, bounds and description
-    come along), a dataclass or a function (its keyword's default), e.g.
-    ``t_min_us: float = field_of(ArrivalWindow, "t_min")``.  Bounds written into the
-    source's annotation (a ``Literal``) do not come along: annotate with the same
-    type alias.
+    come along), a function (its keyword's default, and the bounds of its
+    annotation, ``Annotated[float, Field(gt=0)]``, which :func:`checked` enforces
+    in the function) or a dataclass (its field's default), e.g.
+    ``t_min_us: float = field_of(ArrivalWindow, "t_min")``.  ``default``: the
+    table's own default where it differs from the source's (``None`` for "not
+    given"); the bounds still come along.  A source's ``allow_inf_nan`` does not:
+    a case file's numbers stay finite.  Bounds written into the source's
+    annotation as a ``Literal`` do not come along: annotate with the same type
+    alias.
     """
     if isinstance(source, type) and issubclass(source, BaseModel):
-        return source.model_fields[name]
-    if dataclasses.is_dataclass(source):
-        return Field(default={f.name: f for f in dataclasses.fields(source)}[name].default)
-    default = inspect.signature(source).parameters[name].default
-    if default is inspect.Parameter.empty:
-        raise TypeError(f"{source.__qualname__}: {name} has no default")
-    return Field(default=default)
+        info = source.model_fields[name]
+    elif dataclasses.is_dataclass(source):
+        info = Field(default={f.name: f for f in dataclasses.fields(source)}[name].default)
+    else:
+        parameter = inspect.signature(source).parameters[name]
+        hint = typing.get_type_hints(source, include_extras=True).get(name)
+        info = FieldInfo.from_annotated_attribute(hint, parameter.default) if _bounded(hint) else Field(
+            default=parameter.default)
+        if parameter.default is inspect.Parameter.empty and default is _NO_DEFAULT:
+            raise TypeError(f"{source.__qualname__}: {name} has no default")
+    if default is not _NO_DEFAULT:
+        info = FieldInfo.merge_field_infos(info, default=default)
+    if any(getattr(m, "allow_inf_nan", None) for m in info.metadata):
+        info = FieldInfo.merge_field_infos(info)
+        info.metadata = [m for m in info.metadata if getattr(m, "allow_inf_nan", None) is None]
+    return info
+
+
+def _bounded(hint: Any) -> bool:
+    """``hint`` is ``Annotated[..., Field(...)]`` (bounds a function's argument must keep)."""
+    return typing.get_origin(hint) is Annotated and any(isinstance(m, FieldInfo) for m in hint.__metadata__)
+
+
+_LAX = ConfigDict(allow_inf_nan=False)
+
+
+def checked(function: Callable) -> Callable:
+    """Check ``function``'s arguments against the bounds of their annotations before it runs.
+
+    A parameter annotated ``Annotated[float, Field(gt=0)]`` (:data:`Positive`, …) keeps
+    its bound there, once: a value outside it (or not finite) raises an
+    :class:`~impactdyn._errors.InputError` naming the function and the parameter
+    (``write_lsdyna_deck: pulse_width = 0.0: must be greater than 0``), and
+    :func:`field_of` carries the bound into a case table.  The function receives
+    the values as given.
+    """
+    signature = inspect.signature(function)
+
+    @functools.cache
+    def adapters() -> dict[str, TypeAdapter]:
+        hints = typing.get_type_hints(function, include_extras=True)
+        return {name: TypeAdapter(hint, config=_LAX) for name, hint in hints.items() if _bounded(hint)}
+
+    @functools.wraps(function)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        bound = signature.bind(*args, **kwargs)
+        bound.apply_defaults()
+        for name, adapter in adapters().items():
+            value = bound.arguments[name]
+            try:
+                adapter.validate_python(value)
+            except ValidationError as err:
+                msg = err.errors()[0]["msg"].replace("Input should be", "must be")
+                raise InputError(f"{function.__name__}: {name} = {value}: {msg}") from None
+        return function(*args, **kwargs)
+
+    return wrapper
+
+
+def rule(check: Callable[..., None], *keys: str) -> Any:
+    """A section's validator that runs a library's rule between several values, ``check(*values, keys)``.
+
+    ``check`` raises a ValueError naming the ``keys`` it is given, so the library's
+    own type and every case table that repeats the values under other keys share
+    one rule, e.g. ``_bulk = rule(check_bulk_modulus, "lambda_Mbar", "mu_Mbar")``.
+    """
+
+    def run(self: Any) -> Any:
+        check(*(getattr(self, key) for key in keys), keys)
+        return self
+
+    return model_validator(mode="after")(run)
 
 
 def check_ordered(ranges: list[tuple[str, list[float]]]) -> None:

@@ -50,6 +50,10 @@ SCALAR_FIELDS = (
     "sound_speed",
 )
 CELL_FIELDS = SCALAR_FIELDS + ("velocity",)
+
+#: The report's DC3D cell edge, cm: the default cell of the grids the library builds
+#: (``shield.bin_to_hydrogrid``, ``debris.shell_cloud_grid``).
+DC3D_CELL_CM = 0.03175
 _NONNEGATIVE = ("density", "mass", "temperature", "sound_speed")
 
 #: Memory one cell costs at least (:mod:`impactdyn._limits`): its ten float64 values, once.

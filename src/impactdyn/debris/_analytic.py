@@ -21,44 +21,54 @@ over the points inside.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import Annotated
 
 import numpy as np
+from pydantic import Field
 
+from impactdyn._config import NonNegative, Positive, Section, checked, rule
 from impactdyn._errors import InputError
-from impactdyn.hydrogrid import HydroGrid
+from impactdyn.hydrogrid import DC3D_CELL_CM, HydroGrid
+
+# A vector of three components; tuples, lists and arrays alike.
+Vector = Annotated[tuple[float, float, float], Field(strict=False)]
 
 
-@dataclass(frozen=True)
-class ShellCloud:
+def check_shell(radius: float, thickness: float, velocity, names: tuple[str, str, str] = (
+        "radius", "thickness", "velocity")) -> None:
+    """The shell is no thicker than its radius and moves (a validator's ValueError naming ``names`` otherwise).
+
+    :class:`ShellCloud`'s rule, called by the case's ``[grid.shell]`` table too.
+    """
+    if thickness > radius:
+        raise ValueError(f"{names[1]} = {thickness} exceeds {names[0]} = {radius}")
+    if not np.linalg.norm(velocity) > 0:
+        raise ValueError(f"{names[2]} = {list(velocity)}: the cloud must move (its direction is the cap's axis)")
+
+
+class ShellCloud(Section):
     """Parameters of the analytic cloud (module docstring); cm, µs, g/cm³, cm/µs.
 
-    centre (3,): c at hand-off; velocity (3,): v_c; expansion_velocity: v_e;
-    radius: R of the shell's outer surface; thickness: δ; cap_half_angle_deg: α
-    (180 = the whole shell); density: ρ; void_fraction: φ; sound_speed: for the
-    grid's c field; time: the hand-off time.
+    centre (3,): c at hand-off; velocity (3,): v_c, not zero; expansion_velocity: v_e;
+    radius: R of the shell's outer surface; thickness: δ ≤ R (:func:`check_shell`);
+    cap_half_angle_deg: α (180 = the whole shell); density: ρ; void_fraction: φ;
+    sound_speed: for the grid's c field; time: the hand-off time.  The one home of
+    these defaults and bounds (the case's ``[grid.shell]`` table takes them with
+    :func:`~impactdyn._config.field_of`).
     """
 
-    centre: tuple[float, float, float]
-    velocity: tuple[float, float, float]
-    expansion_velocity: float
-    radius: float
-    thickness: float
-    cap_half_angle_deg: float = 180.0
-    density: float = 2.703
-    void_fraction: float = 0.5
-    sound_speed: float = 0.524
+    centre: Vector
+    velocity: Vector
+    expansion_velocity: NonNegative
+    radius: Positive
+    thickness: Positive
+    cap_half_angle_deg: Annotated[float, Field(gt=0, le=180)] = 180.0
+    density: Positive = 2.703
+    void_fraction: Annotated[float, Field(ge=0, lt=1)] = 0.5
+    sound_speed: NonNegative = 0.524
     time: float = 0.0
 
-    def __post_init__(self) -> None:
-        checks = (("radius", self.radius > 0), ("thickness", 0 < self.thickness <= self.radius),
-                  ("density", self.density > 0), ("void_fraction", 0 <= self.void_fraction < 1),
-                  ("cap_half_angle_deg", 0 < self.cap_half_angle_deg <= 180),
-                  ("expansion_velocity", self.expansion_velocity >= 0), ("sound_speed", self.sound_speed >= 0),
-                  ("velocity", np.linalg.norm(self.velocity) > 0))
-        for name, ok in checks:
-            if not ok:
-                raise InputError(f"ShellCloud.{name}: invalid value {getattr(self, name)!r}")
+    _shell = rule(check_shell, "radius", "thickness", "velocity")
 
     def velocity_at(self, x: np.ndarray) -> np.ndarray:
         """v(x) = v_c + v_e (x − c)/R for points ``(..., 3)``."""
@@ -75,10 +85,13 @@ class ShellCloud:
                 & (cos_angle >= np.cos(np.radians(self.cap_half_angle_deg)) - 1e-15))
 
 
-def shell_cloud_grid(cloud: ShellCloud, cell_size: float, subsamples: int = 3) -> HydroGrid:
-    """The cloud on a uniform cell-centred HydroGrid covering its half (x ≥ 0) bounding box."""
-    if not cell_size > 0 or subsamples < 1:
-        raise InputError("cell_size must be > 0 and subsamples >= 1")
+@checked
+def shell_cloud_grid(cloud: ShellCloud, cell_size: Positive = DC3D_CELL_CM,
+                     subsamples: Annotated[int, Field(ge=1, le=8)] = 3) -> HydroGrid:
+    """The cloud on a uniform cell-centred HydroGrid covering its half (x ≥ 0) bounding box.
+
+    cell_size: the cubic cells' edge, cm; subsamples: points per cell edge (module docstring).
+    """
     c, R = np.asarray(cloud.centre, dtype=float), cloud.radius
     lo = np.array([max(0.0, c[0] - R), c[1] - R, c[2] - R])
     hi = c + R

@@ -23,12 +23,11 @@ from typing import Annotated
 from pydantic import Field, create_model, model_validator
 
 from impactdyn import units
-from impactdyn._config import (NodeCount, NonNegative, Positive, Range, Section, check_ordered, field_of, load_toml,
-                               validate)
+from impactdyn._config import NodeCount, Range, Section, check_ordered, field_of, load_toml, rule, validate
 from impactdyn._errors import InputError
-from impactdyn.debris._analytic import ShellCloud, shell_cloud_grid
+from impactdyn.debris._analytic import ShellCloud, check_shell, shell_cloud_grid
 from impactdyn.debris._integrators import IntegratorOptions
-from impactdyn.debris._particle import ParticleMaterial
+from impactdyn.debris._particle import ParticleMaterial, check_bulk_modulus
 from impactdyn.debris._propagate import ArrivalWindow, ComputeOptions, DepositionOptions, check_window
 from impactdyn.debris._seed import SeedFilter, SeedOptions
 from impactdyn.io import write_lsdyna_deck
@@ -43,21 +42,22 @@ class ShellSection(Section):
 
     centre_cm: Vector
     velocity_km_s: Vector
-    expansion_velocity_km_s: NonNegative
-    radius_cm: Positive
-    thickness_cm: Positive
-    cap_half_angle_deg: Annotated[float, Field(gt=0, le=180)] = field_of(ShellCloud, "cap_half_angle_deg")
-    density_g_cm3: Positive = field_of(ShellCloud, "density")
-    void_fraction: Annotated[float, Field(ge=0, lt=1)] = field_of(ShellCloud, "void_fraction")
-    sound_speed_km_s: NonNegative = units.cm_us_to_km_s(ShellCloud.sound_speed)
+    expansion_velocity_km_s: float = field_of(ShellCloud, "expansion_velocity")
+    radius_cm: float = field_of(ShellCloud, "radius")
+    thickness_cm: float = field_of(ShellCloud, "thickness")
+    cap_half_angle_deg: float = field_of(ShellCloud, "cap_half_angle_deg")
+    density_g_cm3: float = field_of(ShellCloud, "density")
+    void_fraction: float = field_of(ShellCloud, "void_fraction")
+    sound_speed_km_s: float = field_of(ShellCloud, "sound_speed", units.cm_us_to_km_s(
+        ShellCloud.model_fields["sound_speed"].default))
     time_us: float = field_of(ShellCloud, "time")
-    cell_size_cm: Positive = 0.03175
-    subsamples: Annotated[int, Field(ge=1, le=8)] = field_of(shell_cloud_grid, "subsamples")
+    cell_size_cm: float = field_of(shell_cloud_grid, "cell_size")
+    subsamples: int = field_of(shell_cloud_grid, "subsamples")
+
+    _shell = rule(check_shell, "radius_cm", "thickness_cm", "velocity_km_s")
 
     @model_validator(mode="after")
-    def _thin(self) -> "ShellSection":
-        if self.thickness_cm > self.radius_cm:
-            raise ValueError(f"thickness_cm = {self.thickness_cm} exceeds radius_cm = {self.radius_cm}")
+    def _cells(self) -> "ShellSection":
         from impactdyn.hydrogrid import check_cells  # the grid of debris._analytic, before it is built
 
         x0, R, h = self.centre_cm[0], self.radius_cm, self.cell_size_cm
@@ -81,24 +81,16 @@ class GridSection(Section):
 
 
 class MaterialSection(Section):
-    """Debris material (dc3din record 13–14); omit eta for no plastic flow."""
+    """Debris material (dc3din record 13–14), :class:`ParticleMaterial`'s defaults and bounds;
+    omit eta for no plastic flow."""
 
-    mu_Mbar: Positive
-    lambda_Mbar: float
-    rho_ref_g_cm3: Positive
-    eta_Mbar_us: Positive | None = None
-    zeta_Mbar_us: NonNegative = field_of(ParticleMaterial, "zeta")
+    mu_Mbar: float = field_of(ParticleMaterial, "mu")
+    lambda_Mbar: float = field_of(ParticleMaterial, "lam")
+    rho_ref_g_cm3: float = field_of(ParticleMaterial, "rho_ref")
+    eta_Mbar_us: float | None = field_of(ParticleMaterial, "eta", None)
+    zeta_Mbar_us: float = field_of(ParticleMaterial, "zeta")
 
-    @model_validator(mode="after")
-    def _bulk(self) -> "MaterialSection":
-        check_bulk_modulus(self.lambda_Mbar, self.mu_Mbar)
-        return self
-
-
-def check_bulk_modulus(lambda_Mbar: float | None, mu_Mbar: float | None) -> None:
-    """λ + 2μ/3 > 0 where both are given (a validator's ValueError otherwise); the debris and Whipple cases'."""
-    if lambda_Mbar is not None and mu_Mbar is not None and lambda_Mbar + 2.0 * mu_Mbar / 3.0 <= 0:
-        raise ValueError("lambda_Mbar + 2/3 mu_Mbar must be > 0 (bulk modulus)")
+    _bulk = rule(check_bulk_modulus, "lambda_Mbar", "mu_Mbar")
 
 
 class FilterSection(SeedFilter):
@@ -108,10 +100,7 @@ class FilterSection(SeedFilter):
     t_min_us: float = field_of(ArrivalWindow, "t_min")
     t_cut_us: float = field_of(ArrivalWindow, "t_cut")
 
-    @model_validator(mode="after")
-    def _window(self) -> "FilterSection":
-        check_window(self.t_min_us, self.t_cut_us, ("t_min_us", "t_cut_us"))
-        return self
+    _window = rule(check_window, "t_min_us", "t_cut_us")
 
 
 class RemapSection(Section):
@@ -162,9 +151,9 @@ class OutputSection(Section):
     lsdyna_deck: bool = True
     dyna3d_deck: bool = True
     plots: bool = True
-    pulse_width_us: Positive = field_of(write_lsdyna_deck, "pulse_width")
+    pulse_width_us: float = field_of(write_lsdyna_deck, "pulse_width")
     """Width of the triangular force pulse that carries each deposited impulse in the LS-DYNA deck."""
-    end_time_us: Positive | None = None
+    end_time_us: float | None = field_of(write_lsdyna_deck, "end_time", None)
     """LS-DYNA termination time; default: the last arrival plus 10 µs."""
     max_vtk_particles: Annotated[int, Field(ge=1)] = 2_000_000
 

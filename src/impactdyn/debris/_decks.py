@@ -6,8 +6,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from impactdyn._config import field_of
 from impactdyn._runfolder import FolderWriter
 from impactdyn.debris._deposit import element_records
+from impactdyn.io import write_lsdyna_deck
 from impactdyn.materials import AL_6061_T6_MAT13, Mat13Card, mat13_card
 from impactdyn.wallgrid import WallDeposition, WallGrid
 
@@ -28,7 +30,7 @@ class DeckOptions:
     lsdyna: bool = True
     dyna3d: bool = True
     end_time_us: float | None = None
-    pulse_width_us: float = 0.05
+    pulse_width_us: float = field_of(write_lsdyna_deck, "pulse_width").default
     clamped_edges: bool = True
     material: Mat13Card = AL_6061_T6_MAT13
     dcpost_factor: float = 1.0
@@ -49,8 +51,6 @@ def write_decks(folder: FolderWriter, wall: WallGrid, deposition: WallDeposition
     """The wall decks ``options`` ask for: LS-DYNA (time-resolved loads) and DYNA3D (DCPOST's cards)."""
     o, written = options, []
     if o.lsdyna:
-        from impactdyn.io import write_lsdyna_deck
-
         end = o.end_time_us or (float(deposition.time.max()) + END_TIME_MARGIN_US if deposition.time.size
                                 else END_TIME_MARGIN_US)
         write_lsdyna_deck(folder.file("wall.k"), wall, o.material, deposition, pulse_width=o.pulse_width_us,

@@ -59,12 +59,14 @@ Listing deviations (the default is the model; each is behind an explicit option)
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from functools import partial
+from typing import Annotated
 
 import numpy as np
 from numba import njit
+from pydantic import Field
 
+from impactdyn._config import NonNegative, Positive, Section, rule
 from impactdyn.debris import _mat3 as m3
 
 STATE_SIZE = 33
@@ -91,35 +93,35 @@ kernel = partial(njit, cache=True, error_model="numpy")
 inline_kernel = partial(njit, cache=True, error_model="numpy", inline="always")
 
 
-@dataclass(frozen=True)
-class ParticleMaterial:
+def check_bulk_modulus(lam: float | None, mu: float | None, names: tuple[str, str] = ("lam", "mu")) -> None:
+    """λ + ⅔μ > 0 where both are given (a validator's ValueError naming ``names`` otherwise).
+
+    :class:`ParticleMaterial`'s rule, called by the debris and Whipple cases' material tables too.
+    """
+    if lam is not None and mu is not None and lam + 2.0 * mu / 3.0 <= 0:
+        raise ValueError(f"{names[0]} + 2/3 {names[1]} must be > 0 (bulk modulus)")
+
+
+class ParticleMaterial(Section):
     """Elastic–viscoplastic debris material of DC3D (listing common /props/).
 
-    mu, lam: Lamé constants μ, λ (Mbar); rho_ref: reference density ρ_ref
-    (g/cm³); eta: plastic viscosity η (Mbar·µs; ``inf`` switches plasticity
-    off); zeta: artificial bulk viscosity ζ ≥ 0 (Mbar·µs);
-    legacy_eta_per_volume: use the listing's Ėₚ = V₀(2μ/η)(E' − Eₚ).
+    mu, lam: Lamé constants μ, λ (Mbar), with a positive bulk modulus λ + ⅔μ
+    (:func:`check_bulk_modulus`); rho_ref: reference density ρ_ref (g/cm³); eta:
+    plastic viscosity η (Mbar·µs; ``inf`` switches plasticity off); zeta:
+    artificial bulk viscosity ζ ≥ 0 (Mbar·µs); legacy_eta_per_volume: use the
+    listing's Ėₚ = V₀(2μ/η)(E' − Eₚ).  The one home of these defaults and bounds: a
+    bad value raises :class:`~impactdyn._errors.InputError` naming the field; the
+    case tables declare them with :func:`~impactdyn._config.field_of`.
     """
 
-    mu: float
+    mu: Positive
     lam: float
-    rho_ref: float
-    eta: float = math.inf
-    zeta: float = 0.0
+    rho_ref: Positive
+    eta: Annotated[float, Field(gt=0, allow_inf_nan=True)] = math.inf
+    zeta: NonNegative = 0.0
     legacy_eta_per_volume: bool = False
 
-    def __post_init__(self) -> None:
-        checks = (
-            (self.mu > 0 and math.isfinite(self.mu), "mu must be finite and > 0"),
-            (math.isfinite(self.lam) and self.bulk_modulus > 0,
-             "lam must be finite with lam + 2/3 mu > 0"),
-            (self.rho_ref > 0 and math.isfinite(self.rho_ref), "rho_ref must be finite and > 0"),
-            (self.eta > 0, "eta must be > 0 (inf for no plastic flow)"),
-            (self.zeta >= 0 and math.isfinite(self.zeta), "zeta must be finite and >= 0"),
-        )
-        for ok, message in checks:
-            if not ok:
-                raise ValueError(f"ParticleMaterial: {message}, got {self}")
+    _bulk = rule(check_bulk_modulus, "lam", "mu")
 
     @property
     def bulk_modulus(self) -> float:

@@ -19,9 +19,9 @@ from dataclasses import dataclass, field
 from typing import Annotated, Literal
 
 import numpy as np
-from pydantic import Field, model_validator
+from pydantic import Field
 
-from impactdyn._config import NonNegative, Positive, Section
+from impactdyn._config import NonNegative, Positive, Section, field_of, rule
 from impactdyn._errors import InputError
 from impactdyn._parallel import run_tasks
 from impactdyn.debris._deposit import (
@@ -33,23 +33,20 @@ from impactdyn.debris._seed import ParticleCloud, SeedFilter, SeedOptions, arriv
 from impactdyn.wallgrid import WallDeposition, WallGrid
 
 
+def check_window(t_min: float, t_cut: float, names: tuple[str, str] = ("t_min", "t_cut")) -> None:
+    """The arrival window is not empty: t_cut > t_min (a validator's ValueError naming ``names`` otherwise)."""
+    if t_cut <= t_min:
+        raise ValueError(f"{names[1]} = {t_cut} must exceed {names[0]} = {t_min}")
+
+
 class ArrivalWindow(Section):
     """Keep particles arriving at the wall plane in [t_min, t_cut] µs after hand-off (dc3din record 8)."""
 
     t_min: NonNegative = 0.0
     t_cut: Positive = 25.0
-    legacy_abs_arrival: bool = False
+    legacy_abs_arrival: bool = field_of(arrival_times, "legacy_abs_arrival")
 
-    @model_validator(mode="after")
-    def _window(self) -> ArrivalWindow:
-        check_window(self.t_min, self.t_cut)
-        return self
-
-
-def check_window(t_min: float, t_cut: float, names: tuple[str, str] = ("t_min", "t_cut")) -> None:
-    """The arrival window is not empty: t_cut > t_min (a validator's ValueError naming ``names`` otherwise)."""
-    if t_cut <= t_min:
-        raise ValueError(f"{names[1]} = {t_cut} must exceed {names[0]} = {t_min}")
+    _window = rule(check_window, "t_min", "t_cut")
 
 
 class ComputeOptions(Section):

@@ -34,10 +34,19 @@ from typing import Annotated
 import numpy as np
 from pydantic import Field
 
-from impactdyn._config import NonNegative, Positive, Section
+from impactdyn._config import NonNegative, Positive, Section, field_of
+from impactdyn._limits import check_fits
 from impactdyn.hydrogrid import HydroGrid
-from impactdyn.debris._particle import P_SLICE, ParticleMaterial
+from impactdyn.debris._particle import P_SLICE, STATE_SIZE, ParticleMaterial
 from impactdyn.debris._tets import NODE_OFFSETS, TET_NODES, initial_state
+
+TETS_PER_CELL = len(TET_NODES)
+"""Particles seeded per selected cell (the five tetrahedra of :data:`._tets.TET_NODES`)."""
+
+PARTICLE_BYTES = 8 * (2 * 4 * 3 + STATE_SIZE + 9 + 3 + 3 + 1)
+"""Bytes one seeded particle costs at least (:func:`seed_particles`, checked before any is
+allocated): its vertices and their velocities (4 × 3 each), state (33), inertia tensor (9),
+mass, void fraction and density ratio, source cell (3) and tetrahedron index, 8 bytes each."""
 
 
 class SeedFilter(Section):
@@ -50,11 +59,12 @@ class SeedFilter(Section):
 
 
 class SeedOptions(Section):
-    """Listing deviations used while seeding (see :mod:`._tets` and the module docstring)."""
+    """Listing deviations used while seeding (see :mod:`._tets` and the module docstring); the
+    defaults of :func:`._tets.initial_state`'s keywords."""
 
     legacy_nddata_swap: bool = False
-    legacy_fdot_scaling: bool = False
-    legacy_inertia_transform: bool = False
+    legacy_fdot_scaling: bool = field_of(initial_state, "legacy_fdot_scaling")
+    legacy_inertia_transform: bool = field_of(initial_state, "legacy_inertia_transform")
 
 
 @dataclass(frozen=True, eq=False)
@@ -112,6 +122,9 @@ def seed_particles(grid: HydroGrid, material: ParticleMaterial, filt: SeedFilter
                    options: SeedOptions = SeedOptions()) -> ParticleCloud:
     """Five tetrahedral particles per selected cell of ``grid`` (DCELEM → NDDATA → JCALC → IVCALC)."""
     keep = seed_cells(grid, material.rho_ref, filt)
+    cells = np.count_nonzero(keep)
+    check_fits(f"hand-off grid: {cells} of its {'x'.join(map(str, keep.shape))} cells pass the seed filters, "
+               f"{TETS_PER_CELL} particles each", TETS_PER_CELL * cells, PARTICLE_BYTES, "debris particles")
     # cell order of the listing's loops: k slowest, then j, then i
     k, j, i = np.nonzero(keep.transpose(2, 1, 0))
     cells = np.stack([i, j, k], axis=-1)

@@ -51,6 +51,7 @@ from pathlib import Path
 
 import numpy as np
 
+from impactdyn._config import Positive, checked
 from impactdyn._errors import InputError
 from impactdyn.materials import AL_6061_T6_MAT13, Mat13Card
 from impactdyn.wallgrid import WallDeposition, WallGrid
@@ -80,13 +81,12 @@ class LsDynaDeck:
     point_load_scale: np.ndarray
 
 
+@checked
 def write_lsdyna_deck(path: str | Path, wall: WallGrid, material: Mat13Card = AL_6061_T6_MAT13,
-                      deposition: WallDeposition | None = None, *, pulse_width: float = 0.05,
-                      end_time: float = 30.0, clamped_edges: bool = True,
+                      deposition: WallDeposition | None = None, *, pulse_width: Positive = 0.05,
+                      end_time: Positive = 30.0, clamped_edges: bool = True,
                       title: str = "impactdyn rear wall under debris-cloud deposition") -> None:
     """Write the keyword deck (module docstring), atomically.  Times in µs."""
-    if not (np.isfinite(end_time) and end_time > 0):
-        raise InputError(f"end_time = {end_time}: must be > 0 (µs)")
     if deposition is not None:
         deposition.check_fits(wall)
     m = material
@@ -118,9 +118,7 @@ def write_lsdyna_deck(path: str | Path, wall: WallGrid, material: Mat13Card = AL
 
 
 def _load_cards(wall: WallGrid, dep: WallDeposition, width: float) -> list[str]:
-    """*DEFINE_CURVE per loaded node and direction, and the *LOAD_NODE_POINT cards."""
-    if not (np.isfinite(width) and width > 0):
-        raise InputError(f"pulse_width = {width}: must be > 0 (µs)")
+    """*DEFINE_CURVE per loaded node and direction, and the *LOAD_NODE_POINT cards (``width`` > 0, µs)."""
     a = _as_written(dep.time)
     b = _as_written(dep.time + width)
     mid = _as_written(0.5 * (a + b))

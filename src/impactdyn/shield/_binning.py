@@ -56,8 +56,9 @@ from typing import Literal, get_args
 import numpy as np
 from numba import njit
 
+from impactdyn._config import Positive, checked
 from impactdyn._errors import InputError
-from impactdyn.hydrogrid import HydroGrid
+from impactdyn.hydrogrid import DC3D_CELL_CM, HydroGrid
 from impactdyn.shield._kernel import SUPPORT, w_shape
 from impactdyn.shield._state import Particles
 
@@ -163,11 +164,12 @@ def _scatter(x, h, carried, use_kernel, mirror_x0, sums):
                         sums[i, j, k, q] += wt * carried[p, q]
 
 
-def bin_to_hydrogrid(particles: Particles, cell_size_cm: float, region: Region | None = None, *,
+@checked
+def bin_to_hydrogrid(particles: Particles, cell_size_cm: Positive = DC3D_CELL_CM, region: Region | None = None, *,
                      method: BinningMethod = "kernel", mirror_x0: bool = True) -> HydroGrid:
     """Cell-centred :class:`HydroGrid` (``staggered=False``) of ``particles`` (module docstring).
 
-    cell_size_cm : cubic cell edge, cm (the report's DC3D cells: 0.03175 cm).
+    cell_size_cm : cubic cell edge, cm (default: the report's DC3D cells, 0.03175 cm).
     region : ((x0, x1), (y0, y1), (z0, z1)), cm; the grid starts at the lower
         corner and is extended to whole cells; particles outside are left out.
         Default: the particles' bounding box with its corners rounded outward to
@@ -179,8 +181,6 @@ def bin_to_hydrogrid(particles: Particles, cell_size_cm: float, region: Region |
         to the image cells; otherwise they are folded onto the face's cells.
     """
     cell = float(cell_size_cm)
-    if not (math.isfinite(cell) and cell > 0):
-        raise InputError(f"cell_size_cm: must be a positive number, got {cell_size_cm!r}")
     if method not in METHODS:
         raise InputError(f"method: {method!r}, expected one of {METHODS}")
     x = particles.position

@@ -23,11 +23,12 @@ from typing import Annotated, get_type_hints
 from pydantic import Field, create_model, field_validator, model_validator
 
 from impactdyn import units
-from impactdyn._config import (NodeCount, NonNegative, Positive, Range, Section, check_ordered, field_of, load_toml,
+from impactdyn._config import (NodeCount, Positive, Range, Section, check_ordered, field_of, load_toml, rule,
                                validate)
 from impactdyn._errors import InputError
 from impactdyn.debris import (
-    ComputeSection, DebrisCase, FilterSection, IntegratorSection, LegacySection, OutputSection, check_bulk_modulus)
+    ComputeSection, DebrisCase, FilterSection, IntegratorSection, LegacySection, OutputSection, ParticleMaterial,
+    check_bulk_modulus)
 from impactdyn.debris import WallSection as DebrisWallSection
 from impactdyn.materials import REPORT_MATERIAL, Material, MaterialName, get_material
 from impactdyn.shield import BinningMethod, FlowStress, SPHOptions, bin_to_hydrogrid
@@ -104,7 +105,7 @@ class BinningSection(Section):
     particles are assigned to them: each with its own SPH kernel (``"kernel"``) or cloud-in-cell
     (``"cic"``), :func:`impactdyn.shield.bin_to_hydrogrid`."""
 
-    cell_size_cm: Positive = 0.03175
+    cell_size_cm: float = field_of(bin_to_hydrogrid, "cell_size_cm")
     method: BinningMethod = field_of(bin_to_hydrogrid, "method")
 
 
@@ -112,18 +113,15 @@ class DebrisMaterialSection(Section):
     """Constants of the debris particles (dc3din record 13–14).
 
     μ and λ default to the projectile material's G and K − 2G/3 (K = ρ₀c₀²);
-    η and ζ to the report's App. C values.
+    η and ζ to the report's App. C values; the bounds are :class:`impactdyn.debris.ParticleMaterial`'s.
     """
 
-    mu_Mbar: Positive | None = None
-    lambda_Mbar: float | None = None
-    eta_Mbar_us: Positive | None = 0.01
-    zeta_Mbar_us: NonNegative = 1.0
+    mu_Mbar: float | None = field_of(ParticleMaterial, "mu", None)
+    lambda_Mbar: float | None = field_of(ParticleMaterial, "lam", None)
+    eta_Mbar_us: float | None = field_of(ParticleMaterial, "eta", 0.01)
+    zeta_Mbar_us: float = field_of(ParticleMaterial, "zeta", 1.0)
 
-    @model_validator(mode="after")
-    def _bulk(self) -> "DebrisMaterialSection":
-        check_bulk_modulus(self.lambda_Mbar, self.mu_Mbar)
-        return self
+    _bulk = rule(check_bulk_modulus, "lambda_Mbar", "mu_Mbar")
 
 
 class _WallSolverBase(Section):
