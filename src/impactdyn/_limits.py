@@ -20,6 +20,8 @@ grid cell               80         :func:`impactdyn.hydrogrid.check_cells`: dc3d
 wall node               96         :func:`impactdyn.wallgrid.check_nodes`: ``wall.nodes``
                                    (debris, Whipple), ``wall.remap.nodes``, dc3din record
                                    idmax…kdmaxn, :meth:`WallGrid.uniform`
+debris particle         584        :func:`impactdyn.debris.seed_particles`: 5 per cell passing
+                                   the seed filters (``debris._seed.PARTICLE_BYTES``)
 SPH particle            1024       :data:`SPH_PARTICLE_BYTES`: the Whipple case's
                                    ``shield.spacing_cm`` against projectile and bumper
 sweep / campaign case   1024       :data:`CASE_BYTES`: the N of ``--vary``, ``--velocity``,
