@@ -33,12 +33,12 @@ import inspect
 import math
 import tomllib
 import typing
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Annotated, Any, TypeVar
 
 import tomli_w
-from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError, model_validator
+from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError, create_model, model_validator
 from pydantic.fields import FieldInfo
 
 from impactdyn._errors import InputError, reading
@@ -112,6 +112,15 @@ def field_of(source: Any, name: str, default: Any = _NO_DEFAULT) -> Any:
         info = FieldInfo.merge_field_infos(info)
         info.metadata = [m for m in info.metadata if getattr(m, "allow_inf_nan", None) is None]
     return info
+
+
+def section_of(name: str, base: type[M], source: Any, names: Sequence[str], module: str) -> type[M]:
+    """A :class:`Section` named ``name`` derived from ``base`` with the settings ``names`` of
+    ``source`` (:func:`field_of`: their types, defaults and bounds), e.g. a case table that exposes
+    some of a solver's options under the same keys."""
+    hints = typing.get_type_hints(source)
+    return create_model(name, __base__=base, __module__=module,
+                        **{key: (hints[key], field_of(source, key)) for key in names})
 
 
 def _bounded(hint: Any) -> bool:

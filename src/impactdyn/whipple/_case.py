@@ -20,18 +20,18 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated, get_type_hints
 
-from pydantic import Field, create_model, field_validator, model_validator
+from pydantic import Field, field_validator, model_validator
 
 from impactdyn import units
 from impactdyn._config import (NodeCount, Positive, Range, Section, check_ordered, field_of, load_toml, rule,
-                               validate)
+                               section_of, validate)
 from impactdyn._errors import InputError
 from impactdyn.debris import (
     ComputeSection, DebrisCase, FilterSection, IntegratorSection, LegacySection, OutputSection, ParticleMaterial,
     check_bulk_modulus)
 from impactdyn.debris import WallSection as DebrisWallSection
 from impactdyn.materials import REPORT_MATERIAL, Material, MaterialName, get_material
-from impactdyn.shield import BinningMethod, FlowStress, SPHOptions, bin_to_hydrogrid
+from impactdyn.shield import BinningMethod, SPHOptions, bin_to_hydrogrid
 from impactdyn.wall import WallOptions
 
 
@@ -81,23 +81,21 @@ class WallSection(Section):
         return self
 
 
-class ShieldSection(Section):
+class _ShieldBase(Section):
     """SPH numerics of the shield stage and the hand-off time; the numerics are those of
     :class:`impactdyn.shield.SPHOptions`, with its defaults and bounds (the rest keep its defaults)."""
 
     spacing_cm: Positive = 0.0254
     handoff_us: Positive = 4.0
-    flow_stress: FlowStress = field_of(SPHOptions, "flow_stress")
-    failure: bool = field_of(SPHOptions, "failure")
-    alpha: float = field_of(SPHOptions, "alpha")
-    beta: float = field_of(SPHOptions, "beta")
-    artificial_stress: float = field_of(SPHOptions, "artificial_stress")
-    h_factor: float = field_of(SPHOptions, "h_factor")
-    cfl: float = field_of(SPHOptions, "cfl")
 
     def sph_options(self) -> SPHOptions:
         """The :class:`impactdyn.shield.SPHOptions` of this table."""
         return SPHOptions(**self.model_dump(exclude={"spacing_cm", "handoff_us"}))
+
+
+ShieldSection = section_of("ShieldSection", _ShieldBase, SPHOptions,
+                           ("flow_stress", "failure", "alpha", "beta", "artificial_stress", "h_factor", "cfl"),
+                           __name__)
 
 
 class BinningSection(Section):
@@ -142,10 +140,8 @@ class _WallSolverBase(Section):
         return WallOptions(**self.model_dump(), supports="clamped" if clamped_edges else "dyngen")
 
 
-WallSolverSection = create_model(
-    "WallSolverSection", __base__=_WallSolverBase, __module__=__name__,
-    **{name: (kind, field_of(WallOptions, name)) for name, kind in get_type_hints(WallOptions).items()
-       if name != "supports"})
+WallSolverSection = section_of("WallSolverSection", _WallSolverBase, WallOptions,
+                               [name for name in get_type_hints(WallOptions) if name != "supports"], __name__)
 
 
 class WhippleCase(Section):
