@@ -11,6 +11,10 @@ from impactdyn.wall._mesh import SUPPORTS
 from impactdyn.wall._models import check_model_name
 
 HOURGLASS_FORMS = ("viscous", "stiffness", "assumed_strain")
+#: LS-DYNA's hourglass type (IHQ) of each form: Flanagan–Belytschko viscous 2 and stiffness 4,
+#: Belytschko–Bindeman assumed strain 6 (whose QH is 1: the form has no coefficient; LS-DYNA's
+#: type 6 keeps the elastic moduli, this solver's follows the material's tangent, :mod:`._step`).
+LSDYNA_HOURGLASS_TYPE = {"viscous": 2, "stiffness": 4, "assumed_strain": 6}
 
 
 class WallSolverError(SimulationError):
@@ -113,6 +117,12 @@ class WallOptions:
     def hourglass_form(self) -> int:
         """The kernels' code of the hourglass form (its index in :data:`HOURGLASS_FORMS`)."""
         return HOURGLASS_FORMS.index(self.hourglass)
+
+    @property
+    def lsdyna_hourglass(self) -> tuple[int, float]:
+        """(IHQ, QH) of LS-DYNA's *CONTROL_HOURGLASS for these options (:data:`LSDYNA_HOURGLASS_TYPE`)."""
+        ihq = LSDYNA_HOURGLASS_TYPE[self.hourglass]
+        return ihq, 1.0 if ihq == 6 else self.hourglass_coefficient
 
 
 def _check(name: str, value, lo: float | None = None, hi: float | None = None, lo_open: bool = False) -> None:
