@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from impactdyn._errors import InputError
-from impactdyn.materials import AL_6061_T6_MAT13
+from impactdyn.materials import AL_6061_T6_MAT13, JOHNSON_COOK_DAMAGE, get_material
 from impactdyn.wallgrid import WallDeposition, WallGrid
 from impactdyn.io._dyna3d import write_dyna3d_deck
 from impactdyn.io._legacy_dc3din import read_dc3din
@@ -221,6 +221,34 @@ def test_material_card(tmp_path):
     assert card2[0] == 1.5 and card2[1] == -12.0e33  # EPF, and PRF written explicitly
     assert card2[2] != 0.0  # REM: failed elements kept (compressive pressure only), as DYNA3D type 13
     assert "*END" == lines[-1]
+
+
+def test_johnson_cook_material_and_controls(tmp_path):
+    """The JC alternative: MAT_015 + EOS_GRUNEISEN from the library material, its damage
+    constants and spall cut-off; the wall stage's hourglass and bulk-viscosity settings as
+    *CONTROL cards; all read back from the deck as written."""
+    al = get_material("al6061-t6")
+    jc, dmg = al.johnson_cook, JOHNSON_COOK_DAMAGE["al6061-t6"]
+    wall = WallGrid.uniform((0.0, 1.0), (0.0, 0.3), (0.0, 1.0), (2, 2, 2))
+    p = tmp_path / "wall.k"
+    write_lsdyna_deck(p, wall, al, hourglass=(6, 1.0), bulk_viscosity=(1.5, 0.06))
+    cards = read_lsdyna_deck(p).cards
+    assert "*MAT_ISOTROPIC_ELASTIC_FAILURE" not in cards
+    assert cards["*CONTROL_HOURGLASS"][0][:2] == [6.0, 1.0]
+    assert cards["*CONTROL_BULK_VISCOSITY"][0][:2] == [1.5, 0.06]
+    mat = cards["*MAT_JOHNSON_COOK"]
+    np.testing.assert_allclose(mat[0][:3], [1, al.rho0, al.shear_modulus], rtol=1e-8)
+    np.testing.assert_allclose(mat[1], [jc.A, jc.B, jc.n, jc.C, jc.m, jc.t_melt, jc.t_room,
+                                        jc.reference_strain_rate], rtol=1e-8)
+    np.testing.assert_allclose(mat[2], [al.specific_heat, -al.spall_strength, 3, 0, dmg.D1, dmg.D2, dmg.D3, dmg.D4],
+                               rtol=1e-8)
+    assert mat[3][0] == pytest.approx(dmg.D5)
+    eos = cards["*EOS_GRUNEISEN"]
+    np.testing.assert_allclose(eos[0][:6], [1, al.c0, al.s, 0, 0, al.gamma0], rtol=1e-8)
+    assert eos[1][0] == 1.0
+    plain = tmp_path / "plain.k"
+    write_lsdyna_deck(plain, wall)
+    assert not {"*CONTROL_HOURGLASS", "*CONTROL_BULK_VISCOSITY"} & set(read_lsdyna_deck(plain).cards)
 
 
 @pytest.mark.parametrize("kwargs, message", [

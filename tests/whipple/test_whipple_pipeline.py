@@ -13,7 +13,9 @@ from impactdyn.debris import read_deposition
 from impactdyn.io import read_grid, read_lsdyna_deck
 from impactdyn.shield._io import read_particles
 from impactdyn.whipple import ble_verdict, load_whipple_case
+from impactdyn.wall import LSDYNA_HOURGLASS_TYPE
 from impactdyn.whipple._case import ble_shield
+from impactdyn.whipple._pipeline import deck_options
 
 EXAMPLES = Path(__file__).parents[2] / "examples" / "whipple"
 
@@ -78,6 +80,22 @@ def test_wall_receives_the_momentum_of_the_arrived_debris(run):
     np.testing.assert_allclose(total, deposited, rtol=1e-9)
     _, _, impulse = read_deposition(out / "debris" / "debris.h5")
     assert s["deposition"]["impulse_on_wall_normal_N_s_full_model"] == pytest.approx(20.0 * impulse[..., 1].sum())
+
+
+def test_decks_carry_the_wall_stages_model(run, tmp_path, make_case):
+    """The LS-DYNA deck runs what the wall stage ran: its hourglass type and bulk viscosity, and
+    MAT_013 for "mat13" or MAT_015 with its EOS for "johnson_cook"."""
+    case, out, _ = run
+    c = load_whipple_case(case)
+    cards = read_lsdyna_deck(out / "decks" / "wall.k").cards
+    o = c.wall_solver.options(c.wall.clamped_edges)
+    assert cards["*CONTROL_HOURGLASS"][0][:2] == [LSDYNA_HOURGLASS_TYPE[o.hourglass], pytest.approx(
+        o.lsdyna_hourglass[1])]
+    assert cards["*CONTROL_BULK_VISCOSITY"][0][:2] == [o.q1, o.q2]
+    assert "*MAT_ISOTROPIC_ELASTIC_FAILURE" in cards and "*MAT_JOHNSON_COOK" not in cards
+    jc = deck_options(load_whipple_case(make_case(tmp_path, wall_solver__material_model="johnson_cook",
+                                                  wall_solver__hourglass="viscous")))
+    assert jc.material.johnson_cook is not None and jc.hourglass == (2, o.hourglass_coefficient)
 
 
 def test_summary_has_the_verdict_and_the_cloud_figures(run):

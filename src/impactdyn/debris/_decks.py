@@ -10,7 +10,7 @@ from impactdyn._config import field_of
 from impactdyn._runfolder import FolderWriter
 from impactdyn.debris._deposit import element_records
 from impactdyn.io import write_lsdyna_deck
-from impactdyn.materials import AL_6061_T6_MAT13, Mat13Card, mat13_card
+from impactdyn.materials import AL_6061_T6_MAT13, Mat13Card, Material, mat13_card
 from impactdyn.wallgrid import WallDeposition, WallGrid
 
 END_TIME_MARGIN_US = 10.0
@@ -23,7 +23,10 @@ class DeckOptions:
 
     lsdyna, dyna3d : which decks to write; end_time_us : LS-DYNA's termination time (None:
     the last arrival plus :data:`END_TIME_MARGIN_US`); pulse_width_us : the force pulse of each
-    deposited impulse; clamped_edges : the edge supports; material : the wall's type-13 card;
+    deposited impulse; clamped_edges : the edge supports; material : the wall's type-13 card
+    (both decks), or for the LS-DYNA deck a Johnson–Cook library material (then the DYNA3D
+    deck carries its type-13 card, :func:`impactdyn.materials.mat13_card`); hourglass (IHQ, QH)
+    and bulk_viscosity (Q1, Q2) : the LS-DYNA deck's controls (None: LS-DYNA's defaults);
     dcpost_factor : DCPOST's scale on the DYNA3D deck's cards; title : the decks' title.
     """
 
@@ -32,7 +35,9 @@ class DeckOptions:
     end_time_us: float | None = None
     pulse_width_us: float = field_of(write_lsdyna_deck, "pulse_width").default
     clamped_edges: bool = True
-    material: Mat13Card = AL_6061_T6_MAT13
+    material: Mat13Card | Material = AL_6061_T6_MAT13
+    hourglass: tuple[int, float] | None = None
+    bulk_viscosity: tuple[float, float] | None = None
     dcpost_factor: float = 1.0
     title: str = ""
 
@@ -55,12 +60,14 @@ def write_decks(folder: FolderWriter, wall: WallGrid, deposition: WallDeposition
                                 else END_TIME_MARGIN_US)
         write_lsdyna_deck(folder.file("wall.k"), wall, o.material, deposition, pulse_width=o.pulse_width_us,
                           end_time=end, clamped_edges=o.clamped_edges,
-                          title=o.title or "impactdyn rear wall under debris-cloud deposition")
+                          title=o.title or "impactdyn rear wall under debris-cloud deposition",
+                          hourglass=o.hourglass, bulk_viscosity=o.bulk_viscosity)
         written.append("wall.k")
     if o.dyna3d:
         from impactdyn.io import write_dyna3d_deck
 
-        write_dyna3d_deck(folder.file("wall_dyna3d.inp"), wall, o.material,
+        card = o.material if isinstance(o.material, Mat13Card) else mat13_card(o.material)
+        write_dyna3d_deck(folder.file("wall_dyna3d.inp"), wall, card,
                           element_records(impulse, o.dcpost_factor), clamped_edges=o.clamped_edges)
         written.append("wall_dyna3d.inp")
     return written

@@ -7,9 +7,11 @@ i8), *ELEMENT_SOLID (EID PID N1–N8, 10×i8, the one-card form) and the
 *DEFINE_CURVE points (A O, 2×20, in E20.12 form: 13 significant digits).  Other
 reals take as many significant digits as their field holds after one leading blank.
 
-Deck: *KEYWORD, *TITLE, *CONTROL_TERMINATION, *DATABASE_BINARY_D3PLOT, *PART,
-*SECTION_SOLID (ELFORM 1), *MAT_ISOTROPIC_ELASTIC_FAILURE, *NODE, *ELEMENT_SOLID
-(numbering of :class:`WallGrid`, DYNGEN's), *BOUNDARY_SPC_NODE, the loads, *END.
+Deck: *KEYWORD, *TITLE, *CONTROL_TERMINATION, *CONTROL_HOURGLASS and
+*CONTROL_BULK_VISCOSITY (when given: the wall stage's settings, so the FE code runs the
+same numerics), *DATABASE_BINARY_D3PLOT, *PART, *SECTION_SOLID (ELFORM 1), the material
+(and its *EOS_GRUNEISEN), *NODE, *ELEMENT_SOLID (numbering of :class:`WallGrid`,
+DYNGEN's), *BOUNDARY_SPC_NODE, the loads, *END.
 
 Material: *MAT_ISOTROPIC_ELASTIC_FAILURE (MAT_013), the LS-DYNA descendant of the
 report's DYNA3D type 13 and the model of :mod:`impactdyn.wall`'s ``mat13``, card for
@@ -19,6 +21,16 @@ plastic strain at failure (blank if 0: no failure), PRF the failure pressure wri
 explicitly (≤ 0; the report's −1.2e34 Mbar means none), REM = 1 (a failed element
 is kept, carrying only compressive pressure, as in DYNA3D; 0 would erode it) and
 TREM = 0.  The default is the report's wall, :data:`AL_6061_T6_MAT13`.
+
+Or, given a library :class:`Material` with Johnson–Cook constants (the wall stage's
+``johnson_cook`` model): *MAT_JOHNSON_COOK (MAT_015) — MID RO G; A B N C M TM TR EPSO;
+CP PC SPALL IT D1–D4; D5 — with PC = −p_spall and SPALL = 3 (the element spalls when
+the pressure falls below PC, the wall stage's criterion), the JC damage constants of
+:data:`impactdyn.materials.JOHNSON_COOK_DAMAGE` in Johnson & Cook's convention (σ* the
+mean stress over the effective stress; LS-DYNA's D1–D5 are entered as in their paper),
+failed elements eroded (EROD 0, as the wall stage's default erosion); and *EOS_GRUNEISEN
+(MAT_015 needs an EOS): C = c₀, S1 = s, S2 = S3 = 0, GAMA0 = Γ₀, A = 0, E0 = 0, V0 = 1 —
+the shield stage's Mie–Grüneisen form p = p_H(μ) + Γ₀ρ₀e referred to the Hugoniot.
 
 Supports: :meth:`WallGrid.constrained_dofs` — x fixed on the symmetry plane
 x = x[0], and by default (``clamped_edges=True``) all translations fixed on the
@@ -53,7 +65,7 @@ import numpy as np
 
 from impactdyn._config import Positive, checked
 from impactdyn._errors import InputError
-from impactdyn.materials import AL_6061_T6_MAT13, Mat13Card
+from impactdyn.materials import AL_6061_T6_MAT13, JOHNSON_COOK_DAMAGE, Mat13Card, Material
 from impactdyn.wallgrid import WallDeposition, WallGrid
 from impactdyn.io._fortran import parse_int, parse_real, read_lines
 from impactdyn._runfolder import atomic_output
@@ -66,7 +78,9 @@ class LsDynaDeck:
     node_ids (n,), coordinates (n, 3); solid_ids (m,), solid_parts (m,),
     solid_nodes (m, 8); spc_nodes (s,), spc_dofs (s, 3) bool; curves: LCID ->
     (abscissae (p,), ordinates (p,)) with SFA/SFO/OFFA/OFFO applied;
-    point_loads (q, 3) int (NID, DOF, LCID) with point_load_scale (q,).
+    point_loads (q, 3) int (NID, DOF, LCID) with point_load_scale (q,); cards: the numeric
+    cards of the other keywords (*CONTROL_*, *MAT_*, *EOS_*, *SECTION_SOLID) as
+    keyword -> rows of eight 10-column reals (blank: 0).
     """
 
     node_ids: np.ndarray
@@ -79,29 +93,32 @@ class LsDynaDeck:
     curves: dict[int, tuple[np.ndarray, np.ndarray]]
     point_loads: np.ndarray
     point_load_scale: np.ndarray
+    cards: dict[str, list[list[float]]]
 
 
 @checked
-def write_lsdyna_deck(path: str | Path, wall: WallGrid, material: Mat13Card = AL_6061_T6_MAT13,
+def write_lsdyna_deck(path: str | Path, wall: WallGrid, material: Mat13Card | Material = AL_6061_T6_MAT13,
                       deposition: WallDeposition | None = None, *, pulse_width: Positive = 0.05,
                       end_time: Positive = 30.0, clamped_edges: bool = True,
-                      title: str = "impactdyn rear wall under debris-cloud deposition") -> None:
-    """Write the keyword deck (module docstring), atomically.  Times in µs."""
+                      title: str = "impactdyn rear wall under debris-cloud deposition",
+                      hourglass: tuple[int, float] | None = None,
+                      bulk_viscosity: tuple[float, float] | None = None) -> None:
+    """Write the keyword deck (module docstring), atomically.  Times in µs.
+
+    hourglass : (IHQ, QH) of *CONTROL_HOURGLASS; bulk_viscosity : (Q1, Q2) of
+    *CONTROL_BULK_VISCOSITY (quadratic, linear); None leaves LS-DYNA's defaults.
+    """
     if deposition is not None:
         deposition.check_fits(wall)
-    m = material
     lines = ["*KEYWORD", "*TITLE", title[:80],
              "$ units: cm, g, us; stress Mbar; force g*cm/us^2 = 1e7 N; impulse g*cm/us",
-             "*CONTROL_TERMINATION", _row([end_time]),
-             "*DATABASE_BINARY_D3PLOT", _row([end_time / 100.0]),
-             "*PART", "wall", _row([1, 1, 1]),
-             "*SECTION_SOLID", _row([1, 1]),
-             "*MAT_ISOTROPIC_ELASTIC_FAILURE",
-             "$      MID        RO         G      SIGY      ETAN      BULK",
-             _row([1, m.density, m.shear_modulus, m.yield_stress, m.hardening_modulus, m.bulk_modulus]),
-             "$      EPF       PRF       REM      TREM",
-             _row([m.failure_strain if m.failure_strain > 0 else None, m.failure_pressure, 1.0, 0.0]),
-             "*NODE"]
+             "*CONTROL_TERMINATION", _row([end_time])]
+    if hourglass is not None:
+        lines += ["*CONTROL_HOURGLASS", "$      IHQ        QH", _row([int(hourglass[0]), float(hourglass[1])])]
+    if bulk_viscosity is not None:
+        lines += ["*CONTROL_BULK_VISCOSITY", "$       Q1        Q2", _row([float(q) for q in bulk_viscosity])]
+    lines += ["*DATABASE_BINARY_D3PLOT", _row([end_time / 100.0])]
+    lines += _material_cards(material) + ["*NODE"]
     xyz = wall.node_coordinates()
     lines += [_field(n, 8) + "".join(_field(c, 16) for c in p) for n, p in enumerate(xyz, start=1)]
     lines.append("*ELEMENT_SOLID")
@@ -115,6 +132,40 @@ def write_lsdyna_deck(path: str | Path, wall: WallGrid, material: Mat13Card = AL
     lines.append("*END")
     with atomic_output(path) as tmp:
         tmp.write_text("\n".join(lines) + "\n", encoding="ascii")
+
+
+def _material_cards(m: Mat13Card | Material) -> list[str]:
+    """*PART, *SECTION_SOLID and the material (module docstring): MAT_013 for a type-13 card,
+    MAT_015 with *EOS_GRUNEISEN for a Johnson–Cook library material."""
+    cards = ["*SECTION_SOLID", _row([1, 1])]
+    if isinstance(m, Mat13Card):
+        return ["*PART", "wall", _row([1, 1, 1])] + cards + [
+            "*MAT_ISOTROPIC_ELASTIC_FAILURE",
+            "$      MID        RO         G      SIGY      ETAN      BULK",
+            _row([1, m.density, m.shear_modulus, m.yield_stress, m.hardening_modulus, m.bulk_modulus]),
+            "$      EPF       PRF       REM      TREM",
+            _row([m.failure_strain if m.failure_strain > 0 else None, m.failure_pressure, 1.0, 0.0])]
+    jc = m.johnson_cook
+    if jc is None:
+        raise InputError(f"material {m.name!r}: no Johnson-Cook constants for *MAT_JOHNSON_COOK")
+    d = JOHNSON_COOK_DAMAGE.get(m.name)
+    damage = [d.D1, d.D2, d.D3, d.D4] if d is not None else [None] * 4
+    pc = -m.spall_strength if m.spall_strength is not None else None
+    return ["*PART", "wall", _row([1, 1, 1, 1])] + cards + [
+        "*MAT_JOHNSON_COOK",
+        "$      MID        RO         G         E        PR",
+        _row([1, m.rho0, m.shear_modulus]),
+        "$        A         B         N         C         M        TM        TR      EPSO",
+        _row([jc.A, jc.B, jc.n, jc.C, jc.m, jc.t_melt, jc.t_room, jc.reference_strain_rate]),
+        "$       CP        PC     SPALL        IT        D1        D2        D3        D4",
+        _row([m.specific_heat, pc, 3.0 if pc is not None else None, 0.0, *damage]),
+        "$       D5",
+        _row([d.D5 if d is not None else None]),
+        "*EOS_GRUNEISEN",
+        "$    EOSID         C        S1        S2        S3     GAMA0         A        E0",
+        _row([1, m.c0, m.s, 0.0, 0.0, m.gamma0, 0.0, 0.0]),
+        "$       V0",
+        _row([1.0])]
 
 
 def _load_cards(wall: WallGrid, dep: WallDeposition, width: float) -> list[str]:
@@ -173,7 +224,7 @@ def read_lsdyna_deck(path: str | Path) -> LsDynaDeck:
             blocks.append((line.strip().upper(), []))
         elif blocks and not line.startswith("$") and line.strip():
             blocks[-1][1].append((n, line))
-    nodes, solids, spcs, loads, curves = [], [], [], [], {}
+    nodes, solids, spcs, loads, curves, cards = [], [], [], [], {}, {}
     for key, rows in blocks:
         if key == "*NODE":
             nodes += [_parse(path, n, line, "ieee", (8, 16, 16, 16)) for n, line in rows]
@@ -189,6 +240,8 @@ def read_lsdyna_deck(path: str | Path) -> LsDynaDeck:
             lcid, _, sfa, sfo, offa, offo = _parse(path, *rows[0], "iieeee", (10,) * 6)
             pts = np.array([_parse(path, n, line, "ee", (20, 20)) for n, line in rows[1:]]).reshape(-1, 2)
             curves[lcid] = ((sfa or 1.0) * (pts[:, 0] + offa), (sfo or 1.0) * (pts[:, 1] + offo))
+        elif key.startswith(("*CONTROL_", "*MAT_", "*EOS_", "*SECTION_")):
+            cards[key] = [_parse(path, n, line, "e" * 8, (10,) * 8) for n, line in rows]
     nodes_a = np.array(nodes, dtype=float).reshape(-1, 4)
     solids_a = np.array(solids, dtype=np.int64).reshape(-1, 10)
     spcs_a = np.array(spcs, dtype=np.int64).reshape(-1, 5)
@@ -197,7 +250,7 @@ def read_lsdyna_deck(path: str | Path) -> LsDynaDeck:
         node_ids=nodes_a[:, 0].astype(np.int64), coordinates=nodes_a[:, 1:],
         solid_ids=solids_a[:, 0], solid_parts=solids_a[:, 1], solid_nodes=solids_a[:, 2:],
         spc_nodes=spcs_a[:, 0], spc_dofs=spcs_a[:, 2:5].astype(bool),
-        curves=curves, point_loads=loads_a[:, :3].astype(np.int64), point_load_scale=loads_a[:, 3])
+        curves=curves, point_loads=loads_a[:, :3].astype(np.int64), point_load_scale=loads_a[:, 3], cards=cards)
 
 
 def _parse(path: Path, n: int, line: str, kinds: str, widths: Sequence[int]) -> list:

@@ -17,7 +17,7 @@ Typical use::
     wall.write_wall_outputs(result, "runs/x/wall", plots="runs/x/plots")
 """
 
-from impactdyn.wall._options import HOURGLASS_FORMS, WallOptions, WallSolverError
+from impactdyn.wall._options import HOURGLASS_FORMS, LSDYNA_HOURGLASS_TYPE, WallOptions, WallSolverError
 from impactdyn.wall._models import MODELS, WallModel, register_model, wall_model
 from impactdyn.wall._mat13 import Mat13Model
 from impactdyn.wall._johnson_cook import JohnsonCookModel
@@ -29,7 +29,7 @@ from impactdyn.wall._verdict import DETACHED_SPALL, NO_PERFORATION, PERFORATION,
 from impactdyn.wall._output import write_wall_outputs
 
 __all__ = [
-    "DETACHED_SPALL", "HISTORY_KEYS", "HOURGLASS_FORMS", "JohnsonCookModel", "MODELS", "Mat13Model",
+    "DETACHED_SPALL", "HISTORY_KEYS", "HOURGLASS_FORMS", "JohnsonCookModel", "LSDYNA_HOURGLASS_TYPE", "MODELS", "Mat13Model",
     "NO_PERFORATION", "NodalLoad", "PERFORATION", "SPREADS", "SUPPORTS", "VERDICTS", "WallFrame", "WallMesh",
     "WallModel", "WallOptions", "WallResult", "WallSolver", "WallSolverError", "build_mesh", "classify", "measures",
     "nodal_load", "register_model", "resolve_model", "run_wall", "wall_model", "write_wall_outputs",

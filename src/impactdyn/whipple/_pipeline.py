@@ -27,6 +27,7 @@ from __future__ import annotations
 import json
 import shutil
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -149,14 +150,28 @@ def _wall(s: StageContext) -> dict:
 
 
 def _decks(s: StageContext) -> dict:
-    from impactdyn.debris import DeckOptions, read_deposition, write_decks
+    from impactdyn.debris import read_deposition, write_decks
 
     s.report("decks", 0, 1)
     wall, deposition, impulse = read_deposition(s.folder.path / "debris" / "debris.h5")
-    files = write_decks(s.folder.sub("decks"), wall, deposition, impulse, DeckOptions.of(s.case))
+    files = write_decks(s.folder.sub("decks"), wall, deposition, impulse, deck_options(s.case))
     s.report("decks", 1, 1)
     return {"files": [f"decks/{name}" for name in files], "n_records": int(deposition.element.size),
             "n_loaded_elements": int(np.count_nonzero(np.abs(impulse).sum(axis=-1)))}
+
+
+def deck_options(case: WhippleCase):
+    """The decks of the wall stage's model: its material model (MAT_013 card, or MAT_015 and
+    its EOS for ``johnson_cook``), hourglass type and bulk viscosity, besides the case's
+    output table (:meth:`impactdyn.debris.DeckOptions.of`)."""
+    from impactdyn.debris import DeckOptions
+    from impactdyn.materials import get_material, mat13_card
+
+    options = case.wall_solver.options(case.wall.clamped_edges)
+    material = (get_material(case.wall.material) if options.material_model == "johnson_cook"
+                else mat13_card(case.wall.material))
+    return replace(DeckOptions.of(case), material=material, hourglass=options.lsdyna_hourglass,
+                   bulk_viscosity=(options.q1, options.q2))
 
 
 def _report(s: StageContext) -> dict:
