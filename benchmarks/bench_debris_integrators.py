@@ -55,7 +55,7 @@ CONFIGURATIONS = [
     DEFAULT,
     ("splitting4", {"steps_per_period": 16}),
     ("slow", {}),
-    ("slow", {"steps_per_period": 24}),
+    ("slow", {"steps_per_period": 48}),
 ]
 
 
