@@ -18,10 +18,11 @@ legacy at eps = 1e-6.
 
 Deposition equivalence (issue 13): with ``--equivalence RUN [RUN ...]`` (Whipple run
 folders with a ``debris/`` stage, e.g. of ``impactdyn whipple run
-examples/whipple/table2_7a.toml``) the debris propagation of each run is repeated
-from its hand-off grid with :data:`DEFAULT` and with each ``--methods`` entry, and
-the script prints the stage's wall time and the L1 difference of the wall's
-element impulses relative to the total impulse (:func:`impulse_difference`).
+examples/whipple/table2_7a.toml``) the debris stage of each run (``run_debris``
+from its hand-off grid: seeding, propagation, deposition) is repeated with the run's
+own integrator, :data:`DEFAULT` and each ``--methods`` entry, and the script prints
+the stage's wall time and the L1 difference of the wall's element impulses relative
+to the total impulse (:func:`impulse_difference`) against DEFAULT.
 """
 
 from __future__ import annotations
@@ -105,7 +106,7 @@ def impulse_difference(impulse, reference) -> float:
 
 
 def deposition_equivalence(run: str, methods: list[str]) -> None:
-    """Repeat the debris propagation of a Whipple run folder with DEFAULT and ``methods``; print times and L1."""
+    """Repeat a Whipple run's debris stage with its own integrator, DEFAULT and ``methods``; print a row each."""
     from pathlib import Path
 
     from impactdyn.debris import build, load_debris_case, run_debris
@@ -113,7 +114,8 @@ def deposition_equivalence(run: str, methods: list[str]) -> None:
     case = load_debris_case(Path(run) / "debris" / "config.resolved.toml")
     kwargs = build(case, source=run)
     own = case.integrator
-    runs = {f"{label(own.method, dict(steps_per_period=own.steps_per_period))} (the run's own)": own}
+    step = {} if own.steps_per_period is None else dict(steps_per_period=own.steps_per_period)
+    runs = {f"{label(own.method, step)} (the run's own)": own}
     for method in [DEFAULT[0], *methods]:  # each at its default step
         runs[label(method, {})] = IntegratorOptions(method=method, max_steps=own.max_steps)
     results = {}
@@ -142,7 +144,8 @@ def main() -> None:
     parser.add_argument("--only", nargs="+", metavar="METHOD", help="time only these methods' configurations")
     args = parser.parse_args()
     if args.equivalence:
-        print("| run | integrator | debris stage wall (s) | steps/particle | failed | L1 impulse difference vs default |")
+        print("| run | integrator | debris stage wall (s) | steps/particle | failed "
+              "| L1 impulse difference vs default |")
         print("|---|---|---|---|---|---|")
         for run in args.equivalence:
             deposition_equivalence(run, args.methods)

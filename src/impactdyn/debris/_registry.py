@@ -6,7 +6,8 @@ An integrator is a function ``(batch, control) -> (states, t_reached, counts)``
 particles into a :class:`ParticleBatch`, builds the :class:`StepControl` from
 its :class:`~impactdyn.debris.IntegratorOptions` and calls it.  The built-in
 integrators register themselves at the bottom of their modules
-(:mod:`._splitting`, :mod:`._rk45`, :mod:`._rk4_doubling`).
+(:mod:`._splitting`, :mod:`._rk45`, :mod:`._rk4_doubling`; :mod:`._slow_manifold`,
+imported by the package's ``__init__``).
 """
 
 from __future__ import annotations

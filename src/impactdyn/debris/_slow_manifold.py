@@ -103,7 +103,7 @@ import numpy as np
 from numba import prange
 
 from impactdyn.debris import _mat3 as m3
-from impactdyn.debris._failure import BUDGET, NAN, OK, state_failure
+from impactdyn.debris._failure import BUDGET, OK, state_failure
 from impactdyn.debris._particle import C_SLICE, P_SLICE, STATE_ROWS, kernel
 from impactdyn.debris._registry import ParticleBatch, StepControl, register_integrator
 
@@ -113,7 +113,7 @@ STEPS_PER_ROTATION = 24.0
 SUZUKI_GAMMA = 1.0 / (4.0 - 4.0 ** (1.0 / 3.0))
 """γ of Suzuki's fourth-order fractal composition of a symmetric second-order step."""
 
-_OK, _NAN, _BUDGET = OK, NAN, BUDGET
+_OK, _BUDGET = OK, BUDGET  # failure codes as compile-time constants
 _ITERATIONS = 60  # cap of the polar, Newton and Jacobi iterations (each converges in a handful)
 
 
@@ -320,7 +320,7 @@ def _advance_one(Y, Jinv, t_end, steps_per_rotation, dt, max_steps):
 
 @kernel(parallel=True)
 def _advance_all(y, Jinv, t_end, steps_per_rotation, dt, max_steps, t_reached, steps, code):
-    """:func:`_advance_one` on every particle of ``y (N, 33)``; Jinv ``(N, 3, 3)``, t_end, dt and the outputs ``(N,)``."""
+    """:func:`_advance_one` on every particle of ``y (N, 33)``; Jinv ``(N, 3, 3)``; t_end, dt, outputs ``(N,)``."""
     for n in prange(y.shape[0]):
         t_reached[n], steps[n], code[n] = _advance_one(y[n].reshape((STATE_ROWS, 3)), Jinv[n], t_end[n],
                                                        steps_per_rotation, dt[n], max_steps)
