@@ -16,7 +16,6 @@ from impactdyn.hydrogrid import HydroGrid
 from impactdyn.debris._legacy import run_legacy
 from impactdyn.debris._integrators import (
     INTEGRATORS, Failure, IntegratorOptions, PropagationStats, propagate, register_integrator)
-from impactdyn.debris import _slow_manifold  # noqa: F401  (registers the "slow" integrator, issue 13)
 from impactdyn.debris._particle import ParticleMaterial, pack_state, state_rates, total_energy, unpack_state
 from impactdyn.debris._debris_h5 import read_deposition
 from impactdyn.debris._decks import DeckOptions, write_decks

@@ -132,13 +132,21 @@ INTEGRATORS: dict[str, IntegratorFn] = {}
 DEFAULT_STEPS_PER_PERIOD: dict[str, float] = {}
 """Steps per 2π/ω̂ of each splitting integrator when none is given."""
 
+AVERAGING: set[str] = set()
+"""Integrators that follow the particles' slow motion only, their elastic ringing averaged out
+(``slow``): they do not converge to the full solution of the state equations as the step
+shrinks, and are checked against the averaged motion instead."""
 
-def register_integrator(name: str):
-    """Decorator adding an :data:`IntegratorFn` to :data:`INTEGRATORS` under ``name``."""
+
+def register_integrator(name: str, averaging: bool = False):
+    """Decorator adding an :data:`IntegratorFn` to :data:`INTEGRATORS` under ``name``
+    (``averaging``: it belongs to :data:`AVERAGING`)."""
     def add(fn: IntegratorFn) -> IntegratorFn:
         if name in INTEGRATORS:
             raise ValueError(f"integrator {name!r} is already registered")
         INTEGRATORS[name] = fn
+        if averaging:
+            AVERAGING.add(name)
         return fn
     return add
 

@@ -326,7 +326,7 @@ def _advance_all(y, Jinv, t_end, steps_per_rotation, dt, max_steps, t_reached, s
                                                        steps_per_rotation, dt[n], max_steps)
 
 
-@register_integrator("slow")
+@register_integrator("slow", averaging=True)
 def integrate(batch: ParticleBatch, control: StepControl):
     """The slow-manifold integrator (module docstring) as an :data:`~._registry.IntegratorFn`."""
     y, t_out, counts = batch.outputs()
