@@ -15,6 +15,9 @@
   steps.  The hourglass strain energy is ½ Σ_e Q_e·q̄_e with q̄_αi = Σ_I γ_αI u_iI from the
   displacements (small strain: the rate form's Q is then K q̄, conservative only if K is
   symmetric — it is the Hessian of the energy the form is derived from).
+* No energy from a yielding element: one brick driven by hand through a closed cycle of its
+  hourglass modes while its mean strain first stands still (elastic step) and then flows
+  plastically; the assumed-strain form's hourglass work at the end of the cycle is ≥ 0.
 The patch test (a linear field gives no hourglass force) runs for every form in
 test_patch.py, the work bookkeeping in test_energy.py.
 """
@@ -26,6 +29,9 @@ from impactdyn import wall
 from impactdyn.wall._hex import brick_hourglass
 from impactdyn.wall._state import IE
 from impactdyn.wallgrid import WallGrid
+
+from impactdyn.materials import AL_6061_T6_MAT13, Mat13Card
+from impactdyn.wall._state import EPS_P, W_HG
 
 from .conftest import ELASTIC_CARD, elastic_model
 
@@ -104,6 +110,55 @@ def test_assumed_strain_energy_conserved_over_2000_steps():
         share.append(hourglass_energy() / e0)
     assert max(share) > 1e-3          # the hourglass forces take part
     assert np.max(np.abs(drift)) < 1e-4
+
+
+def test_assumed_strain_hourglass_cycle_in_a_yielding_element_does_no_negative_work():
+    """A closed hourglass cycle q: 0 → a (the element elastic: its mean strain stands still at
+    the yield surface), a → −a → 0 (the element flowing plastically, tangent ratio r ≈ 0.06).
+    Elastic unloading gives W_hg = ½G a²[r(1 − r) + r(1 − r)²] ≥ 0 per unit stiffness (loading at
+    G_t = rG past zero, unloading at G).  With the element's tangent on every increment (the rule
+    before the stored hourglass stresses, 7b1ef6b) the same cycle gives W_hg = −½(G − G_t)a² < 0:
+    this test FAILS with that rule (W_hg/(½ Q_max a) = −1.20 measured, with 7b1ef6b's _step.py;
+    +0.18 now)."""
+    card = Mat13Card(density=AL_6061_T6_MAT13.density, shear_modulus=AL_6061_T6_MAT13.shear_modulus,
+                     bulk_modulus=AL_6061_T6_MAT13.bulk_modulus, yield_stress=AL_6061_T6_MAT13.yield_stress,
+                     hardening_modulus=0.05, failure_strain=0.0, failure_pressure=-1.0e30)
+    model = wall.Mat13Model(card, source="test: hardening card")
+    grid = WallGrid.uniform((0.0, 0.1), (0.0, 0.1), (0.0, 0.1), (2, 2, 2))
+    mesh = wall.build_mesh(grid, model.density, supports="free")
+    s = wall.WallSolver(mesh, model, wall.WallOptions(supports="free", hourglass="assumed_strain", q1=0.0, q2=0.0))
+    X0 = mesh.coordinates
+    xi, eta, zeta = np.sign(X0 - X0.mean(axis=0)).T
+    # hourglass velocity pattern: mode ξη along x and mode ξηζ along y (no mean strain: q̇ only)
+    pattern = np.stack([xi * eta, xi * eta * zeta, np.zeros_like(xi)], axis=1)
+    dt, n = 0.01, 100
+    amplitude = 5.0e-5                    # cm: hourglass strains ~ 1e-3, elastic-range
+    w = amplitude / (n * dt)
+
+    def run(steps, hourglass_rate, shear_rate):
+        for _ in range(steps):
+            c = s.x.mean(axis=0)
+            s.v[:] = shear_rate * (s.x[:, 1:2] - c[1]) * np.array([1.0, 0.0, 0.0]) + hourglass_rate * pattern
+            s.x[:] += dt * s.v
+            status, _ = s.element_pass(dt, dt)
+            assert status == 0
+
+    run(n, 0.0, 1.0e-2)                   # simple shear to γ = 1 %: yielding (γ_y = 0.6 %)
+    eps_p = s.es[0, EPS_P]
+    assert eps_p > 0.0
+    w0 = s.es[0, W_HG]
+    run(n, w, 0.0)                        # q: 0 → a, the element's steps elastic
+    q_max = np.abs(s.Qhg[0]).max()
+    assert s.es[0, EPS_P] == eps_p
+    run(2 * n, -w, 1.0e-3)                # a → −a, flowing plastically
+    run(n, w, 1.0e-3)                     # −a → 0, flowing plastically
+    assert s.es[0, EPS_P] > eps_p
+    run(1, 0.0, 0.0)                      # at rest: the last force's work completed
+    work = s.es[0, W_HG] - w0
+    assert abs(w0) < 1e-30
+    assert q_max > 0.0
+    scale = 0.5 * q_max * amplitude * 8.0  # ½ Q a with q̄ = 8 q
+    assert work >= 0.0, work / scale
 
 
 @pytest.mark.parametrize("value", ["assumed-strain", "Stiffness", ""])

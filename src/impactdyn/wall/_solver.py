@@ -41,7 +41,7 @@ from impactdyn.wall._mesh import WallMesh, build_mesh
 from impactdyn.wall._models import MODELS, WallModel
 from impactdyn.wall._options import WallOptions, WallSolverError
 from impactdyn.wall._result import HISTORY_KEYS, WallFrame, WallResult
-from impactdyn.wall._state import C, DAMAGE, EPS_P, ERODED, FAILED, N_ES, P, VOL
+from impactdyn.wall._state import C, DAMAGE, EPS_P, ERODED, FAILED, N_ES, N_SHG, P, VOL
 from impactdyn.wall._verdict import WALL, classify, measures, node_categories
 from impactdyn.wallgrid import WallDeposition, WallGrid
 
@@ -96,6 +96,8 @@ class WallSolver:
         self.bad = np.zeros(ne, dtype=np.int8)
         self.Lbuf = np.zeros((ne, 3, 3))
         self.Qhg = np.zeros((ne, 4, 3))
+        # the assumed-strain form's stored hourglass stresses (n_elements, N_SHG), :mod:`._state`
+        self.Shg = np.zeros((ne if options.hourglass == "assumed_strain" else 0, N_SHG))
         self.work = _step.work_arrays(numba.config.NUMBA_NUM_THREADS)
         self.mprm = np.ascontiguousarray(model.kernel_params(), dtype=np.float64)
         self.table = np.ascontiguousarray(model.kernel_table(), dtype=np.float64)
@@ -120,7 +122,8 @@ class WallSolver:
         stepping by hand (verification); returns (status, min Δt_e)."""
         o = self.options
         return _step.element_pass(self.x, self.v, self.mesh.connectivity, self.mesh.volume, self.mesh.element_mass,
-                                  self.S, self.es, self.flags, self.bad, self.Lbuf, self.Qhg, self.F, *self.work,
+                                  self.S, self.es, self.flags, self.bad, self.Lbuf, self.Qhg, self.Shg, self.F,
+                                  *self.work,
                                   self.model.kind, self.mprm, self.table, o.hourglass_form,
                                   o.hourglass_coefficient, o.q1, o.q2, self.model.erodes, self.erode_dt, self.min_dt,
                                   dt, dt_full_prev)
@@ -134,7 +137,7 @@ class WallSolver:
         status, steps = _step.advance(
             t_stop, max_steps, self.clock, self.acc, self.x, self.v, m.node_mass, self.free, self.fixed, self.pext,
             self.rear, self.Fflat, m.node_element_ptr, m.node_element_entry, m.connectivity, m.volume,
-            m.element_mass, self.S, self.es, self.flags, self.bad, self.Lbuf, self.Qhg, self.F, *self.work,
+            m.element_mass, self.S, self.es, self.flags, self.bad, self.Lbuf, self.Qhg, self.Shg, self.F, *self.work,
             self.model.kind, self.mprm, self.table, o.hourglass_form, o.hourglass_coefficient, o.q1,
             o.q2, o.courant, self.model.erodes, self.erode_dt, self.min_dt, ld.time, ld.ptr, ld.node, ld.weight,
             ld.impulse)

@@ -7,7 +7,12 @@ reads and writes one row at a time):
 * ``es`` (n_elements, N_ES) float64 — the scalars below;
 * ``flags`` (n_elements, 2) uint8 — FAILED, ERODED;
 * ``Lbuf`` (n_elements, 3, 3) — the midstep velocity gradient ∂v_i/∂x_j, 1/µs;
-* ``Qhg`` (n_elements, 4, 3) — generalised hourglass forces Q_αi of the last step.
+* ``Qhg`` (n_elements, 4, 3) — generalised hourglass forces Q_αi of the last step;
+* ``Shg`` (n_elements, N_SHG) — the assumed-strain form's hourglass stresses (Mbar), columns
+  SHG_PLANE + 6k … SHG_PLANE + 6k + 5: the plane-stress tensor σ_k of group k = 0, 1, 2 in
+  global axes (xx, yy, zz, xy, yz, zx), SHG_MODE4 + k: the uniaxial stress s_k of mode ξηζ
+  along j_k (:func:`impactdyn.wall._step.assumed_strain_forces`); (0, N_SHG) with the other
+  hourglass forms, which keep no stress.
 
 and :func:`stress_power`, the rates the material models' energy updates share.
 """
@@ -23,6 +28,10 @@ from numba import njit
 #: (g·cm²/µs³, the first half of the next work increment, :mod:`._step`).
 (P, Q, IE, EPS_P, DAMAGE, RATE, C, VOL, W_SIGMA, W_Q, W_HG, W_PLASTIC, DT_E, P1_SIGMA, P1_Q, P1_HG) = range(16)
 N_ES = 16
+
+#: Columns of ``Shg``: σ_k at SHG_PLANE + 6k (6 components each), s_k at SHG_MODE4 + k.
+SHG_PLANE, SHG_MODE4 = 0, 18
+N_SHG = 21
 
 #: Columns of ``flags``.
 FAILED, ERODED = 0, 1

@@ -47,13 +47,15 @@ v = v^{n+½}:
 
       viscous   (LS-DYNA IHQ 2):  Q_αi = a_h q̇_αi,           a_h = QH ρ c V^{2/3} / 4
       stiffness (LS-DYNA IHQ 4):  Q_αi ← Q_αi + κ Δt q̇_αi,   κ = QH ρc² (Σ_iI B_iI²)/(3V) / 8
-      assumed_strain:             Q_α  ← Q_α + ∂U/∂q̄_α (Δq̄ = Δt q̇),  :func:`assumed_strain_increment`
+      assumed_strain:             Q_α = ∂U/∂q̄_α from stored stresses,  :func:`assumed_strain_forces`
       f_hg,iI = Σ_α Q_αi γ_αI
 
   (the stiffness form is FB's, with their 1/√8-normalised γ folded into κ; QH = 0.1 is
   LS-DYNA's default coefficient.  The assumed-strain form, after Belytschko & Bindeman,
   CMAME 105 (1993) 225, takes the element's own bending and twisting stiffness from its
-  current shape and elastic constants, with no coefficient);
+  current shape and elastic constants, with no coefficient; it keeps the hourglass stresses
+  of each element, loads them at the material's tangent and unloads them elastically, so
+  its hourglass work cannot be negative);
 * the element's stable step (Hallquist): Δt_e = L_e / (Q + √(Q² + c²)),
   Q = Q1 L_e|tr d| + Q2 c on compression (0 otherwise), L_e = V/A_max.
 
@@ -96,14 +98,15 @@ import math
 import numpy as np
 from numba import get_thread_id, njit, prange
 
-from impactdyn.constitutive import SHEAR
+from impactdyn.constitutive import C0, RHO0, SHEAR
 from impactdyn.wall._hex import BLOCK, ETA, XI, ZETA, hourglass_shapes, largest_face_area, volume_gradient
 from impactdyn.wall._johnson_cook import jc_update
 from impactdyn.wall._mat13 import KIND as MAT13_KIND
-from impactdyn.wall._mat13 import M_G, mat13_update
+from impactdyn.wall._mat13 import M_G, M_K, mat13_update
 from impactdyn.wall._options import HOURGLASS_FORMS
 from impactdyn.wall._state import (
-    C, DT_E, EPS_P, ERODED, FAILED, P, P1_HG, P1_Q, P1_SIGMA, Q, VOL, W_HG, W_PLASTIC, W_Q, W_SIGMA)
+    C, DT_E, EPS_P, ERODED, FAILED, P, P1_HG, P1_Q, P1_SIGMA, Q, SHG_MODE4, SHG_PLANE, VOL, W_HG, W_PLASTIC, W_Q,
+    W_SIGMA)
 
 #: Codes of the hourglass forms in the kernels (``hg_form``): their index in HOURGLASS_FORMS.
 HG_VISCOUS, HG_STIFFNESS, HG_ASSUMED_STRAIN = (HOURGLASS_FORMS.index(name) for name in
@@ -123,8 +126,11 @@ N_ACC = 8
 
 
 @njit(cache=True, inline="always")
-def _erase(F, es, e):
-    """An eroded element: no forces, no step limit, no pending work."""
+def _erase(F, es, Shg, e):
+    """An eroded element: no forces, no step limit, no pending work, no hourglass stress."""
+    if e < Shg.shape[0]:
+        for c in range(Shg.shape[1]):
+            Shg[e, c] = 0.0
     for a in range(8):
         F[e, a, 0] = 0.0
         F[e, a, 1] = 0.0
@@ -136,7 +142,7 @@ def _erase(F, es, e):
 
 
 #: Rows of the per-thread block vectors ``vec`` of :func:`element_pass`.
-#: V_J: the reciprocal base vectors ∇ξ_m of :func:`assumed_strain_increment`, row V_J + 3m + i.
+#: V_J: the reciprocal base vectors ∇ξ_m of :func:`assumed_strain_forces`, row V_J + 3m + i.
 (V_VOL, V_P2, V_SIG, V_Q, V_OK, V_P1, V_BV, V_LE, V_TMP, V_J) = (0, 1, 2, 8, 9, 10, 11, 12, 13, 17)
 N_VEC = 26
 
@@ -176,22 +182,6 @@ def _in_plane(a, n):
     """(I − n⊗n) a: the part of a in the plane normal to the unit vector n."""
     s = _dot(a, n)
     return (a[0] - s * n[0], a[1] - s * n[1], a[2] - s * n[2])
-
-
-@njit(cache=True, inline="always")
-def _plane_stress(a, b, c, d, n, lam_bar, mu):
-    """(σ b, σ d) of the in-plane strain ε = P sym(a⊗b + c⊗d) P, P = I − n⊗n, in plane stress
-    σ = λ̄ (tr ε) P + 2μ ε (vectors a, b, c, d already in the plane)."""
-    tr = _dot(a, b) + _dot(c, d)
-    bb, db, ab, cb = _dot(b, b), _dot(d, b), _dot(a, b), _dot(c, b)
-    dd, bd, ad, cd = _dot(d, d), _dot(b, d), _dot(a, d), _dot(c, d)
-    sb = (lam_bar * tr * b[0] + mu * (a[0] * bb + b[0] * ab + c[0] * db + d[0] * cb),
-          lam_bar * tr * b[1] + mu * (a[1] * bb + b[1] * ab + c[1] * db + d[1] * cb),
-          lam_bar * tr * b[2] + mu * (a[2] * bb + b[2] * ab + c[2] * db + d[2] * cb))
-    sd = (lam_bar * tr * d[0] + mu * (a[0] * bd + b[0] * ad + c[0] * dd + d[0] * cd),
-          lam_bar * tr * d[1] + mu * (a[1] * bd + b[1] * ad + c[1] * dd + d[1] * cd),
-          lam_bar * tr * d[2] + mu * (a[2] * bd + b[2] * ad + c[2] * dd + d[2] * cd))
-    return sb, sd
 
 
 @njit(cache=True, fastmath={"contract"})
@@ -238,10 +228,24 @@ def tangent_ratio(seq_old, seq_new, dep, shear):
     return min(1.0, max(0.0, (seq_new - seq_old) / trial))
 
 
+@njit(cache=True, inline="always")
+def _lam_bar(lam, mu):
+    """λ̄ = 2λμ/(λ + 2μ): the plane-stress Lamé modulus."""
+    den = lam + 2.0 * mu
+    return 2.0 * lam * mu / den if den > 0.0 else 0.0
+
+
+@njit(cache=True, inline="always")
+def _young(lam, mu):
+    """E = μ(3λ + 2μ)/(λ + μ)."""
+    den = lam + mu
+    return mu * (3.0 * lam + 2.0 * mu) / den if den > 0.0 else 0.0
+
+
 # a plain call from the parallel element pass (inlined, its tuple arithmetic upset numba's parfor analysis)
 @njit(cache=True, fastmath={"contract"})
-def assumed_strain_increment(W, QD, QN, k, dt, vol, lam, mu):
-    """QN[α, :, k] = ΔQ_α, the assumed-strain hourglass force increment of brick k over ``dt``.
+def assumed_strain_forces(W, QD, QN, Shg, L, e, k, dt, vol, lam, shear, ratio):
+    """QN[α, :, k] = Q_α, the assumed-strain hourglass forces of brick k (element e) after ``dt``.
 
     Belytschko & Bindeman, "Assumed strain stabilization of the eight node hexahedral element",
     CMAME 105 (1993) 225 (LS-DYNA IHQ 6), derived here for a parallelepiped with edges a, b, c
@@ -260,43 +264,73 @@ def assumed_strain_increment(W, QD, QN, k, dt, vol, lam, mu):
     components with n_k (the parasitic shear that locks the element in bending); the stress
     normal to n_k is free (σ·n_k = 0: plane stress, which the incompatible modes ξ_k² of
     B&B's QBI element give), so σ_k = λ̄ (tr ε_k) P_k + 2μ ε_k, λ̄ = 2λμ/(λ + 2μ).  Of mode
-    ξηζ keep the normal strains ε = (q_3·j_k) ξ_jξ_l, uniaxial (free in both directions it
-    varies in): σ = E ε, E = μ(3λ + 2μ)/(λ + μ).  With ∫ξ_k² dV = V/3, ∫(ξ_jξ_l)² dV = V/9
-    and the groups orthogonal in L², the hourglass strain energy is
+    ξηζ keep the normal strains e_k = (q_3·j_k) ξ_jξ_l, uniaxial (free in both directions it
+    varies in): s_k = E e_k, E = μ(3λ + 2μ)/(λ + μ).  With ∫ξ_k² dV = V/3, ∫(ξ_jξ_l)² dV = V/9
+    and the groups orthogonal in L², the hourglass strain energy of an elastic element is
 
-        U = Σ_k [ V/6 ε_k : σ_k  +  V/18 E (q_3·j_k)² ]
+        U = Σ_k [ V/6 ε_k : σ_k  +  V/18 (q_3·j_k) s_k ]
 
     — the element's exact energy in pure bending (ε ∝ ξ_k, the beam or plate's linear
     variation through its depth) and twisting at any aspect ratio: bending stiffness
     ∝ E V/a², with a the length along the bending fibre, where FB's κ ∝ ΣB²/V grows with the
-    largest face.  The generalised forces are Q_α = ∂U/∂q̄_α = ⅛ ∂U/∂q_α:
+    largest face.  The generalised forces Q_α = ∂U/∂q̄_α = ⅛ ∂U/∂q_α, written with the stresses:
 
-        ∂U/∂q_j = V/3 σ_k j_l,   ∂U/∂q_l = V/3 σ_k j_j   (summed over the groups k),
-        ∂U/∂q_3 = V/9 E Σ_k (q_3·j_k) j_k
+        Q_j += V/24 σ_k j_l,   Q_l += V/24 σ_k j_j   (over the groups k),
+        Q_3  = V/72 Σ_k s_k j_k
 
-    Rate form (as the stiffness form): ΔQ from Δq = Δt q̇/8 with the current j_k, V and the
-    moduli λ = ρc² − 2G (ρc² the model's elastic longitudinal modulus) and μ = G_t, Q kept in
-    global components.  A linear velocity field has q̇ = 0 (FB's γ), so ΔQ = 0.
+    Stored stresses (total form): the element keeps σ_k (6 components, global axes) and s_k
+    (``Shg``, :mod:`._state`); each step they are rotated with the element's spin (Jaumann,
+    Ω = skew L of the midstep gradient ``L[e]``), σ_k projected on the current plane P_k σ_k P_k,
+    incremented with Δε_k, Δe_k from Δq = Δt q̇/8, and Q is computed from them with the current
+    j_k and V as above.  A linear velocity field has q̇ = 0 (FB's γ), so nothing changes.
+    λ = K₀ − 2G/3 is the model's reference (undeformed) Lamé constant, fixed, so the elastic
+    moduli do not change with compression.
 
-    μ = G_t = G · :func:`tangent_ratio` follows the step's return mapping: the hourglass strain
-    is the strain's variation inside the element, which in a yielding element loads along with
-    its mean strain at the material's tangent (CalculiX's C3D8R scales its hourglass stiffness
-    by the current tangent C₁₁₁₁ likewise); with the elastic G the plastically bending plate of
-    benchmarks/verify_wall_calculix.py kept its hourglass energy elastic and came out 30 % stiff
-    (0.177 cm against 0.249 at h 0.1).  Known flaw: the ratio is the element's, not the mode's
-    loading state, so a mode loaded at a small tangent and unloaded at the elastic one in a
-    later elastic step gives back more than it stored (negative hourglass work on the synthetic
-    deposition load); an elastic unloading rule per mode (Q·ΔQ < 0: G) would remove it.
+    Moduli, loading and unloading: μ follows the step's return mapping, μ_t = G·``ratio``
+    (:func:`tangent_ratio`): the hourglass strain is the strain's variation inside the element,
+    which in a yielding element loads along with its mean strain at the material's tangent
+    (CalculiX's C3D8R scales its hourglass stiffness by the current tangent C₁₁₁₁ likewise);
+    with the elastic G the plastically bending plate of benchmarks/verify_wall_calculix.py kept
+    its hourglass energy elastic and came out 30 % stiff (0.177 cm against 0.249 at h 0.1).
+    The tangent is used only for LOADING increments; unloading uses the elastic moduli, the
+    rule of an elastic–hardening spring.  The plane-stress tangent is not proportional to the
+    elastic one (λ̄(μ) + μ and μ scale differently), so σ_k is split into its two eigenparts
+    under C = λ̄ P⊗P + 2μ 𝕀: the in-plane spherical part ½(tr σ_k) P_k (modulus 2(λ̄ + μ) on
+    ½(tr ε) P) and the in-plane deviator (modulus 2μ), and each part is tested on its own:
+
+        spherical:  loading if tr σ_k · tr Δε_k ≥ 0   → λ̄_t + μ_t,   else λ̄_e + G
+        deviator:   loading if σ'_k : Δε'_k ≥ 0        → μ_t,         else G
+        mode ξηζ:   loading if s_k Δe_k ≥ 0            → E(μ_t),      else E(G)
+
+    (σ_k the stored stress before the increment; a step that crosses zero is an unloading
+    step, elastic throughout; from zero stress it loads.)  λ̄(μ) + μ and E(μ) increase with μ,
+    so every loading slope is at most its unloading slope.  Why the form cannot create energy:
+    for each part, with elastic stiffness c_e and D = W − σ²/(2c_e) (W the work Q·dq done on
+    it, σ²/(2c_e) the elastic energy its stress would give back), dD = σ dε (1 − c/c_e): zero
+    when unloading (c = c_e), ≥ 0 when loading (σ dε ≥ 0, c ≤ c_e).  So D never decreases:
+    from a stress-free start W ≥ σ²/(2c_e) ≥ 0 at every instant, and over any closed path in q
+    ∮Q·dq ≥ 0 — at fixed geometry (j_k, V) and up to the time discretisation of the work.  (With
+    the element's tangent applied to unloading as well, a mode loaded at G and unloaded at a
+    small plastic tangent gave back more than it stored: −10 % of the internal energy as
+    hourglass work with mat13, −470 % with johnson_cook, on the synthetic deposition load of
+    benchmarks/bench_wall.py; tests/wall/test_hourglass_forms.py drives that cycle.)
     """
     f = 0.125 * dt
     jv = ((W[V_J, k], W[V_J + 1, k], W[V_J + 2, k]), (W[V_J + 3, k], W[V_J + 4, k], W[V_J + 5, k]),
           (W[V_J + 6, k], W[V_J + 7, k], W[V_J + 8, k]))
     dq = ((f * QD[0, 0, k], f * QD[0, 1, k], f * QD[0, 2, k]), (f * QD[1, 0, k], f * QD[1, 1, k], f * QD[1, 2, k]),
           (f * QD[2, 0, k], f * QD[2, 1, k], f * QD[2, 2, k]), (f * QD[3, 0, k], f * QD[3, 1, k], f * QD[3, 2, k]))
-    lam_bar = 2.0 * lam * mu / (lam + 2.0 * mu)
-    young = mu * (3.0 * lam + 2.0 * mu) / (lam + mu)
-    w1 = vol / 3.0 / 8.0
-    w4 = vol / 9.0 / 8.0 * young
+    mu_t = shear * ratio
+    kb_e = _lam_bar(lam, shear) + shear
+    kb_t = _lam_bar(lam, mu_t) + mu_t
+    y_e = _young(lam, shear)
+    y_t = _young(lam, mu_t)
+    # the element's spin over the step, Δt Ω
+    wxy = 0.5 * dt * (L[e, 0, 1] - L[e, 1, 0])
+    wyz = 0.5 * dt * (L[e, 1, 2] - L[e, 2, 1])
+    wxz = 0.5 * dt * (L[e, 0, 2] - L[e, 2, 0])
+    w1 = vol / 24.0
+    w4 = vol / 72.0
     for al in range(4):
         for i in range(3):
             QN[al, i, k] = 0.0
@@ -304,14 +338,70 @@ def assumed_strain_increment(W, QD, QN, k, dt, vol, lam, mu):
         j, l = (g + 1) % 3, (g + 2) % 3
         jg = jv[g]
         r = 1.0 / math.sqrt(_dot(jg, jg))
-        n = (jg[0] * r, jg[1] * r, jg[2] * r)
-        sb, sd = _plane_stress(_in_plane(dq[j], n), _in_plane(jv[l], n), _in_plane(dq[l], n), _in_plane(jv[j], n),
-                               n, lam_bar, mu)
+        n0, n1, n2 = jg[0] * r, jg[1] * r, jg[2] * r
+        n = (n0, n1, n2)
+        c0 = SHG_PLANE + 6 * g
+        sxx, syy, szz = Shg[e, c0], Shg[e, c0 + 1], Shg[e, c0 + 2]
+        sxy, syz, szx = Shg[e, c0 + 3], Shg[e, c0 + 4], Shg[e, c0 + 5]
+        # rotated with the spin: σ + Δt (Ωσ − σΩ) (as :func:`impactdyn.constitutive.jaumann_rate`)
+        rxx = 2.0 * (wxy * sxy + wxz * szx)
+        ryy = 2.0 * (wyz * syz - wxy * sxy)
+        rzz = -2.0 * (wxz * szx + wyz * syz)
+        rxy = wxy * (syy - sxx) + wxz * syz + wyz * szx
+        ryz = wyz * (szz - syy) - wxy * szx - wxz * sxy
+        rzx = wxz * (szz - sxx) - wyz * sxy + wxy * syz
+        sxx, syy, szz, sxy, syz, szx = sxx + rxx, syy + ryy, szz + rzz, sxy + rxy, syz + ryz, szx + rzx
+        # on the current plane: P σ P = σ − n⊗t − t⊗n + (n·t) n⊗n, t = σ n
+        t0 = sxx * n0 + sxy * n1 + szx * n2
+        t1 = sxy * n0 + syy * n1 + syz * n2
+        t2 = szx * n0 + syz * n1 + szz * n2
+        tn = t0 * n0 + t1 * n1 + t2 * n2
+        sxx += tn * n0 * n0 - 2.0 * n0 * t0
+        syy += tn * n1 * n1 - 2.0 * n1 * t1
+        szz += tn * n2 * n2 - 2.0 * n2 * t2
+        sxy += tn * n0 * n1 - n0 * t1 - t0 * n1
+        syz += tn * n1 * n2 - n1 * t2 - t1 * n2
+        szx += tn * n2 * n0 - n2 * t0 - t2 * n0
+        # the strain increment Δε = sym(a⊗b + c⊗d) of in-plane a = P Δq_j, b = P j_l, c = P Δq_l, d = P j_j
+        a, b = _in_plane(dq[j], n), _in_plane(jv[l], n)
+        c, d = _in_plane(dq[l], n), _in_plane(jv[j], n)
+        exx = a[0] * b[0] + c[0] * d[0]
+        eyy = a[1] * b[1] + c[1] * d[1]
+        ezz = a[2] * b[2] + c[2] * d[2]
+        exy = 0.5 * (a[0] * b[1] + b[0] * a[1] + c[0] * d[1] + d[0] * c[1])
+        eyz = 0.5 * (a[1] * b[2] + b[1] * a[2] + c[1] * d[2] + d[1] * c[2])
+        ezx = 0.5 * (a[2] * b[0] + b[2] * a[0] + c[2] * d[0] + d[2] * c[0])
+        tre = exx + eyy + ezz
+        trs = sxx + syy + szz
+        # σ':Δε' = σ:Δε − ½ tr σ tr Δε (both in the plane, P:P = 2)
+        dev = sxx * exx + syy * eyy + szz * ezz + 2.0 * (sxy * exy + syz * eyz + szx * ezx) - 0.5 * trs * tre
+        kb = kb_t if trs * tre >= 0.0 else kb_e
+        mu = mu_t if dev >= 0.0 else shear
+        # Δσ = (λ̄ + μ)_s tr Δε P + 2μ_d (Δε − ½ tr Δε P)
+        cp = (kb - mu) * tre
+        sxx += 2.0 * mu * exx + cp * (1.0 - n0 * n0)
+        syy += 2.0 * mu * eyy + cp * (1.0 - n1 * n1)
+        szz += 2.0 * mu * ezz + cp * (1.0 - n2 * n2)
+        sxy += 2.0 * mu * exy - cp * n0 * n1
+        syz += 2.0 * mu * eyz - cp * n1 * n2
+        szx += 2.0 * mu * ezx - cp * n2 * n0
+        Shg[e, c0], Shg[e, c0 + 1], Shg[e, c0 + 2] = sxx, syy, szz
+        Shg[e, c0 + 3], Shg[e, c0 + 4], Shg[e, c0 + 5] = sxy, syz, szx
+        # Q_j += V/24 σ j_l, Q_l += V/24 σ j_j (σ in the plane: σ j = σ P j)
+        jl, jj = jv[l], jv[j]
+        QN[j, 0, k] += w1 * (sxx * jl[0] + sxy * jl[1] + szx * jl[2])
+        QN[j, 1, k] += w1 * (sxy * jl[0] + syy * jl[1] + syz * jl[2])
+        QN[j, 2, k] += w1 * (szx * jl[0] + syz * jl[1] + szz * jl[2])
+        QN[l, 0, k] += w1 * (sxx * jj[0] + sxy * jj[1] + szx * jj[2])
+        QN[l, 1, k] += w1 * (sxy * jj[0] + syy * jj[1] + syz * jj[2])
+        QN[l, 2, k] += w1 * (szx * jj[0] + syz * jj[1] + szz * jj[2])
+        # mode ξηζ along j_k: s_k += E Δe_k, Q_3 += V/72 s_k j_k
         e4 = _dot(dq[3], jg)
+        s4 = Shg[e, SHG_MODE4 + g]
+        s4 += (y_t if s4 * e4 >= 0.0 else y_e) * e4
+        Shg[e, SHG_MODE4 + g] = s4
         for i in range(3):
-            QN[j, i, k] += w1 * sb[i]
-            QN[l, i, k] += w1 * sd[i]
-            QN[3, i, k] += w4 * e4 * jg[i]
+            QN[3, i, k] += w4 * s4 * jg[i]
 
 
 def work_arrays(n_threads: int) -> tuple[np.ndarray, ...]:
@@ -323,12 +413,12 @@ def work_arrays(n_threads: int) -> tuple[np.ndarray, ...]:
 
 # fastmath 'contract' only: fused multiply-adds (5 % faster), no change to NaN/inf semantics
 @njit(parallel=True, cache=True, fastmath={"contract"})
-def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, F, geo, hgs, hgf, lb, vec, kind, mprm, table,
-                 hg_form, qh, q1, q2, erode_failed, erode_dt, min_dt, dt, dt_full_prev):
+def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, geo, hgs, hgf, lb, vec, kind, mprm,
+                 table, hg_form, qh, q1, q2, erode_failed, erode_dt, min_dt, dt, dt_full_prev):
     """Stress update and nodal forces of every element over the half step Δt = ``dt`` (module docstring).
 
     x (n_nodes, 3) at the step's end, v (n_nodes, 3) the half-step velocities v^{n+½}; element
-    state S, es, flags, Lbuf, Qhg (:mod:`._state`) updated in place; F (n_elements, 8, 3) holds
+    state S, es, flags, Lbuf, Qhg, Shg (:mod:`._state`) updated in place; F (n_elements, 8, 3) holds
     the previous forces f^n on entry and receives f^{n+1} = f_int + f_hg.  ``dt_full_prev`` is
     Δt^n, the interval the previous forces acted over (their work is completed here).
     ``hg_form`` is one of HG_VISCOUS, HG_STIFFNESS, HG_ASSUMED_STRAIN (``qh``: the coefficient of
@@ -351,7 +441,13 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, F, geo, 
     status = 0
     dtmin = np.inf
     half = 0.5 * dt_full_prev
-    shear = mprm[M_G] if kind == MAT13_KIND else table[0, SHEAR]   # G of the assumed-strain form
+    # G and the reference λ = K₀ − 2G/3 of the assumed-strain form
+    if kind == MAT13_KIND:
+        shear = mprm[M_G]
+        lam0 = mprm[M_K] - 2.0 / 3.0 * shear
+    else:
+        shear = table[0, SHEAR]
+        lam0 = table[0, RHO0] * table[0, C0] ** 2 - 2.0 / 3.0 * shear
     for blk in prange((ne + BLOCK - 1) // BLOCK):
         tid = get_thread_id()
         X, V, B, FS = geo[tid, 0], geo[tid, 1], geo[tid, 2], geo[tid, 3]
@@ -404,7 +500,7 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, F, geo, 
             p2 = W[V_P2, k]
             if not (vol > 0.0 and vbar > 0.0):
                 es[e, W_SIGMA] += half * (es[e, P1_SIGMA] + es[e, P1_Q] + es[e, P1_HG] + p2)
-                _erase(F, es, e)
+                _erase(F, es, Shg, e)
                 if flags[e, FAILED] != 0:
                     flags[e, ERODED] = 1
                 else:
@@ -439,10 +535,11 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, F, geo, 
             es[e, Q] = q
             es[e, VOL] = vol
             es[e, W_PLASTIC] += dwp
-            # generalised hourglass forces Q_αi: QN ← the viscous force or the stiffness form's increment
+            # generalised hourglass forces Q_αi: QN ← the viscous force, the stiffness form's increment
+            # or the assumed-strain form's forces
             if hg_form == HG_ASSUMED_STRAIN:
-                mu_t = shear * tangent_ratio(seq_old, von_mises(S, e), es[e, EPS_P] - eps_p_old, shear)
-                assumed_strain_increment(W, QD, QN, k, dt, vol, rho * c * c - 2.0 * shear, mu_t)
+                ratio = tangent_ratio(seq_old, von_mises(S, e), es[e, EPS_P] - eps_p_old, shear)
+                assumed_strain_forces(W, QD, QN, Shg, Lbuf, e, k, dt, vol, lam0, shear, ratio)
             else:
                 if hg_form == HG_STIFFNESS:
                     bb = 0.0
@@ -458,7 +555,7 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, F, geo, 
             p1_hg = 0.0
             for al in range(4):
                 for i in range(3):
-                    qnew = (0.0 if hg_form == HG_VISCOUS else Qhg[e, al, i]) + QN[al, i, k]
+                    qnew = (Qhg[e, al, i] if hg_form == HG_STIFFNESS else 0.0) + QN[al, i, k]
                     Qhg[e, al, i] = qnew
                     QN[al, i, k] = qnew
                     p1_hg += qnew * QD[al, i, k]
@@ -515,7 +612,7 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, F, geo, 
             es[e, DT_E] = dte
             if flags[e, FAILED] != 0 and (erode_failed or dte < erode_dt):
                 flags[e, ERODED] = 1
-                _erase(F, es, e)
+                _erase(F, es, Shg, e)
                 continue
             if dte < min_dt:
                 bad[e] = BAD_STEP
@@ -609,7 +706,7 @@ def _clear_loads(c0, c1, rec_ptr, rec_node, pext):
 
 @njit(cache=True)
 def advance(t_stop, max_steps, clock, acc, x, v, mass, free, fixed, pext, rear, Fflat, ptr, entry, conn, vol0,
-            emass, S, es, flags, bad, Lbuf, Qhg, F, geo, hgs, hgf, lb, vec, kind, mprm, table, hg_form, qh, q1,
+            emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, geo, hgs, hgf, lb, vec, kind, mprm, table, hg_form, qh, q1,
             q2, courant, erode_failed, erode_dt, min_dt, rec_time, rec_ptr, rec_node, rec_weight, rec_imp):
     """Steps from t^n (element pass done) until t ≥ ``t_stop`` or ``max_steps`` steps (module docstring).
 
@@ -632,7 +729,7 @@ def advance(t_stop, max_steps, clock, acc, x, v, mass, free, fixed, pext, rear, 
         clock[T_NOW] += clock[DT_NEXT]
         clock[DT_PREV] = clock[DT_NEXT]
         clock[DT_FULL] = dt_full
-        status, dtmin = element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, F, geo, hgs, hgf, lb,
+        status, dtmin = element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, geo, hgs, hgf, lb,
                                      vec, kind, mprm, table, hg_form, qh, q1, q2, erode_failed, erode_dt, min_dt,
                                      clock[DT_PREV], dt_full)
         steps += 1
