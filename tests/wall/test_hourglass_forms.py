@@ -83,15 +83,15 @@ def test_stiffness_form_is_too_stiff_in_bending_of_flat_elements():
     assert ratio > 1.06
 
 
-def test_assumed_strain_energy_conserved_over_2000_steps():
-    model = elastic_model("mat13")
+def test_assumed_strain_energy_conserved_over_2000_steps(model_name):
+    model = elastic_model(model_name)
     grid = WallGrid.uniform((0.0, 0.4), (0.0, 0.12), (0.0, 0.4), (5, 4, 5))
     mesh = wall.build_mesh(grid, model.density, supports="free")
     X = mesh.coordinates
     rng = np.random.default_rng(1)
     v0 = 1.0e-6 * np.stack([np.sin(np.pi * X[:, 1] / 0.12), np.cos(np.pi * X[:, 0] / 0.4),
                             0.5 * np.sin(np.pi * X[:, 2] / 0.4)], axis=1) + 3.0e-7 * rng.normal(size=X.shape)
-    options = wall.WallOptions(supports="free", hourglass="assumed_strain", q1=0.0, q2=0.0)
+    options = wall.WallOptions(supports="free", material_model=model_name, hourglass="assumed_strain", q1=0.0, q2=0.0)
     s = wall.WallSolver(mesh, model, options, velocity=v0)
     conn = mesh.connectivity
 
@@ -112,14 +112,9 @@ def test_assumed_strain_energy_conserved_over_2000_steps():
     assert np.max(np.abs(drift)) < 1e-4
 
 
-def test_assumed_strain_hourglass_cycle_in_a_yielding_element_does_no_negative_work():
-    """A closed hourglass cycle q: 0 → a (the element elastic: its mean strain stands still at
-    the yield surface), a → −a → 0 (the element flowing plastically, tangent ratio r ≈ 0.06).
-    Elastic unloading gives W_hg = ½G a²[r(1 − r) + r(1 − r)²] ≥ 0 per unit stiffness (loading at
-    G_t = rG past zero, unloading at G).  With the element's tangent on every increment (the rule
-    before the stored hourglass stresses, 7b1ef6b) the same cycle gives W_hg = −½(G − G_t)a² < 0:
-    this test FAILS with that rule (W_hg/(½ Q_max a) = −1.20 measured, with 7b1ef6b's _step.py;
-    +0.18 now)."""
+def yielding_brick():
+    """One linearly hardening brick and ``run(steps, hourglass_rate, shear_rate)``, which drives
+    it with a simple shear plus the hourglass pattern of mode ξη along x and ξηζ along y."""
     card = Mat13Card(density=AL_6061_T6_MAT13.density, shear_modulus=AL_6061_T6_MAT13.shear_modulus,
                      bulk_modulus=AL_6061_T6_MAT13.bulk_modulus, yield_stress=AL_6061_T6_MAT13.yield_stress,
                      hardening_modulus=0.05, failure_strain=0.0, failure_pressure=-1.0e30)
@@ -129,11 +124,8 @@ def test_assumed_strain_hourglass_cycle_in_a_yielding_element_does_no_negative_w
     s = wall.WallSolver(mesh, model, wall.WallOptions(supports="free", hourglass="assumed_strain", q1=0.0, q2=0.0))
     X0 = mesh.coordinates
     xi, eta, zeta = np.sign(X0 - X0.mean(axis=0)).T
-    # hourglass velocity pattern: mode ξη along x and mode ξηζ along y (no mean strain: q̇ only)
     pattern = np.stack([xi * eta, xi * eta * zeta, np.zeros_like(xi)], axis=1)
-    dt, n = 0.01, 100
-    amplitude = 5.0e-5                    # cm: hourglass strains ~ 1e-3, elastic-range
-    w = amplitude / (n * dt)
+    dt = 0.01
 
     def run(steps, hourglass_rate, shear_rate):
         for _ in range(steps):
@@ -142,6 +134,41 @@ def test_assumed_strain_hourglass_cycle_in_a_yielding_element_does_no_negative_w
             s.x[:] += dt * s.v
             status, _ = s.element_pass(dt, dt)
             assert status == 0
+
+    return s, run
+
+
+def test_assumed_strain_hourglass_stress_is_bounded_by_the_flow_stress():
+    """In a flowing element each stored hourglass stress is scaled back onto the flow stress:
+    von Mises of σ_k and |s_k| ≤ σ_eq.  Loaded while the element's mean strain is elastic, the
+    hourglass strain here (~3 %) gives hourglass stresses several times the yield stress, which
+    stay without the bound once the element flows (this test fails without it)."""
+    s, run = yielding_brick()
+    run(100, 1.5e-3, 0.0)                 # hourglass loading, the element's mean strain elastic
+    run(100, 0.0, 1.0e-2)                 # then the element yields and flows
+    S = s.S[0]
+    seq = np.sqrt(1.5 * (S[0] ** 2 + S[1] ** 2 + S[2] ** 2) + 3.0 * (S[3] ** 2 + S[4] ** 2 + S[5] ** 2))
+    h = s.Shg[0]
+    for g in range(3):
+        t = h[6 * g:6 * g + 6]
+        dev = t[:3] - t[:3].mean()
+        vm = np.sqrt(1.5 * np.sum(dev ** 2) + 3.0 * np.sum(t[3:] ** 2))
+        assert vm <= seq * (1 + 1e-12)
+    assert np.abs(h[18:]).max() <= seq * (1 + 1e-12)
+    assert np.abs(h).max() > 0.5 * seq       # the bound is active, not trivially met
+
+
+def test_assumed_strain_hourglass_cycle_in_a_yielding_element_does_no_negative_work():
+    """A closed hourglass cycle q: 0 → a (the element elastic: its mean strain stands still at
+    the yield surface), a → −a → 0 (the element flowing plastically, tangent ratio r ≈ 0.06).
+    Elastic unloading gives W_hg = ½G a²[r(1 − r) + r(1 − r)²] ≥ 0 per unit stiffness (loading at
+    G_t = rG past zero, unloading at G).  With the element's tangent on every increment (the rule
+    before the stored hourglass stresses, 7b1ef6b) the same cycle gives W_hg = −½(G − G_t)a² < 0:
+    this test FAILS with that rule (W_hg/(½ Q_max a) = −1.20 measured, with 7b1ef6b's _step.py;
+    +0.18 now)."""
+    s, run = yielding_brick()
+    n, amplitude = 100, 5.0e-5            # cm: hourglass strains ~ 1e-3, elastic-range
+    w = amplitude / (n * 0.01)
 
     run(n, 0.0, 1.0e-2)                   # simple shear to γ = 1 %: yielding (γ_y = 0.6 %)
     eps_p = s.es[0, EPS_P]

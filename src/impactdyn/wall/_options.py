@@ -33,18 +33,21 @@ class WallOptions:
     material_model : a registered model name (:data:`impactdyn.wall.MODELS`): "mat13"
         (the report's DYNA3D type 13) or "johnson_cook".
     supports : "dyngen" (DYNGEN's edge codes), "clamped", "free" or "uniaxial" (:mod:`._mesh`).
-    hourglass : "stiffness" or "viscous" (Flanagan–Belytschko forms) or "assumed_strain"
-        (Belytschko–Bindeman: the element's own bending/twisting stiffness, following the
-        material's tangent, :mod:`._step`).  The stiffness form by default: under the
-        deposition's node-by-node impulses the viscous form took 55–75 % of the internal
-        energy as hourglass work on the report's wall, the stiffness form 4–7 % (synthetic
-        7-km/s-like loads, both models; 9–15 % measured again later).  The assumed-strain
-        form keeps each element's hourglass stresses, loads them at the material's tangent and
-        unloads them elastically, so its hourglass work cannot be negative; it is mesh-converged
-        on the clamped-plate check (0.244 cm at h 0.1, 0.249 at 0.05) but not the default: on the
-        synthetic load its hourglass work is 25–39 % of the internal energy with mat13
-        (dissipated in yielding elements: above the 5 % the rule for the default asked), see
-        benchmarks/BENCHMARKS.md.
+    hourglass : "assumed_strain" (default; Belytschko–Bindeman: the element's own bending and
+        twisting stiffness, loaded at the material's tangent, unloaded elastically, bounded by
+        the flow stress in yielding elements, :mod:`._step`) or the Flanagan–Belytschko forms
+        "stiffness" and "viscous".  Why the default (benchmarks/BENCHMARKS.md, wall sections):
+        on the clamped-plate check it is mesh-converged (0.244 / 0.249 / 0.251 cm at h 0.1 /
+        0.05 / 0.025) and within 5 % of CalculiX (+0.2 % at h 0.1), where the stiffness form
+        with QH 0.1 gave 0.117 / 0.226 / 0.241 (−52 % against CalculiX): its κ ∝ ΣB²/V grows
+        with the largest face and over-stiffens the bending of elements flat in the thickness.
+        On the ``table2_7a`` wall both forms give the same bulge within 1 % (0.353 / 0.349 cm);
+        on the 0.16-cm wall of test shot A1603 (elements 4:1 flat) the hourglass work is 6 % of
+        the internal energy against the stiffness form's 29 %.  What it costs: it keeps 21
+        stresses per element and is ~30 % slower per step; its hourglass work — the element's
+        own bending energy, not a spurious mode's — is 5.8 % of the internal energy on 7a
+        (stiffness 2.1 %) and 17 % on the synthetic 7-km/s-like load of benchmarks/bench_wall.py
+        at 40 µs (stiffness 11 %).  The viscous form took 55–75 % there.
     hourglass_coefficient : QH of the Flanagan–Belytschko forms (LS-DYNA's default 0.1); the
         assumed-strain form has no coefficient.
     q1, q2 : quadratic and linear bulk-viscosity coefficients (LS-DYNA's 1.5, 0.06).
@@ -74,7 +77,7 @@ class WallOptions:
     refinement_plane: int = 1
     material_model: str = "mat13"
     supports: str = "dyngen"
-    hourglass: str = "stiffness"
+    hourglass: str = "assumed_strain"
     hourglass_coefficient: float = 0.1
     q1: float = 1.5
     q2: float = 0.06
