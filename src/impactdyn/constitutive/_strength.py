@@ -29,6 +29,15 @@ from numba import njit
 from impactdyn.constitutive._eos import HAS_JC, JC_A, JC_B, JC_C, JC_M, JC_N, JC_RATE0, JC_TMELT, JC_TROOM, YIELD
 
 
+@njit(cache=True, inline="always")
+def spin_terms(sxx, syy, szz, sxy, syz, szx, wxy, wyz, wxz):
+    """The spin terms Ω S − S Ω of the Jaumann rate (xx, yy, zz, xy, yz, zx) of a symmetric S
+    and the spin Ω with Ω_xy = wxy, Ω_yz = wyz, Ω_xz = wxz (= Ω S + (Ω S)ᵀ)."""
+    return (2.0 * (wxy * sxy + wxz * szx), 2.0 * (wyz * syz - wxy * sxy), -2.0 * (wxz * szx + wyz * syz),
+            wxy * (syy - sxx) + wxz * syz + wyz * szx, wyz * (szz - syy) - wxy * szx - wxz * sxy,
+            wxz * (szz - sxx) - wyz * sxy + wxy * syz)
+
+
 # not inlined (unlike the functions below): inlined into a prange loop, its nested-tuple result trips numba's
 # parfor array analysis (numba 0.68)
 @njit(cache=True)
@@ -46,13 +55,7 @@ def jaumann_rate(sxx, syy, szz, sxy, syz, szx, L, i, G):
     wxz = 0.5 * (L[i, 0, 2] - L[i, 2, 0])
     tr3 = (dxx + dyy + dzz) / 3.0
     exx, eyy, ezz = dxx - tr3, dyy - tr3, dzz - tr3
-    # (Ω S − S Ω) = Ω S + (Ω S)ᵀ for symmetric S and antisymmetric Ω
-    rxx = 2.0 * (wxy * sxy + wxz * szx)
-    ryy = 2.0 * (wyz * syz - wxy * sxy)
-    rzz = -2.0 * (wxz * szx + wyz * syz)
-    rxy = wxy * (syy - sxx) + wxz * syz + wyz * szx
-    ryz = wyz * (szz - syy) - wxy * szx - wxz * sxy
-    rzx = wxz * (szz - sxx) - wyz * sxy + wxy * syz
+    rxx, ryy, rzz, rxy, ryz, rzx = spin_terms(sxx, syy, szz, sxy, syz, szx, wxy, wyz, wxz)
     rate = math.sqrt(2.0 / 3.0 * (exx * exx + eyy * eyy + ezz * ezz + 2.0 * (dxy * dxy + dyz * dyz + dzx * dzx)))
     return ((2.0 * G * exx + rxx, 2.0 * G * eyy + ryy, 2.0 * G * ezz + rzz,
              2.0 * G * dxy + rxy, 2.0 * G * dyz + ryz, 2.0 * G * dzx + rzx), rate)

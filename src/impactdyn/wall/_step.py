@@ -98,7 +98,7 @@ import math
 import numpy as np
 from numba import get_thread_id, njit, prange
 
-from impactdyn.constitutive import C0, RHO0, SHEAR, von_mises
+from impactdyn.constitutive import C0, RHO0, SHEAR, spin_terms, von_mises
 from impactdyn.wall._hex import BLOCK, ETA, XI, ZETA, hourglass_shapes, largest_face_area, volume_gradient
 from impactdyn.wall._johnson_cook import jc_update
 from impactdyn.wall._mat13 import KIND as MAT13_KIND
@@ -347,12 +347,7 @@ def assumed_strain_forces(W, QD, QN, Shg, L, e, k, dt, vol, lam, shear, ratio, f
         sxx, syy, szz = Shg[e, c0], Shg[e, c0 + 1], Shg[e, c0 + 2]
         sxy, syz, szx = Shg[e, c0 + 3], Shg[e, c0 + 4], Shg[e, c0 + 5]
         # rotated with the spin: σ + Δt (Ωσ − σΩ) (as :func:`impactdyn.constitutive.jaumann_rate`)
-        rxx = 2.0 * (wxy * sxy + wxz * szx)
-        ryy = 2.0 * (wyz * syz - wxy * sxy)
-        rzz = -2.0 * (wxz * szx + wyz * syz)
-        rxy = wxy * (syy - sxx) + wxz * syz + wyz * szx
-        ryz = wyz * (szz - syy) - wxy * szx - wxz * sxy
-        rzx = wxz * (szz - sxx) - wyz * sxy + wxy * syz
+        rxx, ryy, rzz, rxy, ryz, rzx = spin_terms(sxx, syy, szz, sxy, syz, szx, wxy, wyz, wxz)
         sxx, syy, szz, sxy, syz, szx = sxx + rxx, syy + ryy, szz + rzz, sxy + rxy, syz + ryz, szx + rzx
         # on the current plane: P σ P = σ − n⊗t − t⊗n + (n·t) n⊗n, t = σ n
         t0 = sxx * n0 + sxy * n1 + szx * n2
