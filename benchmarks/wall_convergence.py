@@ -1,0 +1,77 @@
+"""The wall stage's mesh and load-spread study on a finished Whipple run (issue 11 acceptance).
+
+Reruns only the wall solver on the run's deposition (``debris/debris.h5``) with the case's
+wall settings, then with each variant: 2× refinement through the thickness and in the plane,
+and each other load spread (:data:`impactdyn.wall.SPREADS`).  Prints, for every variant, the
+verdict, crater depth / wall thickness, rear bulge, failed and eroded mass, hourglass /
+internal energy and the change of bulge and crater depth against the case's own settings;
+``--json FILE`` keeps them.  The acceptance: the same verdict on every row, and bulge and
+crater depth within 10 % at 2× refinement.
+
+    OMP_WAIT_POLICY=passive python benchmarks/wall_convergence.py RUN_FOLDER [--json FILE]
+        [--refinement 2] [--no-spreads]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from dataclasses import replace
+from pathlib import Path
+
+from impactdyn.debris import read_deposition
+from impactdyn.wall import SPREADS, run_wall
+from impactdyn.whipple import load_whipple_case
+
+KEYS = ("crater_depth_ratio", "rear_bulge_cm", "failed_mass_g", "eroded_mass_g", "hourglass_to_internal",
+        "end_time_us", "steps")
+
+
+def rerun_wall(run: Path, **changes) -> dict:
+    """The wall stage of a finished run again, with ``changes`` to its wall options: the verdict,
+    :data:`KEYS` of the measures and the wall time; nothing is written."""
+    case = load_whipple_case(run / "case.toml")
+    wall, deposition, _ = read_deposition(run / "debris" / "debris.h5")
+    options = replace(case.wall_solver.options(case.wall.clamped_edges), output_interval_us=None, **changes)
+    tick = time.perf_counter()
+    result = run_wall(wall, deposition, case.wall.material, options)
+    return {"verdict": result.verdict, **{k: result.measures[k] for k in KEYS},
+            "wall_time_s": time.perf_counter() - tick}
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("run", type=Path)
+    ap.add_argument("--refinement", type=int, default=2)
+    ap.add_argument("--no-spreads", action="store_true")
+    ap.add_argument("--json", type=Path)
+    args = ap.parse_args()
+    case = load_whipple_case(args.run / "case.toml")
+    base = case.wall_solver.options(case.wall.clamped_edges)
+    r = args.refinement
+    variants = {"case settings": {},
+                f"{r}x refinement": {"refinement_thickness": base.refinement_thickness * r,
+                                     "refinement_plane": base.refinement_plane * r}}
+    if not args.no_spreads:
+        variants |= {f"spread {s}": {"spread": s} for s in SPREADS if s != base.spread}
+    rows = {}
+    for name, changes in variants.items():
+        rows[name] = row = rerun_wall(args.run, **changes)
+        ref = rows["case settings"]
+        change = {k: (row[k] / ref[k] - 1.0) if ref[k] else float("nan") for k in ("crater_depth_ratio", "rear_bulge_cm")}
+        row["change"] = change
+        print(f"{name:<18} {row['verdict']:<15} crater/t {row['crater_depth_ratio']:.4f} ({change['crater_depth_ratio']:+.1%}) "
+              f"bulge {row['rear_bulge_cm']:.4f} cm ({change['rear_bulge_cm']:+.1%}) failed {row['failed_mass_g']:.4g} g "
+              f"eroded {row['eroded_mass_g']:.4g} g hg/int {row['hourglass_to_internal']:.3f} "
+              f"t_end {row['end_time_us']:.1f} us steps {row['steps']} ({row['wall_time_s']:.0f} s)", flush=True)
+    same = len({row["verdict"] for row in rows.values()}) == 1
+    print("same verdict on every row:", same)
+    if args.json:
+        args.json.write_text(json.dumps({"run": str(args.run), "options": repr(base), "rows": rows}, indent=2))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
