@@ -80,3 +80,22 @@ def test_a_lean_shot_folder_keeps_what_a_user_reads(tmp_path):
     prune_run(tmp_path)
     assert sorted(p.relative_to(tmp_path).as_posix() for p in tmp_path.rglob("*") if p.is_file()) == sorted(keep)
     assert not (tmp_path / "wall" / "wall_series").exists() and not (tmp_path / "decks").exists()
+
+
+def test_family_shots_keep_the_base_cases_resolution_and_timing(make_case, tmp_path):
+    """A slower shot gets a proportionally longer hand-off and arrival window (the flight takes
+    1/V as long), a smaller projectile a proportionally finer SPH spacing; faster and larger
+    shots keep the base case's."""
+    from impactdyn.whipple import load_whipple_case
+    from impactdyn.whipple._shots import shot_variant
+
+    base = load_whipple_case(make_case(tmp_path))
+    v0, d0 = base.projectile.velocity_km_s, base.projectile.diameter_cm
+    slow = shot_variant(base, v0 / 2, d0 / 2)
+    assert slow["filter.t_cut_us"] == pytest.approx(2 * base.filter.t_cut_us)
+    assert slow["shield.handoff_us"] == pytest.approx(2 * base.shield.handoff_us)
+    assert slow["shield.spacing_cm"] == pytest.approx(base.shield.spacing_cm / 2)
+    fast = shot_variant(base, 2 * v0, 2 * d0)
+    assert fast["filter.t_cut_us"] == base.filter.t_cut_us and fast["shield.handoff_us"] == base.shield.handoff_us
+    assert fast["shield.spacing_cm"] == base.shield.spacing_cm
+    assert (fast["projectile.velocity_km_s"], fast["projectile.diameter_cm"]) == (2 * v0, 2 * d0)

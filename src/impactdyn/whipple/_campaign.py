@@ -16,9 +16,10 @@ from pathlib import Path
 
 from impactdyn._errors import InputError
 from impactdyn._runfolder import RunFolder
+from impactdyn._config import validate
 from impactdyn._sweep import case_variants, run_all
 from impactdyn.whipple._case import WhippleCase
-from impactdyn.whipple._shots import Shot, run_shot, shot_name, shot_workers, threads_per_shot
+from impactdyn.whipple._shots import Shot, run_shot, shot_name, shot_variant, shot_workers, threads_per_shot
 
 CAMPAIGN_HEADER = [
     "velocity_km_s", "diameter_cm", "ble_critical_diameter_cm", "ble_regime", "ble_verdict",
@@ -30,8 +31,8 @@ def campaign_shots(raw: dict, velocities: list[float], diameters: list[float], s
                    ) -> list[tuple[float, float, WhippleCase]]:
     """Every (V, d) case of the grid, validated before any work."""
     pairs = [(float(v), float(d)) for v in velocities for d in diameters]
-    cases = case_variants(WhippleCase, raw, [{"projectile.velocity_km_s": v, "projectile.diameter_cm": d}
-                                             for v, d in pairs], source)
+    base = validate(WhippleCase, raw, source)
+    cases = case_variants(WhippleCase, raw, [shot_variant(base, v, d) for v, d in pairs], source)
     return [(v, d, case) for (v, d), case in zip(pairs, cases)]
 
 

@@ -37,10 +37,11 @@ import numpy as np
 
 from impactdyn._errors import InputError
 from impactdyn._runfolder import RunFolder
+from impactdyn._config import validate
 from impactdyn._sweep import case_variants, run_all
 from impactdyn.whipple._case import WhippleCase
 from impactdyn.whipple._report import ble_verdict
-from impactdyn.whipple._shots import Shot, run_shot, shot_name, shot_workers, threads_per_shot
+from impactdyn.whipple._shots import Shot, run_shot, shot_name, shot_variant, shot_workers, threads_per_shot
 
 LIMIT_HEADER = ["velocity_km_s", "limit_diameter_cm", "half_width_cm", "largest_safe_cm", "smallest_failed_cm",
                 "jsc_critical_diameter_cm", "n_shots", "status"]
@@ -113,6 +114,7 @@ def run_limit(raw: dict, velocities: list[float], outdir: str | Path, *, source:
         raise InputError(f"--tolerance {tolerance_cm}: must be > 0 (cm)")
     if not (np.isfinite(bracket_ratio) and bracket_ratio > 1):
         raise InputError(f"--bracket-ratio {bracket_ratio}: must be > 1")
+    base = validate(WhippleCase, raw, source)
     bases = limit_velocities(raw, velocities, source)
     searches = [_Search(velocity=float(v), jsc=ble_verdict(case)["threshold_cm"], ratio=bracket_ratio)
                  for v, case in zip(velocities, bases)]
@@ -120,7 +122,7 @@ def run_limit(raw: dict, velocities: list[float], outdir: str | Path, *, source:
     with RunFolder(outdir, force=force) as rf:
         while batch := [(s, d) for s in searches for d in s.pending()]:
             n_workers = shot_workers(scheduler, workers, len(batch))
-            cases = case_variants(WhippleCase, raw, [shot_variant(bases[0], s.velocity, d) for s, d in batch], source)
+            cases = case_variants(WhippleCase, raw, [shot_variant(base, s.velocity, d) for s, d in batch], source)
             tasks = [Shot(case, rf.path / "runs" / shot_name(s.velocity, d), threads_per_shot(n_workers), keep_all)
                      for (s, d), case in zip(batch, cases)]
 
@@ -145,13 +147,6 @@ def run_limit(raw: dict, velocities: list[float], outdir: str | Path, *, source:
         rf.write_csv("shots.csv", SHOTS_HEADER, [[s.velocity, *shot] for s in searches for shot in s.shots])
         _plot(rf.path / "limit.png", bases[0], searches, tolerance_cm)
     return rows
-
-
-def shot_variant(base: WhippleCase, velocity_km_s: float, diameter_cm: float) -> dict:
-    """The dotted keys of one shot of the search: its speed, its diameter and its SPH spacing."""
-    spacing = base.shield.spacing_cm * min(1.0, diameter_cm / base.projectile.diameter_cm)
-    return {"projectile.velocity_km_s": float(velocity_km_s), "projectile.diameter_cm": float(diameter_cm),
-            "shield.spacing_cm": float(spacing)}
 
 
 def _limit_row(s: _Search) -> dict:

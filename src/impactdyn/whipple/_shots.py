@@ -34,6 +34,25 @@ def shot_name(velocity_km_s: float, diameter_cm: float) -> str:
     return f"V{velocity_km_s:g}_d{diameter_cm:g}"
 
 
+def shot_variant(base, velocity_km_s: float, diameter_cm: float) -> dict:
+    """The dotted keys of one shot of a family made from the case ``base``: its speed and
+    diameter, and the settings that must follow them so that every shot is resolved and timed
+    as the base case is:
+
+    * the SPH spacing, scaled down with a smaller diameter (the projectile keeps at least the
+      base case's particles across);
+    * the hand-off time and the debris arrival window (``shield.handoff_us``,
+      ``filter.t_cut_us``), stretched for a slower shot by V_base/V: the projectile's passage
+      through the bumper and the cloud's flight to the wall take 1/V as long.  (Without it a
+      4-km/s shot of the 7-km/s example kept its 25-µs window and nothing reached the wall.)
+    """
+    slower = max(1.0, base.projectile.velocity_km_s / velocity_km_s)
+    return {"projectile.velocity_km_s": float(velocity_km_s), "projectile.diameter_cm": float(diameter_cm),
+            "shield.spacing_cm": float(base.shield.spacing_cm * min(1.0, diameter_cm / base.projectile.diameter_cm)),
+            "shield.handoff_us": float(base.shield.handoff_us * slower),
+            "filter.t_cut_us": float(base.filter.t_cut_us * slower)}
+
+
 def shot_workers(scheduler: str, workers: int | None, n_shots: int) -> int:
     """Shots run at once: one when serial, else ``workers`` (default: one per core), at most ``n_shots``."""
     if scheduler == "serial":
