@@ -15,6 +15,12 @@ thickness and in the plane), with the steps driven two ways:
   Python-side call per step).
 
     python benchmarks/bench_wall.py [--steps 200] [--threads 2] [--repeat 3]
+        [--hourglass assumed_strain stiffness]
+
+``--hourglass`` takes one or more of :data:`impactdyn.wall.HOURGLASS_FORMS`; without it the
+wall solver's default form (:class:`impactdyn.wall.WallOptions`; "assumed_strain" since
+2026-11-24) is run, and the form is printed with every line.  With several forms the cases
+alternate run by run (form A, form B, form A, ...) so that both see the same load.
 
 Prints, per mesh and driver: elements, steps, element-steps per second of wall time (median of
 the repeats) and per CPU-second of the process (all threads; on a machine shared with other
@@ -31,6 +37,7 @@ import os
 import platform
 import statistics
 import time
+from dataclasses import replace
 
 import numba
 import numpy as np
@@ -58,9 +65,11 @@ def synthetic_deposition(grid: WallGrid, total_impulse: float = 0.05) -> WallDep
     return WallDeposition(element=keep.astype(np.int64), time=time_us, impulse=impulse)
 
 
-def measure(refinement: int, steps: int, driver: str) -> tuple[int, int, float, float]:
+def measure(refinement: int, steps: int, driver: str, hourglass: str | None = None) -> tuple[int, int, float, float]:
     grid = report_wall()
     options = wall.WallOptions(refinement_thickness=refinement, refinement_plane=refinement)
+    if hourglass is not None:
+        options = replace(options, hourglass=hourglass)
     model = wall.wall_model("mat13", "al6061-t6")
     mesh = wall.build_mesh(grid, model.density, refinement, refinement)
     load = wall.nodal_load(mesh, synthetic_deposition(grid))
@@ -83,22 +92,32 @@ def main() -> None:
     ap.add_argument("--threads", type=int, default=2, help="numba threads")
     ap.add_argument("--repeat", type=int, default=3, help="runs per case (median reported)")
     ap.add_argument("--refinements", type=int, nargs="+", default=[1, 2])
+    ap.add_argument("--hourglass", nargs="+", choices=wall.HOURGLASS_FORMS, default=None,
+                    help=f"hourglass form(s) (default: the WallOptions default, {wall.WallOptions().hourglass!r})")
     args = ap.parse_args()
     numba.set_num_threads(args.threads)
+    default_form = wall.WallOptions().hourglass
+    forms = args.hourglass or [default_form]
     print(f"impactdyn wall solver benchmark: {platform.processor() or platform.machine()}, "
           f"{os.cpu_count()} cores, numba {numba.__version__}, {args.threads} threads, "
-          f"OMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY', '(unset)')}")
+          f"OMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY', '(unset)')}; "
+          f"hourglass form(s) {', '.join(forms)} (default {default_form!r}); "
+          f"1-min load average {os.getloadavg()[0]:.2f}")
     for r in args.refinements:
         for driver in ("compiled", "python"):
-            rates, cpu_rates = [], []
+            rates = {f: [] for f in forms}
+            cpu_rates = {f: [] for f in forms}
             for _ in range(args.repeat):
-                ne, n, el, cpu = measure(r, args.steps, driver)
-                rates.append(ne * n / el)
-                cpu_rates.append(ne * n / cpu)
-            print(f"refinement {r}: {ne} elements, {n} steps, driver {driver:8s}: "
-                  f"{statistics.median(rates) / 1e6:.2f} M element-steps/s "
-                  f"(runs {', '.join(f'{x / 1e6:.2f}' for x in rates)}); "
-                  f"{statistics.median(cpu_rates) / 1e6:.2f} M per CPU-second")
+                for f in forms:  # alternate the forms run by run
+                    ne, n, el, cpu = measure(r, args.steps, driver, f)
+                    rates[f].append(ne * n / el)
+                    cpu_rates[f].append(ne * n / cpu)
+            for f in forms:
+                print(f"refinement {r}: {ne} elements, {n} steps, hourglass {f}, driver {driver:8s}: "
+                      f"{statistics.median(rates[f]) / 1e6:.2f} M element-steps/s "
+                      f"(runs {', '.join(f'{x / 1e6:.2f}' for x in rates[f])}); "
+                      f"{statistics.median(cpu_rates[f]) / 1e6:.2f} M per CPU-second; "
+                      f"load average {os.getloadavg()[0]:.2f}")
     print(f"threading layer: {numba.threading_layer()}")
 
 

@@ -26,8 +26,8 @@ The problem, the same in both codes:
   viscosity, which is negligible here).  Both run to ``--end-time``; the plate then vibrates
   elastically about its permanent shape, so the permanent deflection is the mean of the
   centre node's deflection (rear face, x = z = 0) over the second half of the run.
-* impactdyn runs with its defaults (stiffness hourglass form, QH 0.1, Q1 1.5, Q2 0.06,
-  Courant 0.9); CalculiX 2.20 with NLGEOM (large deformation, as the wall solver's updated
+* impactdyn runs with its defaults (:class:`impactdyn.wall.WallOptions`: the assumed-strain
+  hourglass form since 2026-11-24, QH 0.1, Q1 1.5, Q2 0.06, Courant 0.9); CalculiX 2.20 with NLGEOM (large deformation, as the wall solver's updated
   Lagrangian formulation) and *DYNAMIC, EXPLICIT with its own stable increment (the third
   number on the *DYNAMIC line, the minimum increment below which CalculiX scales masses, is
   set far below it: no mass scaling).
@@ -50,6 +50,18 @@ average is printed with the numbers.
     OMP_WAIT_POLICY=passive python benchmarks/verify_wall_calculix.py [--mesh 0.1 0.05]
         [--layers 4] [--v0 0.025] [--patch 0.5] [--end-time 100] [--repeat 3] [--threads 2]
         [--ccx ccx] [--keep DIR] [--json FILE] [--no-diagnostics]
+
+Speed only, on the report's wall (``--report-wall R [R ...]``, issue 11's speed acceptance): the
+grid of :func:`bench_wall.report_wall` (the ``table2_7a`` wall, 50 × 4 × 100 elements of
+0.16 × 0.079 × 0.16 cm) refined R times through the thickness and in the plane, every edge
+face clamped (``supports="clamped"``; x = 0 stays the symmetry plane), the same type-13 card
+without failure, the same initial-velocity patch about (x, z) = (0, 0) and a short run
+(``--end-time``, default 100 µs for the plate; use 5–10 µs here).  Both codes are timed as
+above (the same deck writer and the same alternating timing); no deflection comparison and
+no pass/fail.  Exits 0.
+
+    OMP_WAIT_POLICY=passive python benchmarks/verify_wall_calculix.py --report-wall 1 2 \
+        --end-time 10 --repeat 3
 
 (``OMP_WAIT_POLICY=passive``: on an oversubscribed machine numba's spin-waiting OpenMP threads
 slowed the wall solver 50-fold; the deflections do not depend on it.)
@@ -121,10 +133,16 @@ def initial_velocity(mesh: wall.WallMesh, v0: float, a: float) -> np.ndarray:
 
 
 def centre_node(mesh: wall.WallMesh) -> int:
-    """The rear-face node at the plate's centre (x = 0, z = 0, y = thickness)."""
+    """The rear-face node at the plate's centre (x = 0, z = 0, y = thickness; the largest y of the mesh)."""
     x = mesh.coordinates
-    hit = np.flatnonzero((np.abs(x[:, 0]) < 1e-9) & (np.abs(x[:, 2]) < 1e-9) & (np.abs(x[:, 1] - THICKNESS) < 1e-9))
+    hit = np.flatnonzero((np.abs(x[:, 0]) < 1e-9) & (np.abs(x[:, 2]) < 1e-9) & (np.abs(x[:, 1] - x[:, 1].max()) < 1e-9))
     return int(hit[0])
+
+
+def report_wall_mesh(refinement: int) -> wall.WallMesh:
+    """The report's wall (:func:`bench_wall.report_wall`) refined ``refinement`` times, every edge clamped."""
+    from bench_wall import report_wall  # benchmarks/ is on sys.path when this file runs as a script
+    return wall.build_mesh(report_wall(), CARD.density, refinement, refinement, "clamped")
 
 
 def permanent(t: np.ndarray, u: np.ndarray, t_end: float) -> tuple[float, float, float]:
@@ -173,11 +191,12 @@ def time_impactdyn(mesh, v, t_end, options: wall.WallOptions, driver: str) -> tu
 # --- CalculiX -------------------------------------------------------------------------------------
 
 def write_deck(path: str, mesh: wall.WallMesh, v: np.ndarray, t_end: float, dt_guess: float,
-               print_every: int) -> None:
-    """The CalculiX input of the same plate (module docstring)."""
+               print_every: int, title: str = "clamped Al 6061-T6 plate") -> None:
+    """The CalculiX input of the same problem (module docstring): ``mesh``'s nodes, C3D8R elements and
+    fixed translations, the card without failure, the nodal velocities ``v``; prints the centre node."""
     card: Mat13Card = CARD
     x = mesh.coordinates
-    out = ["*HEADING", "impactdyn verify_wall_calculix: clamped Al 6061-T6 plate, impulsive patch load (cm g us Mbar)",
+    out = ["*HEADING", f"impactdyn verify_wall_calculix: {title}, impulsive patch load (cm g us Mbar)",
            "*NODE, NSET=NALL"]
     out += [f"{i + 1}, {a:.12g}, {b:.12g}, {c:.12g}" for i, (a, b, c) in enumerate(x)]
     out.append("*ELEMENT, TYPE=C3D8R, ELSET=EALL")
@@ -227,6 +246,68 @@ def run_ccx(ccx: str, workdir: str, job: str, threads: int) -> dict:
     return {"t": t, "u": u, "dt": dt, "wall_s": elapsed}
 
 
+# --- speed ----------------------------------------------------------------------------------------
+
+def speed(mesh, v, T, options: wall.WallOptions, steps_to_end: int, cx_inc: int, args, workdir: str, job: str,
+          pairs: int, first_ccx_s: float | None = None, indent: str = "  ") -> dict:
+    """Element-steps/s of both codes on ``workdir/job.inp``'s problem, ``pairs`` alternating runs (medians).
+
+    impactdyn from a fresh solver (kernels compiled), through WallSolver.run and one compiled advance;
+    CalculiX the ccx process's wall time × ``cx_inc`` increments.  ``first_ccx_s``: a ccx time already
+    measured, used for the first pair instead of running ccx again.  Prints the result; returns its dict.
+    """
+    load0 = os.getloadavg()[0]
+    rates = {"run": [], "compiled": [], "calculix": []}
+    for i in range(pairs):
+        for driver in ("run", "compiled"):
+            el, steps = time_impactdyn(mesh, v, T, options, driver)
+            rates[driver].append(mesh.n_elements * steps / el)
+        wall_s = first_ccx_s if (i == 0 and first_ccx_s is not None) else \
+            run_ccx(args.ccx, workdir, job, args.threads)["wall_s"]
+        rates["calculix"].append(mesh.n_elements * cx_inc / wall_s)
+    load1 = os.getloadavg()[0]
+    med = {key: statistics.median(val) for key, val in rates.items()}
+    ratios = [a / b for a, b in zip(rates["run"], rates["calculix"])]
+    t_imp = mesh.n_elements * steps_to_end / med["run"]
+    t_cx = mesh.n_elements * cx_inc / med["calculix"]
+    out = {"runs": rates, "median": med, "ratio_run_median": statistics.median(ratios),
+           "ratio_compiled_median": statistics.median(a / b for a, b in zip(rates["compiled"], rates["calculix"])),
+           "time_to_end_s": {"impactdyn_run": t_imp, "calculix": t_cx}, "loadavg_1min": [load0, load1],
+           "hourglass": options.hourglass}
+    print(f"{indent}speed ({pairs} alternating run(s), median; 1-min load average {load0:.1f} -> {load1:.1f} on "
+          f"{os.cpu_count()} cores; impactdyn hourglass {options.hourglass}): impactdyn {med['run'] / 1e6:.3f} M "
+          f"element-steps/s (WallSolver.run; one compiled advance {med['compiled'] / 1e6:.3f} M), CalculiX "
+          f"{med['calculix'] / 1e6:.3f} M; ratio {out['ratio_run_median']:.1f}x (compiled "
+          f"{out['ratio_compiled_median']:.1f}x); time to {T:g} us: impactdyn {t_imp:.2f} s, CalculiX {t_cx:.2f} s "
+          f"({t_cx / t_imp:.1f}x)")
+    print(f"{indent}  runs, M element-steps/s: impactdyn run " + ", ".join(f"{r / 1e6:.3f}" for r in rates["run"])
+          + "; compiled " + ", ".join(f"{r / 1e6:.3f}" for r in rates["compiled"])
+          + "; CalculiX " + ", ".join(f"{r / 1e6:.3f}" for r in rates["calculix"]))
+    return out
+
+
+def speed_report_wall(args, workdir: str) -> dict:
+    """``--report-wall``: both codes' speed on the report's wall (module docstring), per refinement."""
+    T = args.end_time
+    options = wall.WallOptions(supports="clamped", end_time_us=T, output_interval_us=None)
+    results = []
+    for k, r in enumerate(args.report_wall):
+        mesh = report_wall_mesh(r)
+        v = initial_velocity(mesh, args.v0, args.patch)
+        _, steps = time_impactdyn(mesh, v, T, options, "compiled")  # warm-up (compiles), and the step count
+        job = f"report_wall_r{r}"
+        write_deck(os.path.join(workdir, job + ".inp"), mesh, v, T, T / steps, print_every=10,
+                   title=f"the report's wall x{r}, clamped")
+        cx = run_ccx(args.ccx, workdir, job, args.threads)  # also the first timed CalculiX run
+        cx_inc = int(np.ceil(T / cx["dt"] - 1e-9))
+        print(f"\nreport wall x{r}: {mesh.n_elements} elements, {mesh.n_nodes} nodes; impactdyn {steps} steps "
+              f"(mean {T / steps:.5f} us), CalculiX {cx_inc} increments of {cx['dt']:.5f} us, to {T:g} us")
+        sp = speed(mesh, v, T, options, steps, cx_inc, args, workdir, job,
+                   pairs=args.repeat if k == 0 else 1, first_ccx_s=cx["wall_s"])
+        results.append({"refinement": r, "elements": mesh.n_elements, "nodes": mesh.n_nodes, "steps": steps,
+                        "dt_us": T / steps, "calculix_increments": cx_inc, "calculix_dt_us": cx["dt"], "speed": sp})
+    return {"report_wall": results}
+
 # --- driver ---------------------------------------------------------------------------------------
 
 def main() -> int:
@@ -243,6 +324,8 @@ def main() -> int:
     ap.add_argument("--keep", default=None, help="keep the CalculiX files in this folder")
     ap.add_argument("--no-diagnostics", action="store_true", help="skip the impactdyn hourglass/mesh diagnostics")
     ap.add_argument("--json", default=None, help="write the numbers here")
+    ap.add_argument("--report-wall", type=int, nargs="+", default=None, metavar="R",
+                    help="speed only, on the report's wall refined R times (e.g. 1 2; use --end-time 5..10)")
     args = ap.parse_args()
     if shutil.which(args.ccx) is None:
         print(f"{args.ccx}: not found (apt-get install calculix-ccx)", file=sys.stderr)
@@ -252,6 +335,20 @@ def main() -> int:
     workdir = args.keep or tempfile.mkdtemp(prefix="verify_wall_ccx_")
     os.makedirs(workdir, exist_ok=True)
     T = args.end_time
+    if args.report_wall:
+        print(f"speed on the report's wall (table2_7a grid, clamped), Al 6061-T6 type 13 without failure, V0 "
+              f"{args.v0} cm/us on |x|,|z| <= {args.patch} cm, {T} us; {args.threads} threads; "
+              f"{ccx_version[-1] if ccx_version else args.ccx}; numba {numba.__version__}; "
+              f"OMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY', '(unset)')}; 1-min load average "
+              f"{os.getloadavg()[0]:.2f}")
+        results = {"setup": vars(args), **speed_report_wall(args, workdir)}
+        if args.json:
+            with open(args.json, "w") as f:
+                json.dump(results, f, indent=1, default=float)
+        if not args.keep:
+            shutil.rmtree(workdir, ignore_errors=True)
+        print(f"numba threading layer: {numba.threading_layer()}")
+        return 0
     defaults = wall.WallOptions(supports="clamped", end_time_us=T, output_interval_us=None)  # acceptance: defaults
     print(f"clamped plate 2 x 2 x {THICKNESS} cm (half model), Al 6061-T6 type 13 without failure "
           f"(E {CARD.youngs_modulus:.4f} Mbar, nu {CARD.poisson_ratio:.4f}, sigma_y {CARD.yield_stress}, "
@@ -291,33 +388,8 @@ def main() -> int:
               f"peak {cx['u'].max():.5f}); {cx_inc} increments of {cx['dt']:.5f} us")
         print(f"  impactdyn / CalculiX - 1 = {rel * 100:+.2f} %  ({'within' if abs(rel) <= 0.05 else 'outside'} 5 %)")
         # speed: the same problem; the two codes alternate so that both see the same load on a shared machine
-        pairs = args.repeat if k == 0 else 1
-        load0 = os.getloadavg()[0]
-        rates = {"run": [], "compiled": [], "calculix": []}
-        for i in range(pairs):
-            for driver in ("run", "compiled"):
-                el, steps = time_impactdyn(mesh, v, T, defaults, driver)
-                rates[driver].append(mesh.n_elements * steps / el)
-            wall_s = cx["wall_s"] if (i == 0 and k > 0) else run_ccx(args.ccx, workdir, job, args.threads)["wall_s"]
-            rates["calculix"].append(mesh.n_elements * cx_inc / wall_s)
-        load1 = os.getloadavg()[0]
-        med = {key: statistics.median(val) for key, val in rates.items()}
-        ratios = [a / b for a, b in zip(rates["run"], rates["calculix"])]
-        t_imp = mesh.n_elements * imp["steps"] / med["run"]
-        t_cx = mesh.n_elements * cx_inc / med["calculix"]
-        row["speed"] = {"runs": rates, "median": med, "ratio_run_median": statistics.median(ratios),
-                        "ratio_compiled_median": statistics.median(
-                            a / b for a, b in zip(rates["compiled"], rates["calculix"])),
-                        "time_to_end_s": {"impactdyn_run": t_imp, "calculix": t_cx},
-                        "loadavg_1min": [load0, load1]}
-        print(f"  speed ({pairs} alternating run(s), median; 1-min load average {load0:.1f} -> {load1:.1f} on "
-              f"{os.cpu_count()} cores): impactdyn {med['run'] / 1e6:.3f} M element-steps/s (WallSolver.run; one "
-              f"compiled advance {med['compiled'] / 1e6:.3f} M), CalculiX {med['calculix'] / 1e6:.3f} M; ratio "
-              f"{row['speed']['ratio_run_median']:.1f}x (compiled {row['speed']['ratio_compiled_median']:.1f}x); "
-              f"time to {T:g} us: impactdyn {t_imp:.2f} s, CalculiX {t_cx:.2f} s ({t_cx / t_imp:.1f}x)")
-        print("    runs, M element-steps/s: impactdyn run " + ", ".join(f"{r / 1e6:.3f}" for r in rates["run"])
-              + "; compiled " + ", ".join(f"{r / 1e6:.3f}" for r in rates["compiled"])
-              + "; CalculiX " + ", ".join(f"{r / 1e6:.3f}" for r in rates["calculix"]))
+        row["speed"] = speed(mesh, v, T, defaults, imp["steps"], cx_inc, args, workdir, job,
+                             pairs=args.repeat if k == 0 else 1, first_ccx_s=cx["wall_s"] if k > 0 else None)
         if k == 0:
             first = row
         results["meshes"].append(row)
