@@ -310,6 +310,16 @@ def speed_report_wall(args, workdir: str) -> dict:
 
 # --- driver ---------------------------------------------------------------------------------------
 
+def finish(args, workdir: str, results: dict) -> None:
+    """Write the numbers (``--json``), remove the work folder unless ``--keep``, name numba's threading layer."""
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(results, f, indent=1, default=float)
+    if not args.keep:
+        shutil.rmtree(workdir, ignore_errors=True)
+    print(f"numba threading layer: {numba.threading_layer()}")
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--mesh", type=float, nargs="+", default=[0.1, 0.05],
@@ -341,13 +351,7 @@ def main() -> int:
               f"{ccx_version[-1] if ccx_version else args.ccx}; numba {numba.__version__}; "
               f"OMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY', '(unset)')}; 1-min load average "
               f"{os.getloadavg()[0]:.2f}")
-        results = {"setup": vars(args), **speed_report_wall(args, workdir)}
-        if args.json:
-            with open(args.json, "w") as f:
-                json.dump(results, f, indent=1, default=float)
-        if not args.keep:
-            shutil.rmtree(workdir, ignore_errors=True)
-        print(f"numba threading layer: {numba.threading_layer()}")
+        finish(args, workdir, {"setup": vars(args), **speed_report_wall(args, workdir)})
         return 0
     defaults = wall.WallOptions(supports="clamped", end_time_us=T, output_interval_us=None)  # acceptance: defaults
     print(f"clamped plate 2 x 2 x {THICKNESS} cm (half model), Al 6061-T6 type 13 without failure "
@@ -418,12 +422,7 @@ def main() -> int:
             print(f"  h {h:<6g} {label:32s}: {r['deflection']:.5f} (peak {r['peak']:.5f}; hourglass/internal "
                   f"{r['hourglass_fraction']:.3f}, max eps_p {r['eps_p_max']:.3f})")
         results["diagnostics"] = diag
-    if args.json:
-        with open(args.json, "w") as f:
-            json.dump(results, f, indent=1, default=float)
-    if not args.keep:
-        shutil.rmtree(workdir, ignore_errors=True)
-    print(f"numba threading layer: {numba.threading_layer()}")
+    finish(args, workdir, results)
     ok = abs(first["relative_difference"]) <= 0.05
     print(f"\nacceptance (mesh h = {args.mesh[0]} cm): |impactdyn/CalculiX - 1| = "
           f"{abs(first['relative_difference']) * 100:.2f} % {'<=' if ok else '>'} 5 %: {'PASS' if ok else 'FAIL'}")
