@@ -1,7 +1,8 @@
 """Rear-wall impact stage: explicit Lagrangian FE of the wall under the deposited momentum (DESIGN §9).
 
 The modern counterpart of the report's DYNA3D analysis: 8-node hexahedra with one-point
-integration and Flanagan–Belytschko hourglass control, lumped mass, central differences with
+integration and hourglass control (Belytschko–Bindeman assumed strain by default, or the
+Flanagan–Belytschko stiffness and viscous forms), lumped mass, central differences with
 the element Courant step, bulk viscosity, Jaumann stress rate with radial return, in compiled
 parallel kernels (:mod:`._step`, :mod:`._hex`); material models in one registry
 (:data:`MODELS`: the report's type-13 card ``"mat13"``, and ``"johnson_cook"`` with the
