@@ -95,6 +95,10 @@ class JohnsonCookModel(WallModel):
     def erodes(self) -> bool:
         return self.erosion
 
+    @property
+    def deck_material(self) -> Material:
+        return self.material
+
     def wave_speed(self) -> float:
         m = self.material
         return math.sqrt(m.c0 ** 2 + 4.0 * m.shear_modulus / (3.0 * m.rho0))

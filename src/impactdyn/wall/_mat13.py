@@ -68,6 +68,10 @@ class Mat13Model(WallModel):
     def erodes(self) -> bool:
         return False
 
+    @property
+    def deck_material(self) -> Mat13Card:
+        return self.card
+
     def wave_speed(self) -> float:
         c = self.card
         return math.sqrt((c.bulk_modulus + 4.0 * c.shear_modulus / 3.0) / c.density)

@@ -47,6 +47,13 @@ class WallModel(ABC):
     def erodes(self) -> bool:
         """Whether failed elements are removed from the force computation at once."""
 
+    @property
+    @abstractmethod
+    def deck_material(self) -> Any:
+        """What an LS-DYNA deck writes for this model (:func:`impactdyn.io.write_lsdyna_deck`):
+        a :class:`~impactdyn.materials.Mat13Card` (``*MAT_013``) or a library
+        :class:`~impactdyn.materials.Material` (``*MAT_015`` with ``*EOS_GRUNEISEN``)."""
+
     @abstractmethod
     def wave_speed(self) -> float:
         """Longitudinal wave speed of the undeformed material, √((K + 4G/3)/ρ₀), cm/µs."""

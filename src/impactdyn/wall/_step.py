@@ -530,7 +530,7 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, 
             q = 0.0
             if trd < 0.0:
                 q = rho * ell * (q1 * ell * trd * trd - q2 * es[e, C] * trd)
-            seq_old = von_mises(S, e)
+            seq_old = von_mises(S, e) if hg_form == HG_ASSUMED_STRAIN else 0.0  # for the tangent ratio only
             eps_p_old = es[e, EPS_P]
             if kind == MAT13_KIND:          # the registry's kinds (_models.py); a new model adds a branch
                 c, dw, dwp = mat13_update(e, Lbuf, dt, vbar, emass[e], rho, vol / vol0[e], q, S, es, flags, mprm)

@@ -165,13 +165,11 @@ def deck_options(case: WhippleCase):
     its EOS for ``johnson_cook``), hourglass type and bulk viscosity, besides the case's
     output table (:meth:`impactdyn.debris.DeckOptions.of`)."""
     from impactdyn.debris import DeckOptions
-    from impactdyn.materials import get_material, mat13_card
+    from impactdyn.wall import wall_model
 
     options = case.wall_solver.options(case.wall.clamped_edges)
-    material = (get_material(case.wall.material) if options.material_model == "johnson_cook"
-                else mat13_card(case.wall.material))
-    return replace(DeckOptions.of(case), material=material, hourglass=options.lsdyna_hourglass,
-                   bulk_viscosity=(options.q1, options.q2))
+    return replace(DeckOptions.of(case), material=wall_model(options.material_model, case.wall.material).deck_material,
+                   hourglass=options.lsdyna_hourglass, bulk_viscosity=(options.q1, options.q2))
 
 
 def _report(s: StageContext) -> dict:
