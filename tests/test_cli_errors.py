@@ -191,6 +191,8 @@ BAD_INPUT: dict[str, dict[str, Builder]] = {
                                         "--velocity", "6:7:2", "-o", str(out)], "wall.bogus: unknown key"),
         "bad value": lambda d, out: (["whipple", "limit", str(whipple_case(d)), "--velocity", "6:7:2",
                                       "--tolerance", "-1", "-o", str(out)], "--tolerance"),
+        "bad bracket": lambda d, out: (["whipple", "limit", str(whipple_case(d)), "--velocity", "6:7:2",
+                                        "--bracket", "7:0.9", "-o", str(out)], "--bracket '7:0.9'"),
     },
 }
 

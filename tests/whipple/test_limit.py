@@ -54,9 +54,25 @@ def test_a_limit_out_of_reach_is_reported_unbracketed(tmp_path, make_case, monke
     assert row["smallest_failed_cm"] is None and row["n_shots"] == 2 + 3
 
 
+def test_a_given_start_bracket_replaces_the_jsc_one(tmp_path, make_case, monkeypatch):
+    critical = lambda v: 1.03  # noqa: E731  far above the JSC diameter, where a first search needs many shots
+    taken = _fake_shots(monkeypatch, critical)
+    raw = load_toml(make_case(tmp_path))
+    rows = _limit.run_limit(raw, [4.0, 7.0], tmp_path / "limit", tolerance_cm=0.05, scheduler="serial",
+                            brackets={7.0: (0.97, 1.06)})
+    by_v = {r["velocity_km_s"]: r for r in rows}
+    assert [d for v, d in taken if v == 7.0] == pytest.approx([0.97, 1.06, 1.015])  # both ends shot again, then one halving
+    assert by_v[7.0]["status"] == "converged" and by_v[7.0]["n_shots"] == 3
+    assert by_v[4.0]["n_shots"] > 3 and by_v[4.0]["largest_safe_cm"] <= 1.03 < by_v[4.0]["smallest_failed_cm"]
+    start = json.loads((tmp_path / "limit" / "limit.json").read_text())["start_brackets_cm"]
+    assert start["7"] == [0.97, 1.06] and start["4"] != [0.97, 1.06]
+
+
 @pytest.mark.parametrize("kwargs, message", [
     (dict(tolerance_cm=0.0), "--tolerance 0.0: must be > 0"),
     (dict(bracket_ratio=1.0), "--bracket-ratio 1.0: must be > 1"),
+    (dict(brackets={5.0: (0.9, 1.1)}), "--bracket 5:0.9:1.1: 5 km/s is not one of the --velocity values"),
+    (dict(brackets={7.0: (1.1, 0.9)}), "--bracket 7:1.1:0.9: needs 0 < LOW < HIGH"),
 ])
 def test_bad_search_settings(tmp_path, make_case, kwargs, message):
     from impactdyn import InputError

@@ -25,6 +25,10 @@ def test_campaign_runs_every_shot_and_tabulates_it(tmp_path, make_case):
         assert float(r["peak_areal_momentum_N_s_cm2"]) == pytest.approx(
             summary["deposition"]["peak_areal_momentum_N_s_cm2"])
         assert summary["shot"]["projectile"]["velocity_km_s"] == float(r["velocity_km_s"])
+        # a lean shot does not write the decks and ParaView files it would delete
+        assert json.loads((out / r["run"] / "decks" / "stage.json").read_text())["files"] == []
+        wall_files = json.loads((out / r["run"] / "wall" / "stage.json").read_text())["files"]
+        assert wall_files and not any(f.endswith((".vtu", ".pvd")) for f in wall_files)
     assert (out / "campaign.png").stat().st_size > 10_000
     assert len(json.loads((out / "campaign.json").read_text())) == 2
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Optional
+from typing import List, Optional
 
 import typer
 
@@ -85,6 +85,10 @@ def limit(
     bracket_ratio: float = typer.Option(1.25, "--bracket-ratio",
                                         help="First bracket d_JSC/r .. d_JSC*r, moved by r until it holds the "
                                              "change of verdict."),
+    bracket: Optional[List[str]] = typer.Option(None, "--bracket",
+                                                help="V:LOW:HIGH: start velocity V's search from the diameters "
+                                                     "LOW..HIGH (cm) instead of the JSC bracket, e.g. the bracket "
+                                                     "of an interrupted search; repeatable."),
     force: bool = typer.Option(False, "--force", help="Overwrite an existing folder."),
     workers: Optional[int] = typer.Option(None, "--workers", help="Shots run at once (default: all cores)."),
     dask: Optional[str] = typer.Option(None, "--dask", help="'local' for a LocalCluster, or a scheduler address."),
@@ -99,14 +103,26 @@ def limit(
 
     check_target(out, force)
     velocities = parse_range("--velocity", velocity, "3:11:5")
+    brackets = dict(_parse_bracket(spec) for spec in bracket or [])
     raw = load_toml(case)
     with Progress(transient=True) as bar:
         task = bar.add_task("shots", total=None)
         rows = run_limit(raw, velocities, out, source=str(case), tolerance_cm=tolerance, bracket_ratio=bracket_ratio,
-                         force=force, scheduler="dask" if dask else "processes", workers=workers, address=dask,
+                         brackets=brackets, force=force, scheduler="dask" if dask else "processes", workers=workers, address=dask,
                          keep_all=keep_all, progress=lambda n: bar.update(task, completed=n))
     for r in rows:
         d = "–" if r["limit_diameter_cm"] is None else f"{r['limit_diameter_cm']:.4f} ± {r['half_width_cm']:.4f} cm"
         typer.echo(f"V = {r['velocity_km_s']:g} km/s: simulated limit {d} ({r['status']}, {r['n_shots']} shots); "
                    f"JSC {r['jsc_critical_diameter_cm']:.4f} cm")
     typer.echo(f"table in {out / 'limit.csv'}, plot in {out / 'limit.png'}")
+
+
+def _parse_bracket(spec: str) -> tuple[float, tuple[float, float]]:
+    """``V:LOW:HIGH`` → (V, (LOW, HIGH))."""
+    from impactdyn._errors import InputError
+
+    try:
+        v, low, high = (float(part) for part in spec.split(":"))
+    except ValueError:
+        raise InputError(f"--bracket {spec!r}: expected V:LOW:HIGH (km/s, cm, cm), e.g. 7:0.95:1.10") from None
+    return v, (low, high)

@@ -5,7 +5,9 @@ simulation calls safe (``no perforation``) and one it calls failed (``perforatio
 ``detached spall``: JSC test practice counts both as a failed rear wall), then halves
 the bracket until it is no wider than ``tolerance_cm``:
 
-1. start from [d_JSC/r, d_JSC·r] about the JSC critical diameter (r = ``bracket_ratio``);
+1. start from [d_JSC/r, d_JSC·r] about the JSC critical diameter (r = ``bracket_ratio``), or
+   from the bracket the user gives for that velocity (``brackets``: a bracket found by an
+   earlier, interrupted search, or a guess), whose ends are shot again like any other;
 2. while both ends give the same verdict, move the bracket by the factor r toward the
    change (down if both fail, up if both hold), at most ``max_expansions`` times, after
    which the velocity is reported as unbracketed, with the shots it took;
@@ -58,6 +60,7 @@ class _Search:
     velocity: float
     jsc: float
     ratio: float
+    start: tuple[float, float]
     safe: float | None = None
     failed: float | None = None
     expansions: int = 0
@@ -69,7 +72,7 @@ class _Search:
         if self.status != "searching":
             return []
         if self.safe is None and self.failed is None:
-            return [self.jsc / self.ratio, self.jsc * self.ratio]
+            return list(self.start)
         if self.safe is None:
             return [self.failed / self.ratio]
         if self.failed is None:
@@ -102,11 +105,14 @@ def limit_velocities(raw: dict, velocities: list[float], source: str) -> list[Wh
 
 def run_limit(raw: dict, velocities: list[float], outdir: str | Path, *, source: str = "<case>",
               tolerance_cm: float = 0.02, bracket_ratio: float = 1.25, max_expansions: int = 4,
-              force: bool = False, scheduler: str = "processes", workers: int | None = None,
-              address: str | None = None, keep_all: bool = False, progress=None) -> list[dict]:
+              brackets: dict[float, tuple[float, float]] | None = None, force: bool = False,
+              scheduler: str = "processes", workers: int | None = None, address: str | None = None,
+              keep_all: bool = False, progress=None) -> list[dict]:
     """Search the simulated limit at each velocity (module docstring); returns the ``limit.csv`` rows.
 
-    ``progress(round, shots_done)`` is called after each shot.
+    ``brackets`` maps a velocity (km/s, one of ``velocities``) to the diameters (low, high) (cm)
+    its search starts from instead of the JSC bracket.  ``progress(shots_done)`` is called after
+    each shot.
     """
     if not velocities:
         raise InputError("limit: needs at least one velocity")
@@ -114,10 +120,14 @@ def run_limit(raw: dict, velocities: list[float], outdir: str | Path, *, source:
         raise InputError(f"--tolerance {tolerance_cm}: must be > 0 (cm)")
     if not (np.isfinite(bracket_ratio) and bracket_ratio > 1):
         raise InputError(f"--bracket-ratio {bracket_ratio}: must be > 1")
+    brackets = _check_brackets(brackets or {}, velocities)
     base = validate(WhippleCase, raw, source)
     bases = limit_velocities(raw, velocities, source)
-    searches = [_Search(velocity=float(v), jsc=ble_verdict(case)["threshold_cm"], ratio=bracket_ratio)
-                 for v, case in zip(velocities, bases)]
+    searches = []
+    for v, case in zip(velocities, bases):
+        jsc = ble_verdict(case)["threshold_cm"]
+        start = brackets.get(float(v), (jsc / bracket_ratio, jsc * bracket_ratio))
+        searches.append(_Search(velocity=float(v), jsc=jsc, ratio=bracket_ratio, start=start))
     done = 0
     with RunFolder(outdir, force=force) as rf:
         while batch := [(s, d) for s in searches for d in s.pending()]:
@@ -143,10 +153,27 @@ def run_limit(raw: dict, velocities: list[float], outdir: str | Path, *, source:
                 s.settle(tolerance_cm, max_expansions)
         rows = [_limit_row(s) for s in searches]
         rf.write_csv("limit.csv", LIMIT_HEADER, [[r[k] for k in LIMIT_HEADER] for r in rows])
-        rf.write_json("limit.json", {"tolerance_cm": tolerance_cm, "bracket_ratio": bracket_ratio, "rows": rows})
+        rf.write_json("limit.json", {"tolerance_cm": tolerance_cm, "bracket_ratio": bracket_ratio,
+                                     "start_brackets_cm": {f"{s.velocity:g}": list(s.start) for s in searches},
+                                     "rows": rows})
         rf.write_csv("shots.csv", SHOTS_HEADER, [[s.velocity, *shot] for s in searches for shot in s.shots])
         _plot(rf.path / "limit.png", bases[0], searches, tolerance_cm)
     return rows
+
+
+def _check_brackets(brackets: dict, velocities: list[float]) -> dict[float, tuple[float, float]]:
+    """The start brackets keyed by the search's own velocity values; each 0 < low < high."""
+    checked = {}
+    for v, (low, high) in brackets.items():
+        where = f"--bracket {v:g}:{low:g}:{high:g}"
+        match = [u for u in velocities if np.isclose(u, v, rtol=1e-9, atol=0.0)]
+        if not match:
+            raise InputError(f"{where}: {v:g} km/s is not one of the --velocity values "
+                             f"({', '.join(f'{u:g}' for u in velocities)})")
+        if not (np.isfinite(low) and np.isfinite(high) and 0 < low < high):
+            raise InputError(f"{where}: needs 0 < LOW < HIGH (cm)")
+        checked[float(match[0])] = (float(low), float(high))
+    return checked
 
 
 def _limit_row(s: _Search) -> dict:
