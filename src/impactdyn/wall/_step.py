@@ -105,8 +105,8 @@ from impactdyn.wall._mat13 import KIND as MAT13_KIND
 from impactdyn.wall._mat13 import M_G, M_K, mat13_update
 from impactdyn.wall._options import HOURGLASS_FORMS
 from impactdyn.wall._state import (
-    C, DT_E, EPS_P, ERODED, FAILED, P, P1_HG, P1_Q, P1_SIGMA, Q, SHG_MODE4, SHG_PLANE, VOL, W_HG, W_PLASTIC, W_Q,
-    W_SIGMA)
+    C, DT_E, EPS_P, ERODED, FAILED, N_SHG, P, P1_HG, P1_Q, P1_SIGMA, Q, SHG_MODE4, SHG_PLANE, VOL, W_HG, W_PLASTIC,
+    W_Q, W_SIGMA)
 
 #: Codes of the hourglass forms in the kernels (``hg_form``): their index in HOURGLASS_FORMS.
 HG_VISCOUS, HG_STIFFNESS, HG_ASSUMED_STRAIN = (HOURGLASS_FORMS.index(name) for name in
@@ -145,6 +145,15 @@ def _erase(F, es, Shg, e):
 #: V_J: the reciprocal base vectors ∇ξ_m of :func:`assumed_strain_forces`, row V_J + 3m + i.
 (V_VOL, V_P2, V_SIG, V_Q, V_OK, V_P1, V_BV, V_LE, V_TMP, V_J) = (0, 1, 2, 8, 9, 10, 11, 12, 13, 17)
 N_VEC = 26
+
+#: Rows of the per-thread flat block array ``hga`` of :func:`assumed_strain_forces` (row r of
+#: brick k at hga[r·BLOCK + k]): the reciprocal vectors (row H_J + 3m + i), hourglass velocities
+#: (H_QD + 3α + i), tangent ratio, flow stress, spin over the step Δt (Ω_xy, Ω_yz, Ω_xz), volume,
+#: stored hourglass stresses (H_SHG + the ``Shg`` column) and the forces Q (H_QN + 3α + i).
+#: One flat array with rows a compile-time multiple of BLOCK apart is what lets the compiler see
+#: that the rows never overlap, and vectorise the loops over the bricks.
+(H_J, H_QD, H_RATIO, H_FLOW, H_SPIN, H_VOL, H_SHG, H_QN) = (0, 9, 21, 22, 23, 26, 27, 27 + N_SHG)
+N_HGA = H_QN + 12
 
 
 @njit(cache=True, inline="always")
@@ -235,10 +244,17 @@ def _young(lam, mu):
     return mu * (3.0 * lam + 2.0 * mu) / den if den > 0.0 else 0.0
 
 
-# a plain call from the parallel element pass (inlined, its tuple arithmetic upset numba's parfor analysis)
-@njit(cache=True, fastmath={"contract"})
-def assumed_strain_forces(W, QD, QN, Shg, L, e, k, dt, vol, lam, shear, ratio, flow):
-    """QN[α, :, k] = Q_α, the assumed-strain hourglass forces of brick k (element e) after ``dt``.
+# a plain call from the parallel element pass, once per block (inlined, its tuple arithmetic upset numba's
+# parfor analysis).  The loops over the block's bricks are innermost, branch-free (selects, no min/max calls)
+# and read and write one flat array: they vectorise (3x faster than brick by brick on AVX2).
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+def assumed_strain_forces(H, nb, dt, lam, shear):
+    """The assumed-strain hourglass forces Q_α of the bricks k < nb of a block after ``dt``.
+
+    H is the block's flat array (rows :data:`H_J` …, :data:`N_HGA`; row r of brick k at r·BLOCK + k):
+    in, the reciprocal vectors, hourglass velocities q̇_αi, tangent ratio and flow stress (below),
+    spin Δt Ω and volume of each brick; in and out, its stored hourglass stresses (``Shg``'s
+    columns); out, its forces Q_αi (rows H_QN + 3α + i).
 
     Belytschko & Bindeman, "Assumed strain stabilization of the eight node hexahedral element",
     CMAME 105 (1993) 225 (LS-DYNA IHQ 6), derived here for a parallelepiped with edges a, b, c
@@ -273,13 +289,13 @@ def assumed_strain_forces(W, QD, QN, Shg, L, e, k, dt, vol, lam, shear, ratio, f
 
     Stored stresses (total form): the element keeps σ_k (6 components, global axes) and s_k
     (``Shg``, :mod:`._state`); each step they are rotated with the element's spin (Jaumann,
-    Ω = skew L of the midstep gradient ``L[e]``), σ_k projected on the current plane P_k σ_k P_k,
+    Ω = skew L of the midstep gradient), σ_k projected on the current plane P_k σ_k P_k,
     incremented with Δε_k, Δe_k from Δq = Δt q̇/8, and Q is computed from them with the current
     j_k and V as above.  A linear velocity field has q̇ = 0 (FB's γ), so nothing changes.
     λ = K₀ − 2G/3 is the model's reference (undeformed) Lamé constant, fixed, so the elastic
     moduli do not change with compression.
 
-    Moduli, loading and unloading: μ follows the step's return mapping, μ_t = G·``ratio``
+    Moduli, loading and unloading: μ follows the step's return mapping, μ_t = G·ratio
     (:func:`tangent_ratio`): the hourglass strain is the strain's variation inside the element,
     which in a yielding element loads along with its mean strain at the material's tangent
     (CalculiX's C3D8R scales its hourglass stiffness by the current tangent C₁₁₁₁ likewise);
@@ -316,110 +332,136 @@ def assumed_strain_forces(W, QD, QN, Shg, L, e, k, dt, vol, lam, shear, ratio, f
     shells).  Without the bound a mode loaded at G while its element was elastic kept that
     stress after the element yielded and went on deforming: the synthetic load's hourglass
     work reached 25–39 % of the internal energy (mat13).  The scaling only lowers the stored
-    energy at fixed work, so the form stays dissipative.  ``flow`` = ∞ in an elastic step.
+    energy at fixed work, so the form stays dissipative.  flow = ∞ in an elastic step.
     """
     f = 0.125 * dt
-    jv = ((W[V_J, k], W[V_J + 1, k], W[V_J + 2, k]), (W[V_J + 3, k], W[V_J + 4, k], W[V_J + 5, k]),
-          (W[V_J + 6, k], W[V_J + 7, k], W[V_J + 8, k]))
-    dq = ((f * QD[0, 0, k], f * QD[0, 1, k], f * QD[0, 2, k]), (f * QD[1, 0, k], f * QD[1, 1, k], f * QD[1, 2, k]),
-          (f * QD[2, 0, k], f * QD[2, 1, k], f * QD[2, 2, k]), (f * QD[3, 0, k], f * QD[3, 1, k], f * QD[3, 2, k]))
-    mu_t = shear * ratio
     kb_e = _lam_bar(lam, shear) + shear
-    kb_t = _lam_bar(lam, mu_t) + mu_t
     y_e = _young(lam, shear)
-    y_t = _young(lam, mu_t)
-    # the element's spin over the step, Δt Ω
-    wxy = 0.5 * dt * (L[e, 0, 1] - L[e, 1, 0])
-    wyz = 0.5 * dt * (L[e, 1, 2] - L[e, 2, 1])
-    wxz = 0.5 * dt * (L[e, 0, 2] - L[e, 2, 0])
-    w1 = vol / 24.0
-    w4 = vol / 72.0
-    for al in range(4):
-        for i in range(3):
-            QN[al, i, k] = 0.0
+    for r in range(H_QN * BLOCK, (H_QN + 12) * BLOCK):
+        H[r] = 0.0
+    # the groups k = 0, 1, 2 with their other two coordinates (j, l), as literals: constant rows
+    for k in range(nb):
+        _plane_group(0, 1, 2, k, H, f, lam, shear, kb_e)
+    for k in range(nb):
+        _plane_group(1, 2, 0, k, H, f, lam, shear, kb_e)
+    for k in range(nb):
+        _plane_group(2, 0, 1, k, H, f, lam, shear, kb_e)
+    # mode ξηζ along j_k: s_k += E Δe_k, Q_3 += V/72 s_k j_k
     for g in range(3):
-        j, l = (g + 1) % 3, (g + 2) % 3
-        jg = jv[g]
-        r = 1.0 / math.sqrt(_dot(jg, jg))
-        n0, n1, n2 = jg[0] * r, jg[1] * r, jg[2] * r
-        n = (n0, n1, n2)
-        c0 = SHG_PLANE + 6 * g
-        sxx, syy, szz = Shg[e, c0], Shg[e, c0 + 1], Shg[e, c0 + 2]
-        sxy, syz, szx = Shg[e, c0 + 3], Shg[e, c0 + 4], Shg[e, c0 + 5]
-        # rotated with the spin: σ + Δt (Ωσ − σΩ) (as :func:`impactdyn.constitutive.jaumann_rate`)
-        rxx, ryy, rzz, rxy, ryz, rzx = spin_terms(sxx, syy, szz, sxy, syz, szx, wxy, wyz, wxz)
-        sxx, syy, szz, sxy, syz, szx = sxx + rxx, syy + ryy, szz + rzz, sxy + rxy, syz + ryz, szx + rzx
-        # on the current plane: P σ P = σ − n⊗t − t⊗n + (n·t) n⊗n, t = σ n
-        t0 = sxx * n0 + sxy * n1 + szx * n2
-        t1 = sxy * n0 + syy * n1 + syz * n2
-        t2 = szx * n0 + syz * n1 + szz * n2
-        tn = t0 * n0 + t1 * n1 + t2 * n2
-        sxx += tn * n0 * n0 - 2.0 * n0 * t0
-        syy += tn * n1 * n1 - 2.0 * n1 * t1
-        szz += tn * n2 * n2 - 2.0 * n2 * t2
-        sxy += tn * n0 * n1 - n0 * t1 - t0 * n1
-        syz += tn * n1 * n2 - n1 * t2 - t1 * n2
-        szx += tn * n2 * n0 - n2 * t0 - t2 * n0
-        # the strain increment Δε = sym(a⊗b + c⊗d) of in-plane a = P Δq_j, b = P j_l, c = P Δq_l, d = P j_j
-        a, b = _in_plane(dq[j], n), _in_plane(jv[l], n)
-        c, d = _in_plane(dq[l], n), _in_plane(jv[j], n)
-        exx = a[0] * b[0] + c[0] * d[0]
-        eyy = a[1] * b[1] + c[1] * d[1]
-        ezz = a[2] * b[2] + c[2] * d[2]
-        exy = 0.5 * (a[0] * b[1] + b[0] * a[1] + c[0] * d[1] + d[0] * c[1])
-        eyz = 0.5 * (a[1] * b[2] + b[1] * a[2] + c[1] * d[2] + d[1] * c[2])
-        ezx = 0.5 * (a[2] * b[0] + b[2] * a[0] + c[2] * d[0] + d[2] * c[0])
-        tre = exx + eyy + ezz
-        trs = sxx + syy + szz
-        # σ':Δε' = σ:Δε − ½ tr σ tr Δε (both in the plane, P:P = 2)
-        dev = sxx * exx + syy * eyy + szz * ezz + 2.0 * (sxy * exy + syz * eyz + szx * ezx) - 0.5 * trs * tre
-        kb = kb_t if trs * tre >= 0.0 else kb_e
-        mu = mu_t if dev >= 0.0 else shear
-        # Δσ = (λ̄ + μ)_s tr Δε P + 2μ_d (Δε − ½ tr Δε P)
-        cp = (kb - mu) * tre
-        sxx += 2.0 * mu * exx + cp * (1.0 - n0 * n0)
-        syy += 2.0 * mu * eyy + cp * (1.0 - n1 * n1)
-        szz += 2.0 * mu * ezz + cp * (1.0 - n2 * n2)
-        sxy += 2.0 * mu * exy - cp * n0 * n1
-        syz += 2.0 * mu * eyz - cp * n1 * n2
-        szx += 2.0 * mu * ezx - cp * n2 * n0
-        mean = (sxx + syy + szz) / 3.0
-        seq = math.sqrt(1.5 * ((sxx - mean) ** 2 + (syy - mean) ** 2 + (szz - mean) ** 2)
-                        + 3.0 * (sxy * sxy + syz * syz + szx * szx))
-        if seq > flow:
-            back = flow / seq
-            sxx, syy, szz, sxy, syz, szx = back * sxx, back * syy, back * szz, back * sxy, back * syz, back * szx
-        Shg[e, c0], Shg[e, c0 + 1], Shg[e, c0 + 2] = sxx, syy, szz
-        Shg[e, c0 + 3], Shg[e, c0 + 4], Shg[e, c0 + 5] = sxy, syz, szx
-        # Q_j += V/24 σ j_l, Q_l += V/24 σ j_j (σ in the plane: σ j = σ P j)
-        jl, jj = jv[l], jv[j]
-        QN[j, 0, k] += w1 * (sxx * jl[0] + sxy * jl[1] + szx * jl[2])
-        QN[j, 1, k] += w1 * (sxy * jl[0] + syy * jl[1] + syz * jl[2])
-        QN[j, 2, k] += w1 * (szx * jl[0] + syz * jl[1] + szz * jl[2])
-        QN[l, 0, k] += w1 * (sxx * jj[0] + sxy * jj[1] + szx * jj[2])
-        QN[l, 1, k] += w1 * (sxy * jj[0] + syy * jj[1] + syz * jj[2])
-        QN[l, 2, k] += w1 * (szx * jj[0] + syz * jj[1] + szz * jj[2])
-        # mode ξηζ along j_k: s_k += E Δe_k, Q_3 += V/72 s_k j_k
-        e4 = _dot(dq[3], jg)
-        s4 = Shg[e, SHG_MODE4 + g]
-        s4 += (y_t if s4 * e4 >= 0.0 else y_e) * e4
-        s4 = max(-flow, min(flow, s4))
-        Shg[e, SHG_MODE4 + g] = s4
-        for i in range(3):
-            QN[3, i, k] += w4 * s4 * jg[i]
+        rg = (H_J + 3 * g) * BLOCK
+        rs = (H_SHG + SHG_MODE4 + g) * BLOCK
+        for k in range(nb):
+            y_t = _young(lam, shear * H[H_RATIO * BLOCK + k])
+            flow = H[H_FLOW * BLOCK + k]
+            jg0, jg1, jg2 = H[rg + k], H[rg + BLOCK + k], H[rg + 2 * BLOCK + k]
+            e4 = f * (H[(H_QD + 9) * BLOCK + k] * jg0 + H[(H_QD + 10) * BLOCK + k] * jg1
+                      + H[(H_QD + 11) * BLOCK + k] * jg2)
+            s4 = H[rs + k]
+            s4 += (y_t if s4 * e4 >= 0.0 else y_e) * e4
+            s4 = s4 if s4 < flow else flow
+            s4 = s4 if s4 > -flow else -flow
+            H[rs + k] = s4
+            w4 = H[H_VOL * BLOCK + k] / 72.0
+            H[(H_QN + 9) * BLOCK + k] += w4 * s4 * jg0
+            H[(H_QN + 10) * BLOCK + k] += w4 * s4 * jg1
+            H[(H_QN + 11) * BLOCK + k] += w4 * s4 * jg2
+
+
+@njit(cache=True, inline="always")
+def _plane_group(g, j, l, k, H, f, lam, shear, kb_e):
+    """Group g (other coordinates j, l) of brick k in the flat block array H: its plane-stress
+    hourglass stress σ_g rotated, projected, incremented, bounded and stored, and its forces added
+    to Q_j and Q_l (:func:`assumed_strain_forces`)."""
+    mu_t = shear * H[H_RATIO * BLOCK + k]
+    kb_t = _lam_bar(lam, mu_t) + mu_t
+    jg = _block_vector(H, H_J + 3 * g, k)
+    jj = _block_vector(H, H_J + 3 * j, k)
+    jl = _block_vector(H, H_J + 3 * l, k)
+    r = 1.0 / math.sqrt(_dot(jg, jg))
+    n0, n1, n2 = jg[0] * r, jg[1] * r, jg[2] * r
+    n = (n0, n1, n2)
+    c0 = (H_SHG + SHG_PLANE + 6 * g) * BLOCK + k
+    sxx, syy, szz = H[c0], H[c0 + BLOCK], H[c0 + 2 * BLOCK]
+    sxy, syz, szx = H[c0 + 3 * BLOCK], H[c0 + 4 * BLOCK], H[c0 + 5 * BLOCK]
+    # rotated with the spin: σ + Δt (Ωσ − σΩ) (as :func:`impactdyn.constitutive.jaumann_rate`)
+    wxy, wyz, wxz = _block_vector(H, H_SPIN, k)
+    rxx, ryy, rzz, rxy, ryz, rzx = spin_terms(sxx, syy, szz, sxy, syz, szx, wxy, wyz, wxz)
+    sxx, syy, szz, sxy, syz, szx = sxx + rxx, syy + ryy, szz + rzz, sxy + rxy, syz + ryz, szx + rzx
+    # on the current plane: P σ P = σ − n⊗t − t⊗n + (n·t) n⊗n, t = σ n
+    t0 = sxx * n0 + sxy * n1 + szx * n2
+    t1 = sxy * n0 + syy * n1 + syz * n2
+    t2 = szx * n0 + syz * n1 + szz * n2
+    tn = t0 * n0 + t1 * n1 + t2 * n2
+    sxx += tn * n0 * n0 - 2.0 * n0 * t0
+    syy += tn * n1 * n1 - 2.0 * n1 * t1
+    szz += tn * n2 * n2 - 2.0 * n2 * t2
+    sxy += tn * n0 * n1 - n0 * t1 - t0 * n1
+    syz += tn * n1 * n2 - n1 * t2 - t1 * n2
+    szx += tn * n2 * n0 - n2 * t0 - t2 * n0
+    # the strain increment Δε = sym(a⊗b + c⊗d) of in-plane a = P Δq_j, b = P j_l, c = P Δq_l, d = P j_j
+    qj = _block_vector(H, H_QD + 3 * j, k)
+    ql = _block_vector(H, H_QD + 3 * l, k)
+    a = _in_plane((f * qj[0], f * qj[1], f * qj[2]), n)
+    b = _in_plane(jl, n)
+    c = _in_plane((f * ql[0], f * ql[1], f * ql[2]), n)
+    d = _in_plane(jj, n)
+    exx = a[0] * b[0] + c[0] * d[0]
+    eyy = a[1] * b[1] + c[1] * d[1]
+    ezz = a[2] * b[2] + c[2] * d[2]
+    exy = 0.5 * (a[0] * b[1] + b[0] * a[1] + c[0] * d[1] + d[0] * c[1])
+    eyz = 0.5 * (a[1] * b[2] + b[1] * a[2] + c[1] * d[2] + d[1] * c[2])
+    ezx = 0.5 * (a[2] * b[0] + b[2] * a[0] + c[2] * d[0] + d[2] * c[0])
+    tre = exx + eyy + ezz
+    trs = sxx + syy + szz
+    # σ':Δε' = σ:Δε − ½ tr σ tr Δε (both in the plane, P:P = 2)
+    dev = sxx * exx + syy * eyy + szz * ezz + 2.0 * (sxy * exy + syz * eyz + szx * ezx) - 0.5 * trs * tre
+    kb = kb_t if trs * tre >= 0.0 else kb_e
+    mu = mu_t if dev >= 0.0 else shear
+    # Δσ = (λ̄ + μ)_s tr Δε P + 2μ_d (Δε − ½ tr Δε P)
+    cp = (kb - mu) * tre
+    sxx += 2.0 * mu * exx + cp * (1.0 - n0 * n0)
+    syy += 2.0 * mu * eyy + cp * (1.0 - n1 * n1)
+    szz += 2.0 * mu * ezz + cp * (1.0 - n2 * n2)
+    sxy += 2.0 * mu * exy - cp * n0 * n1
+    syz += 2.0 * mu * eyz - cp * n1 * n2
+    szx += 2.0 * mu * ezx - cp * n2 * n0
+    mean = (sxx + syy + szz) / 3.0
+    dx, dy, dz = sxx - mean, syy - mean, szz - mean
+    seq = math.sqrt(1.5 * (dx * dx + dy * dy + dz * dz) + 3.0 * (sxy * sxy + syz * syz + szx * szx))
+    # back onto the flow stress: a factor 1 inside it (1.0 · σ is exact)
+    back = H[H_FLOW * BLOCK + k] / seq
+    back = (back if back < 1.0 else 1.0) if seq > 0.0 else 1.0
+    sxx, syy, szz, sxy, syz, szx = back * sxx, back * syy, back * szz, back * sxy, back * syz, back * szx
+    H[c0], H[c0 + BLOCK], H[c0 + 2 * BLOCK] = sxx, syy, szz
+    H[c0 + 3 * BLOCK], H[c0 + 4 * BLOCK], H[c0 + 5 * BLOCK] = sxy, syz, szx
+    # Q_j += V/24 σ j_l, Q_l += V/24 σ j_j (σ in the plane: σ j = σ P j)
+    w1 = H[H_VOL * BLOCK + k] / 24.0
+    rj, rl = (H_QN + 3 * j) * BLOCK + k, (H_QN + 3 * l) * BLOCK + k
+    H[rj] += w1 * (sxx * jl[0] + sxy * jl[1] + szx * jl[2])
+    H[rj + BLOCK] += w1 * (sxy * jl[0] + syy * jl[1] + syz * jl[2])
+    H[rj + 2 * BLOCK] += w1 * (szx * jl[0] + syz * jl[1] + szz * jl[2])
+    H[rl] += w1 * (sxx * jj[0] + sxy * jj[1] + szx * jj[2])
+    H[rl + BLOCK] += w1 * (sxy * jj[0] + syy * jj[1] + syz * jj[2])
+    H[rl + 2 * BLOCK] += w1 * (szx * jj[0] + syz * jj[1] + szz * jj[2])
+
+
+@njit(cache=True, inline="always")
+def _block_vector(H, row, k):
+    """(H[row], H[row + 1], H[row + 2]) of brick k: three consecutive rows of the flat block array."""
+    return H[row * BLOCK + k], H[(row + 1) * BLOCK + k], H[(row + 2) * BLOCK + k]
 
 
 def work_arrays(n_threads: int) -> tuple[np.ndarray, ...]:
-    """Per-thread block work space of :func:`element_pass`: (geo, hg_shapes, hg_forces, lb, vec)."""
+    """Per-thread block work space of :func:`element_pass`: (geo, hg_shapes, hg_forces, lb, vec, hga)."""
     return (np.zeros((n_threads, 4, 3, 8, BLOCK)), np.zeros((n_threads, 4, 8, BLOCK)),
             np.zeros((n_threads, 2, 4, 3, BLOCK)), np.zeros((n_threads, 3, 3, BLOCK)),
-            np.zeros((n_threads, N_VEC, BLOCK)))
+            np.zeros((n_threads, N_VEC, BLOCK)), np.zeros((n_threads, N_HGA * BLOCK)))
 
 
 # fastmath 'contract' only: fused multiply-adds (5 % faster), no change to NaN/inf semantics
 @njit(parallel=True, cache=True, fastmath={"contract"})
-def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, geo, hgs, hgf, lb, vec, kind, mprm,
-                 table, hg_form, qh, q1, q2, erode_failed, erode_dt, min_dt, dt, dt_full_prev):
+def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, geo, hgs, hgf, lb, vec, hga, kind,
+                 mprm, table, hg_form, qh, q1, q2, erode_failed, erode_dt, min_dt, dt, dt_full_prev):
     """Stress update and nodal forces of every element over the half step Δt = ``dt`` (module docstring).
 
     x (n_nodes, 3) at the step's end, v (n_nodes, 3) the half-step velocities v^{n+½}; element
@@ -437,7 +479,8 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, 
     end coordinates, velocities, volume gradients and forces;
     hgs (n_threads, 4, 8, BLOCK) its γ; hgf (n_threads, 2, 4, 3, BLOCK) its hourglass velocities
     q̇ and forces Q; lb (n_threads, 3, 3, BLOCK) its velocity gradients; vec (n_threads, N_VEC,
-    BLOCK) its per-element scalars (:func:`work_arrays`).
+    BLOCK) its per-element scalars; hga (n_threads, N_HGA · BLOCK) the assumed-strain form's flat
+    block array (:data:`H_J`, :func:`assumed_strain_forces`) (:func:`work_arrays`).
 
     Returns (status, min_e Δt_e): status 0, or the largest breakdown code (``bad`` marks the
     elements).
@@ -456,7 +499,7 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, 
     for blk in prange((ne + BLOCK - 1) // BLOCK):
         tid = get_thread_id()
         X, V, B, FS = geo[tid, 0], geo[tid, 1], geo[tid, 2], geo[tid, 3]
-        G, QD, QN, LB, W = hgs[tid], hgf[tid, 0], hgf[tid, 1], lb[tid], vec[tid]
+        G, QD, QN, LB, W, HG = hgs[tid], hgf[tid, 0], hgf[tid, 1], lb[tid], vec[tid], hga[tid]
         e0 = blk * BLOCK
         nb = min(BLOCK, ne - e0)
         # gather the block; p2 = f^n · v^{n+½}, the second half of the previous forces' work
@@ -540,13 +583,16 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, 
             es[e, Q] = q
             es[e, VOL] = vol
             es[e, W_PLASTIC] += dwp
-            # generalised hourglass forces Q_αi: QN ← the viscous force, the stiffness form's increment
-            # or the assumed-strain form's forces
+            # generalised hourglass forces Q_αi: QN ← the viscous force or the stiffness form's increment
+            # here, the assumed-strain form's forces for the whole block below
             if hg_form == HG_ASSUMED_STRAIN:
                 seq = von_mises(S, e)
                 ratio = tangent_ratio(seq_old, seq, es[e, EPS_P] - eps_p_old, shear)
-                assumed_strain_forces(W, QD, QN, Shg, Lbuf, e, k, dt, vol, lam0, shear, ratio,
-                                      seq if ratio < 1.0 else np.inf)
+                HG[H_RATIO * BLOCK + k] = ratio
+                HG[H_FLOW * BLOCK + k] = seq if ratio < 1.0 else np.inf
+                HG[H_SPIN * BLOCK + k] = 0.5 * dt * (Lbuf[e, 0, 1] - Lbuf[e, 1, 0])
+                HG[(H_SPIN + 1) * BLOCK + k] = 0.5 * dt * (Lbuf[e, 1, 2] - Lbuf[e, 2, 1])
+                HG[(H_SPIN + 2) * BLOCK + k] = 0.5 * dt * (Lbuf[e, 0, 2] - Lbuf[e, 2, 0])
             else:
                 if hg_form == HG_STIFFNESS:
                     bb = 0.0
@@ -559,14 +605,6 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, 
                 for al in range(4):
                     for i in range(3):
                         QN[al, i, k] = coef * QD[al, i, k]
-            p1_hg = 0.0
-            for al in range(4):
-                for i in range(3):
-                    qnew = (Qhg[e, al, i] if hg_form == HG_STIFFNESS else 0.0) + QN[al, i, k]
-                    Qhg[e, al, i] = qnew
-                    QN[al, i, k] = qnew
-                    p1_hg += qnew * QD[al, i, k]
-            es[e, P1_HG] = p1_hg
             p = es[e, P]
             W[V_SIG + 0, k] = S[e, 0] - p
             W[V_SIG + 1, k] = S[e, 1] - p
@@ -576,6 +614,43 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, 
             W[V_SIG + 5, k] = S[e, 5]
             W[V_Q, k] = q
             W[V_OK, k] = 1.0
+        if hg_form == HG_ASSUMED_STRAIN:
+            # the block into the flat array, its forces and stored stresses updated, and back (live bricks)
+            for k in range(nb):
+                if W[V_OK, k] == 0.0:  # eroded: a harmless state for the vectorised arithmetic, not stored
+                    HG[H_RATIO * BLOCK + k] = 1.0
+                    HG[H_FLOW * BLOCK + k] = np.inf
+                    for m in range(3):
+                        HG[(H_SPIN + m) * BLOCK + k] = 0.0
+                HG[H_VOL * BLOCK + k] = W[V_VOL, k]
+                for m in range(9):
+                    HG[(H_J + m) * BLOCK + k] = W[V_J + m, k]
+                for al in range(4):
+                    for i in range(3):
+                        HG[(H_QD + 3 * al + i) * BLOCK + k] = QD[al, i, k]
+                for c in range(N_SHG):
+                    HG[(H_SHG + c) * BLOCK + k] = Shg[e0 + k, c]
+            assumed_strain_forces(HG, nb, dt, lam0, shear)
+            for k in range(nb):
+                for al in range(4):
+                    for i in range(3):
+                        QN[al, i, k] = HG[(H_QN + 3 * al + i) * BLOCK + k]
+                if W[V_OK, k] != 0.0:
+                    for c in range(N_SHG):
+                        Shg[e0 + k, c] = HG[(H_SHG + c) * BLOCK + k]
+        # the hourglass forces kept (the stiffness form's running sum) and their power on v^{n+½}
+        for k in range(nb):
+            if W[V_OK, k] == 0.0:
+                continue
+            e = e0 + k
+            p1_hg = 0.0
+            for al in range(4):
+                for i in range(3):
+                    qnew = (Qhg[e, al, i] if hg_form == HG_STIFFNESS else 0.0) + QN[al, i, k]
+                    Qhg[e, al, i] = qnew
+                    QN[al, i, k] = qnew
+                    p1_hg += qnew * QD[al, i, k]
+            es[e, P1_HG] = p1_hg
         # nodal forces of the block: f_iI = σ_ij B_jI (σ = S − p I), the bulk viscosity's −q B_iI, and
         # f_hg,iI = Σ_α Q_αi γ_αI; p1 = f_σ·v^{n+½} and bv = B·v^{n+½} for the work bookkeeping
         for k in range(nb):
@@ -713,7 +788,7 @@ def _clear_loads(c0, c1, rec_ptr, rec_node, pext):
 
 @njit(cache=True)
 def advance(t_stop, max_steps, clock, acc, x, v, mass, free, fixed, pext, rear, Fflat, ptr, entry, conn, vol0,
-            emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, geo, hgs, hgf, lb, vec, kind, mprm, table, hg_form, qh, q1,
+            emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, geo, hgs, hgf, lb, vec, hga, kind, mprm, table, hg_form, qh, q1,
             q2, courant, erode_failed, erode_dt, min_dt, rec_time, rec_ptr, rec_node, rec_weight, rec_imp):
     """Steps from t^n (element pass done) until t ≥ ``t_stop`` or ``max_steps`` steps (module docstring).
 
@@ -737,7 +812,7 @@ def advance(t_stop, max_steps, clock, acc, x, v, mass, free, fixed, pext, rear, 
         clock[DT_PREV] = clock[DT_NEXT]
         clock[DT_FULL] = dt_full
         status, dtmin = element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, geo, hgs, hgf, lb,
-                                     vec, kind, mprm, table, hg_form, qh, q1, q2, erode_failed, erode_dt, min_dt,
+                                     vec, hga, kind, mprm, table, hg_form, qh, q1, q2, erode_failed, erode_dt, min_dt,
                                      clock[DT_PREV], dt_full)
         steps += 1
         clock[STEPS] += 1
