@@ -91,7 +91,7 @@ def _node_gradient(B, a, X, n2, n3, n4, n5, n6, n8, nb):
                          X[1, n2, k], X[1, n3, k], X[1, n4, k], X[1, n5, k], X[1, n6, k], X[1, n8, k]) / 12.0
 
 
-@njit(cache=True, fastmath={"contract"})
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
 def volume_gradient(X, B, vol, nb):
     """B[i, a, k] = ∂V/∂x_ia and vol[k] = V of the bricks k < nb of the block X (module docstring).
 
@@ -112,7 +112,7 @@ def volume_gradient(X, B, vol, nb):
         vol[k] = s
 
 
-@njit(cache=True, fastmath={"contract"})
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
 def hourglass_shapes(X, B, vol, G, T, nb):
     """FB's hourglass shape vectors G[α, a, k] = h_αa − (h_α·x_i) B[i, a, k]/V_k of bricks k < nb.
 
