@@ -45,6 +45,23 @@ def test_bisection_brackets_the_change_of_verdict(tmp_path, make_case, monkeypat
     assert (out / "limit.png").stat().st_size > 10_000
 
 
+def test_the_limit_plot_draws_the_shots_the_limit_and_the_nearby_test_shots(tmp_path, make_case, monkeypatch):
+    import impactdyn.ble
+    from impactdyn.ble import ShotDatabase
+
+    drawn = {}
+    monkeypatch.setattr(impactdyn.ble, "plot_ballistic_limit", lambda curves, path, **kw: drawn.update(kw))
+    taken = _fake_shots(monkeypatch, lambda v: 0.45)
+    rows = _limit.run_limit(load_toml(make_case(tmp_path)), [6.0, 7.0], tmp_path / "limit", tolerance_cm=0.02,
+                            scheduler="serial")
+    assert isinstance(drawn["shots"], ShotDatabase)
+    v, d, failed = drawn["simulated"]
+    assert sorted(zip(v, d)) == sorted(taken) and list(failed) == [di > 0.45 for di in d]
+    v_lim, d_lim, half, label = drawn["limit"]
+    assert list(v_lim) == [6.0, 7.0] and list(d_lim) == [r["limit_diameter_cm"] for r in rows]
+    assert list(half) == [r["half_width_cm"] for r in rows] and "0.02 cm" in label
+
+
 def test_a_limit_out_of_reach_is_reported_unbracketed(tmp_path, make_case, monkeypatch):
     _fake_shots(monkeypatch, lambda v: 50.0)  # never perforates at any diameter the search may try
     raw = load_toml(make_case(tmp_path))

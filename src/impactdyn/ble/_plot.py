@@ -68,7 +68,7 @@ def _draw_shots(ax, shots: ShotDatabase, x: np.ndarray, y: np.ndarray, what: str
 
 
 def _draw_curves(ax, curves: list[BallisticLimitCurve], shot=None, outcomes=None,
-                 shots: ShotDatabase | None = None) -> None:
+                 shots: ShotDatabase | None = None, simulated=None, limit=None) -> None:
     main = curves[0]
     v = main.velocity_km_s
     if main.regime_boundaries_km_s is not None:
@@ -101,6 +101,18 @@ def _draw_curves(ax, curves: list[BallisticLimitCurve], shot=None, outcomes=None
     if shots is not None and len(shots):
         _draw_shots(ax, shots, shots.velocity_km_s, shots.diameter_cm, "test shot")
         tops.append(float(np.max(shots.diameter_cm)))
+    if simulated is not None and len(simulated[0]):
+        vs, ds, failed = (np.asarray(a) for a in simulated)
+        for mask, marker, colour, name in ((failed, "P", "darkred", "perforation / detached spall"),
+                                           (~failed, "s", "darkgreen", "no perforation")):
+            if mask.any():
+                ax.scatter(vs[mask], ds[mask], marker=marker, s=40, color=colour, alpha=0.75, zorder=6,
+                           label=f"simulated shot: {name} ({int(mask.sum())})")
+        tops.append(float(np.max(ds)))
+    if limit is not None and len(limit[0]):
+        vl, dl, half, label = limit
+        ax.errorbar(vl, dl, yerr=half, fmt="D-", color="tab:purple", ms=7, capsize=5, lw=1.5, zorder=7, label=label)
+        tops.append(float(np.max(np.asarray(dl) + np.asarray(half))))
     ax.set_xlabel("impact velocity V (km/s)")
     ax.set_ylabel("critical projectile diameter d_c (cm)")
     ax.set_xlim(v[0], v[-1])
@@ -111,7 +123,8 @@ def _draw_curves(ax, curves: list[BallisticLimitCurve], shot=None, outcomes=None
 
 def plot_ballistic_limit(curves: list[BallisticLimitCurve], path: str | os.PathLike,
                          shot: tuple[float, float, bool] | None = None, title: str | None = None,
-                         outcomes: tuple | None = None, shots: ShotDatabase | None = None) -> Path:
+                         outcomes: tuple | None = None, shots: ShotDatabase | None = None,
+                         simulated: tuple | None = None, limit: tuple | None = None) -> Path:
     """Draw d_c(V) curves into ``path`` (written under a temporary name, then renamed).
 
     The first curve's regimes, if it has them, are shaded, with the boundaries marked;
@@ -121,11 +134,14 @@ def plot_ballistic_limit(curves: list[BallisticLimitCurve], path: str | os.PathL
     perforated (n,) bool, label): simulated shots, coloured by ``value`` (with a colour bar
     titled ``label``), crosses where the curve predicts perforation and dots elsewhere.
     ``shots``: test shots (e.g. :func:`impactdyn.ble.nearby_shots`), red crosses where the
-    rear wall was perforated (P), open blue circles where not (NP).
+    rear wall was perforated (P), open blue circles where not (NP).  ``simulated`` = (V (n,),
+    d (n,), failed (n,) bool): shots whose wall verdict a simulation gave, dark red pluses where
+    it failed and dark green squares where not.  ``limit`` = (V (m,), d (m,), half width (m,),
+    label): a limit found by bisection, drawn with its brackets as error bars.
     """
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(8.5, 5.8), constrained_layout=True)
-    _draw_curves(ax, curves, shot, outcomes, shots)
+    _draw_curves(ax, curves, shot, outcomes, shots, simulated, limit)
     main = curves[0]
     ax.set_title(title or f"Ballistic limit, θ = {main.obliquity_deg:g}°, "
                           f"ρ_p = {main.projectile_density:g} g/cm³", fontsize=10)

@@ -186,33 +186,22 @@ def _limit_row(s: _Search) -> dict:
 
 
 def _plot(path: Path, case: WhippleCase, searches: list[_Search], tolerance: float) -> None:
-    from impactdyn._plotting import pyplot, save_figure
-    from impactdyn.ble import ballistic_limit_curve
+    """The simulated limit with its brackets and every shot, over the JSC curve and the test
+    database's shots near the configuration (:func:`impactdyn.ble.nearby_shots`)."""
+    from impactdyn.ble import ballistic_limit_curve, nearby_shots, plot_ballistic_limit
     from impactdyn.materials import get_material
     from impactdyn.whipple._case import ble_shield
 
-    plt = pyplot()
     p, w, b = case.projectile, case.wall, case.bumper
     vmax = max(15.0, 1.1 * max(s.velocity for s in searches))
-    curve = ballistic_limit_curve(ble_shield(case), np.linspace(1.0, vmax, 281), p.obliquity_deg,
-                                  get_material(p.material).rho0)
-    fig, ax = plt.subplots(figsize=(7.5, 5.4), constrained_layout=True)
-    ax.plot(curve.velocity_km_s, curve.threshold_cm, "k-", lw=1.5, label=f"ballistic-limit equation ({curve.equation})")
-    for s in searches:
-        for d, _, failed, _, _ in s.shots:
-            ax.plot(s.velocity, d, "X" if failed else "o", color="tab:red" if failed else "tab:green", ms=6,
-                    alpha=0.6)
-    conv = [s for s in searches if s.safe is not None and s.failed is not None]
-    if conv:
-        ax.errorbar([s.velocity for s in conv], [0.5 * (s.safe + s.failed) for s in conv],
-                    yerr=[0.5 * abs(s.failed - s.safe) for s in conv], fmt="s-", color="tab:blue", capsize=4,
-                    label=f"simulated limit (bisection to {tolerance:g} cm)")
-    ax.plot([], [], "X", color="tab:red", label="simulated: perforation / detached spall")
-    ax.plot([], [], "o", color="tab:green", label="simulated: no perforation")
-    ax.set_xlabel("impact velocity (km/s)")
-    ax.set_ylabel("projectile diameter (cm)")
-    ax.set_title(f"Simulated ballistic limit: t_b = {b.thickness_cm:g} cm, t_w = {w.thickness_cm:g} cm, "
-                 f"S = {w.spacing_cm:g} cm, θ = {p.obliquity_deg:g}°", fontsize=9)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    save_figure(fig, path)
+    shield = ble_shield(case)
+    curve = ballistic_limit_curve(shield, np.linspace(1.0, vmax, 281), p.obliquity_deg, get_material(p.material).rho0)
+    shots = [(s.velocity, d, failed) for s in searches for d, _, failed, _, _ in s.shots]
+    done = [s for s in searches if s.safe is not None and s.failed is not None]
+    plot_ballistic_limit(
+        [curve], path, shots=nearby_shots(shield, p.obliquity_deg),
+        simulated=tuple(np.array(c) for c in zip(*shots)) if shots else None,
+        limit=([s.velocity for s in done], [0.5 * (s.safe + s.failed) for s in done],
+               [0.5 * abs(s.failed - s.safe) for s in done], f"simulated limit (bisection to {tolerance:g} cm)"),
+        title=f"Simulated ballistic limit: t_b = {b.thickness_cm:g} cm, t_w = {w.thickness_cm:g} cm, "
+              f"S = {w.spacing_cm:g} cm, θ = {p.obliquity_deg:g}°, wall model {case.wall_solver.material_model}")
