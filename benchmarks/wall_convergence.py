@@ -53,7 +53,8 @@ def main() -> int:
     ap.add_argument("run", type=Path)
     ap.add_argument("--refinement", type=int, default=2)
     ap.add_argument("--no-spreads", action="store_true")
-    ap.add_argument("--split", action="store_true", help="also refine through the thickness alone and in the plane alone")
+    ap.add_argument("--split", action="store_true",
+                    help="also refine through the thickness alone and in the plane alone")
     ap.add_argument("--json", type=Path)
     args = ap.parse_args()
     case = load_whipple_case(args.run / "case.toml")

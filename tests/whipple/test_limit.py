@@ -78,7 +78,8 @@ def test_a_given_start_bracket_replaces_the_jsc_one(tmp_path, make_case, monkeyp
     rows = _limit.run_limit(raw, [4.0, 7.0], tmp_path / "limit", tolerance_cm=0.05, scheduler="serial",
                             brackets={7.0: (0.97, 1.06)})
     by_v = {r["velocity_km_s"]: r for r in rows}
-    assert [d for v, d in taken if v == 7.0] == pytest.approx([0.97, 1.06, 1.015])  # both ends shot again, then one halving
+    # both ends shot again, then one halving
+    assert [d for v, d in taken if v == 7.0] == pytest.approx([0.97, 1.06, 1.015])
     assert by_v[7.0]["status"] == "converged" and by_v[7.0]["n_shots"] == 3
     assert by_v[4.0]["n_shots"] > 3 and by_v[4.0]["largest_safe_cm"] <= 1.03 < by_v[4.0]["smallest_failed_cm"]
     start = json.loads((tmp_path / "limit" / "limit.json").read_text())["start_brackets_cm"]

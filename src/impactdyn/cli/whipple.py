@@ -108,8 +108,8 @@ def limit(
     with Progress(transient=True) as bar:
         task = bar.add_task("shots", total=None)
         rows = run_limit(raw, velocities, out, source=str(case), tolerance_cm=tolerance, bracket_ratio=bracket_ratio,
-                         brackets=brackets, force=force, scheduler="dask" if dask else "processes", workers=workers, address=dask,
-                         keep_all=keep_all, progress=lambda n: bar.update(task, completed=n))
+                         brackets=brackets, force=force, scheduler="dask" if dask else "processes", workers=workers,
+                         address=dask, keep_all=keep_all, progress=lambda n: bar.update(task, completed=n))
     for r in rows:
         d = "–" if r["limit_diameter_cm"] is None else f"{r['limit_diameter_cm']:.4f} ± {r['half_width_cm']:.4f} cm"
         typer.echo(f"V = {r['velocity_km_s']:g} km/s: simulated limit {d} ({r['status']}, {r['n_shots']} shots); "

@@ -788,8 +788,8 @@ def _clear_loads(c0, c1, rec_ptr, rec_node, pext):
 
 @njit(cache=True)
 def advance(t_stop, max_steps, clock, acc, x, v, mass, free, fixed, pext, rear, Fflat, ptr, entry, conn, vol0,
-            emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, geo, hgs, hgf, lb, vec, hga, kind, mprm, table, hg_form, qh, q1,
-            q2, courant, erode_failed, erode_dt, min_dt, rec_time, rec_ptr, rec_node, rec_weight, rec_imp):
+            emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, geo, hgs, hgf, lb, vec, hga, kind, mprm, table, hg_form, qh,
+            q1, q2, courant, erode_failed, erode_dt, min_dt, rec_time, rec_ptr, rec_node, rec_weight, rec_imp):
     """Steps from t^n (element pass done) until t ≥ ``t_stop`` or ``max_steps`` steps (module docstring).
 
     Each step: loads due at t^n, node pass (kick to v^{n+½}, drift to x^{n+1}), t ← t^{n+1},

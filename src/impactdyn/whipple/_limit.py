@@ -157,7 +157,7 @@ def run_limit(raw: dict, velocities: list[float], outdir: str | Path, *, source:
                                      "start_brackets_cm": {f"{s.velocity:g}": list(s.start) for s in searches},
                                      "rows": rows})
         rf.write_csv("shots.csv", SHOTS_HEADER, [[s.velocity, *shot] for s in searches for shot in s.shots])
-        _plot(rf.path / "limit.png", bases[0], searches, tolerance_cm)
+        _plot(rf.path / "limit.png", bases[0], searches, rows, tolerance_cm)
     return rows
 
 
@@ -185,9 +185,9 @@ def _limit_row(s: _Search) -> dict:
             "jsc_critical_diameter_cm": s.jsc, "n_shots": len(s.shots), "status": s.status}
 
 
-def _plot(path: Path, case: WhippleCase, searches: list[_Search], tolerance: float) -> None:
-    """The simulated limit with its brackets and every shot, over the JSC curve and the test
-    database's shots near the configuration (:func:`impactdyn.ble.nearby_shots`)."""
+def _plot(path: Path, case: WhippleCase, searches: list[_Search], rows: list[dict], tolerance: float) -> None:
+    """The simulated limit of the ``limit.csv`` rows with its brackets and every shot, over the JSC
+    curve and the test database's shots near the configuration (:func:`impactdyn.ble.nearby_shots`)."""
     from impactdyn.ble import ballistic_limit_curve, nearby_shots, plot_ballistic_limit
     from impactdyn.materials import get_material
     from impactdyn.whipple._case import ble_shield
@@ -197,11 +197,11 @@ def _plot(path: Path, case: WhippleCase, searches: list[_Search], tolerance: flo
     shield = ble_shield(case)
     curve = ballistic_limit_curve(shield, np.linspace(1.0, vmax, 281), p.obliquity_deg, get_material(p.material).rho0)
     shots = [(s.velocity, d, failed) for s in searches for d, _, failed, _, _ in s.shots]
-    done = [s for s in searches if s.safe is not None and s.failed is not None]
+    done = [r for r in rows if r["limit_diameter_cm"] is not None]
     plot_ballistic_limit(
         [curve], path, shots=nearby_shots(shield, p.obliquity_deg),
         simulated=tuple(np.array(c) for c in zip(*shots)) if shots else None,
-        limit=([s.velocity for s in done], [0.5 * (s.safe + s.failed) for s in done],
-               [0.5 * abs(s.failed - s.safe) for s in done], f"simulated limit (bisection to {tolerance:g} cm)"),
+        limit=([r["velocity_km_s"] for r in done], [r["limit_diameter_cm"] for r in done],
+               [r["half_width_cm"] for r in done], f"simulated limit (bisection to {tolerance:g} cm)"),
         title=f"Simulated ballistic limit: t_b = {b.thickness_cm:g} cm, t_w = {w.thickness_cm:g} cm, "
               f"S = {w.spacing_cm:g} cm, θ = {p.obliquity_deg:g}°, wall model {case.wall_solver.material_model}")
