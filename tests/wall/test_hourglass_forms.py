@@ -148,7 +148,7 @@ def test_assumed_strain_hourglass_stress_is_bounded_by_the_flow_stress():
     run(100, 0.0, 1.0e-2)                 # then the element yields and flows
     S = s.S[0]
     seq = np.sqrt(1.5 * (S[0] ** 2 + S[1] ** 2 + S[2] ** 2) + 3.0 * (S[3] ** 2 + S[4] ** 2 + S[5] ** 2))
-    h = s.Shg[0]
+    h = s.hourglass_stress[0]
     for g in range(3):
         t = h[6 * g:6 * g + 6]
         dev = t[:3] - t[:3].mean()

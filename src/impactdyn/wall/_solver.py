@@ -96,8 +96,8 @@ class WallSolver:
         self.bad = np.zeros(ne, dtype=np.int8)
         self.Lbuf = np.zeros((ne, 3, 3))
         self.Qhg = np.zeros((ne, 4, 3))
-        # the assumed-strain form's stored hourglass stresses (n_elements, N_SHG), :mod:`._state`
-        self.Shg = np.zeros((ne if options.hourglass == "assumed_strain" else 0, N_SHG))
+        # the assumed-strain form's stored hourglass stresses, blocked (:func:`._step.hourglass_stress_array`)
+        self.Shg = _step.hourglass_stress_array(ne if options.hourglass == "assumed_strain" else 0)
         self.work = _step.work_arrays(numba.config.NUMBA_NUM_THREADS)
         self.mprm = np.ascontiguousarray(model.kernel_params(), dtype=np.float64)
         self.table = np.ascontiguousarray(model.kernel_table(), dtype=np.float64)
@@ -123,8 +123,7 @@ class WallSolver:
         o = self.options
         return _step.element_pass(self.x, self.v, self.mesh.connectivity, self.mesh.volume, self.mesh.element_mass,
                                   self.S, self.es, self.flags, self.bad, self.Lbuf, self.Qhg, self.Shg, self.F,
-                                  *self.work,
-                                  self.model.kind, self.mprm, self.table, o.hourglass_form,
+                                  self.work, self.model.kind, self.mprm, self.table, o.hourglass_form,
                                   o.hourglass_coefficient, o.q1, o.q2, self.model.erodes, self.erode_dt, self.min_dt,
                                   dt, dt_full_prev)
 
@@ -137,7 +136,7 @@ class WallSolver:
         status, steps = _step.advance(
             t_stop, max_steps, self.clock, self.acc, self.x, self.v, m.node_mass, self.free, self.fixed, self.pext,
             self.rear, self.Fflat, m.node_element_ptr, m.node_element_entry, m.connectivity, m.volume,
-            m.element_mass, self.S, self.es, self.flags, self.bad, self.Lbuf, self.Qhg, self.Shg, self.F, *self.work,
+            m.element_mass, self.S, self.es, self.flags, self.bad, self.Lbuf, self.Qhg, self.Shg, self.F, self.work,
             self.model.kind, self.mprm, self.table, o.hourglass_form, o.hourglass_coefficient, o.q1,
             o.q2, o.courant, self.model.erodes, self.erode_dt, self.min_dt, ld.time, ld.ptr, ld.node, ld.weight,
             ld.impulse)
@@ -158,6 +157,12 @@ class WallSolver:
     @property
     def steps(self) -> int:
         return int(self.clock[_step.STEPS])
+
+    @property
+    def hourglass_stress(self) -> np.ndarray:
+        """The assumed-strain form's stored hourglass stresses per element, (n_elements, N_SHG) (a copy;
+        columns in :mod:`._state`); (0, N_SHG) with the other forms."""
+        return self.Shg.transpose(0, 2, 1).reshape(-1, N_SHG)[:self.mesh.n_elements].copy()
 
     @property
     def failed(self) -> np.ndarray:

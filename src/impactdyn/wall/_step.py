@@ -128,9 +128,9 @@ N_ACC = 8
 @njit(cache=True, inline="always")
 def _erase(F, es, Shg, e):
     """An eroded element: no forces, no step limit, no pending work, no hourglass stress."""
-    if e < Shg.shape[0]:
+    if e // BLOCK < Shg.shape[0]:
         for c in range(Shg.shape[1]):
-            Shg[e, c] = 0.0
+            Shg[e // BLOCK, c, e % BLOCK] = 0.0
     for a in range(8):
         F[e, a, 0] = 0.0
         F[e, a, 1] = 0.0
@@ -141,19 +141,23 @@ def _erase(F, es, Shg, e):
     es[e, P1_HG] = 0.0
 
 
-#: Rows of the per-thread block vectors ``vec`` of :func:`element_pass`.
-#: V_J: the reciprocal base vectors ∇ξ_m of :func:`assumed_strain_forces`, row V_J + 3m + i.
-(V_VOL, V_P2, V_SIG, V_Q, V_OK, V_P1, V_BV, V_LE, V_TMP, V_J) = (0, 1, 2, 8, 9, 10, 11, 12, 13, 17)
-N_VEC = 26
-
-#: Rows of the per-thread flat block array ``hga`` of :func:`assumed_strain_forces` (row r of
-#: brick k at hga[r·BLOCK + k]): the reciprocal vectors (row H_J + 3m + i), hourglass velocities
-#: (H_QD + 3α + i), tangent ratio, flow stress, spin over the step Δt (Ω_xy, Ω_yz, Ω_xz), volume,
-#: stored hourglass stresses (H_SHG + the ``Shg`` column) and the forces Q (H_QN + 3α + i).
-#: One flat array with rows a compile-time multiple of BLOCK apart is what lets the compiler see
-#: that the rows never overlap, and vectorise the loops over the bricks.
-(H_J, H_QD, H_RATIO, H_FLOW, H_SPIN, H_VOL, H_SHG, H_QN) = (0, 9, 21, 22, 23, 26, 27, 27 + N_SHG)
-N_HGA = H_QN + 12
+#: Rows of the per-thread flat block array ``A`` of :func:`element_pass`; row r of brick k of the
+#: block is A[r·BLOCK + k].  Per brick: end coordinates X and velocities V (row R_X + 8i + a, R_V + 8i + a:
+#: component i at local node a), volume gradient ∂V/∂x (R_B + 8i + a), nodal forces (R_F + 8i + a),
+#: hourglass shape vectors γ (R_G + 8α + a), hourglass velocities q̇ and forces Q (R_QD + 3α + i,
+#: R_QN + 3α + i), velocity gradient in the end configuration (R_LB + 3i + j), the 4 rows of work space of
+#: :func:`~impactdyn.wall._hex.hourglass_shapes` (R_TMP), the reciprocal vectors ∇ξ_m (R_J + 3m + i),
+#: volume, the power p2 = fⁿ·v^{n+½}, the stress σ = S − pI (R_SIG + 6 components), bulk viscosity q,
+#: live flag, power p1 = f_σ·v^{n+½}, B·v^{n+½}, characteristic length, and the assumed-strain form's
+#: tangent ratio, flow stress, spin over the step Δt (Ω_xy, Ω_yz, Ω_xz) and stored hourglass stresses
+#: (R_SHG + the ``Shg`` column).  One flat array with rows a compile-time multiple of BLOCK apart, and
+#: block kernels that run over all BLOCK bricks (a compile-time trip count), are what let the compiler
+#: see that the rows never overlap and vectorise the loops over the bricks.  Past the end of a short
+#: last block those kernels compute on stale rows, whose results are never read.
+(R_X, R_V, R_B, R_F, R_G, R_QD, R_QN, R_LB, R_TMP, R_J) = (0, 24, 48, 72, 96, 128, 140, 152, 161, 165)
+(R_VOL, R_P2, R_SIG, R_Q, R_OK, R_P1, R_BV, R_LE, R_RATIO, R_FLOW, R_SPIN, R_SHG) = (
+    174, 175, 176, 182, 183, 184, 185, 186, 187, 188, 189, 192)
+N_ROWS = R_SHG + N_SHG
 
 
 @njit(cache=True, inline="always")
@@ -194,8 +198,8 @@ def _in_plane(a, n):
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy")
-def reciprocal_vectors(B, vol, W, nb):
-    """W[V_J + 3m + i, k] = ∇ξ_m = Σ_I ξ_mI B_iI / V of bricks k < nb (ξ_m = ξ, η, ζ at the corners).
+def reciprocal_vectors(A):
+    """∇ξ_m = Σ_I ξ_mI B_iI / V (rows R_J + 3m + i) of the bricks of the block array A (ξ_m = ξ, η, ζ at the corners).
 
     For a parallelepiped b_I = ∇N_I = ⅛ Σ_m ξ_mI ∇ξ_m, so Σ_I ξ_mI b_I = ∇ξ_m exactly
     (|∇ξ| = 2/a, a the edge length along ξ); for other bricks, the mean-gradient image of it.
@@ -203,11 +207,75 @@ def reciprocal_vectors(B, vol, W, nb):
     for m in range(3):
         corner = XI if m == 0 else (ETA if m == 1 else ZETA)
         for i in range(3):
-            for k in range(nb):
+            for k in range(BLOCK):
                 s = 0.0
                 for a in range(8):
-                    s += corner[a] * B[i, a, k]
-                W[V_J + 3 * m + i, k] = s / vol[k]
+                    s += corner[a] * A[(R_B + 8 * i + a) * BLOCK + k]
+                A[(R_J + 3 * m + i) * BLOCK + k] = s / A[R_VOL * BLOCK + k]
+
+
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+def velocity_gradients(A):
+    """The velocity gradient G_ij = Σ_I v_iI b_jI (rows R_LB + 3i + j) in the end configuration and the
+    hourglass velocities q̇_αi = Σ_I γ_αI v_iI (rows R_QD + 3α + i) of the bricks of the block array A."""
+    for i in range(3):
+        for j in range(3):
+            for k in range(BLOCK):
+                s = 0.0
+                for a in range(8):
+                    s += A[(R_V + 8 * i + a) * BLOCK + k] * A[(R_B + 8 * j + a) * BLOCK + k]
+                A[(R_LB + 3 * i + j) * BLOCK + k] = s / A[R_VOL * BLOCK + k]
+    for al in range(4):
+        for i in range(3):
+            for k in range(BLOCK):
+                s = 0.0
+                for a in range(8):
+                    s += A[(R_G + 8 * al + a) * BLOCK + k] * A[(R_V + 8 * i + a) * BLOCK + k]
+                A[(R_QD + 3 * al + i) * BLOCK + k] = s
+
+
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+def nodal_forces(A):
+    """The nodal forces (rows R_F + 8i + a) of the bricks of the block array A (module docstring)::
+
+        f_iI = σ_ij B_jI − q B_iI + Σ_α Q_αi γ_αI        (σ = S − pI, B_jI = ∂V/∂x_jI)
+
+    and, for the work bookkeeping, p1 = f_σ·v^{n+½} (row R_P1) and B·v^{n+½} (row R_BV).
+    """
+    for k in range(BLOCK):
+        A[R_P1 * BLOCK + k] = 0.0
+        A[R_BV * BLOCK + k] = 0.0
+    for a in range(8):
+        for k in range(BLOCK):
+            sxx, syy, szz = A[R_SIG * BLOCK + k], A[(R_SIG + 1) * BLOCK + k], A[(R_SIG + 2) * BLOCK + k]
+            sxy, syz, szx = A[(R_SIG + 3) * BLOCK + k], A[(R_SIG + 4) * BLOCK + k], A[(R_SIG + 5) * BLOCK + k]
+            b0, b1, b2 = _block_column(A, R_B, a, k)
+            v0, v1, v2 = _block_column(A, R_V, a, k)
+            f0 = sxx * b0 + sxy * b1 + szx * b2
+            f1 = sxy * b0 + syy * b1 + syz * b2
+            f2 = szx * b0 + syz * b1 + szz * b2
+            A[R_P1 * BLOCK + k] += f0 * v0 + f1 * v1 + f2 * v2
+            A[R_BV * BLOCK + k] += b0 * v0 + b1 * v1 + b2 * v2
+            q = A[R_Q * BLOCK + k]
+            g0, g1, g2, g3 = (A[(R_G + a) * BLOCK + k], A[(R_G + 8 + a) * BLOCK + k],
+                              A[(R_G + 16 + a) * BLOCK + k], A[(R_G + 24 + a) * BLOCK + k])
+            A[(R_F + a) * BLOCK + k] = f0 - q * b0 + _hourglass_sum(A, 0, k, g0, g1, g2, g3)
+            A[(R_F + 8 + a) * BLOCK + k] = f1 - q * b1 + _hourglass_sum(A, 1, k, g0, g1, g2, g3)
+            A[(R_F + 16 + a) * BLOCK + k] = f2 - q * b2 + _hourglass_sum(A, 2, k, g0, g1, g2, g3)
+
+
+@njit(cache=True, inline="always")
+def _hourglass_sum(A, i, k, g0, g1, g2, g3):
+    """Σ_α Q_αi γ_α of brick k of the block array A: component i of the hourglass force at the local
+    node whose γ_α are g0 … g3."""
+    return (A[(R_QN + i) * BLOCK + k] * g0 + A[(R_QN + 3 + i) * BLOCK + k] * g1
+            + A[(R_QN + 6 + i) * BLOCK + k] * g2 + A[(R_QN + 9 + i) * BLOCK + k] * g3)
+
+
+@njit(cache=True, inline="always")
+def _block_column(A, row, a, k):
+    """Components 0, 1, 2 at local node a of brick k of the (3, 8) quantity at ``row`` of the block array A."""
+    return A[(row + a) * BLOCK + k], A[(row + 8 + a) * BLOCK + k], A[(row + 16 + a) * BLOCK + k]
 
 
 @njit(cache=True, inline="always")
@@ -248,13 +316,13 @@ def _young(lam, mu):
 # parfor analysis).  The loops over the block's bricks are innermost, branch-free (selects, no min/max calls)
 # and read and write one flat array: they vectorise (3x faster than brick by brick on AVX2).
 @njit(cache=True, fastmath={"contract"}, error_model="numpy")
-def assumed_strain_forces(H, nb, dt, lam, shear):
-    """The assumed-strain hourglass forces Q_α of the bricks k < nb of a block after ``dt``.
+def assumed_strain_forces(H, dt, lam, shear):
+    """The assumed-strain hourglass forces Q_α of the bricks of a block after ``dt``.
 
-    H is the block's flat array (rows :data:`H_J` …, :data:`N_HGA`; row r of brick k at r·BLOCK + k):
+    H is the block array of :func:`element_pass` (:data:`R_X` …; row r of brick k at r·BLOCK + k):
     in, the reciprocal vectors, hourglass velocities q̇_αi, tangent ratio and flow stress (below),
     spin Δt Ω and volume of each brick; in and out, its stored hourglass stresses (``Shg``'s
-    columns); out, its forces Q_αi (rows H_QN + 3α + i).
+    columns); out, its forces Q_αi (rows R_QN + 3α + i).
 
     Belytschko & Bindeman, "Assumed strain stabilization of the eight node hexahedral element",
     CMAME 105 (1993) 225 (LS-DYNA IHQ 6), derived here for a parallelepiped with edges a, b, c
@@ -337,34 +405,34 @@ def assumed_strain_forces(H, nb, dt, lam, shear):
     f = 0.125 * dt
     kb_e = _lam_bar(lam, shear) + shear
     y_e = _young(lam, shear)
-    for r in range(H_QN * BLOCK, (H_QN + 12) * BLOCK):
+    for r in range(R_QN * BLOCK, (R_QN + 12) * BLOCK):
         H[r] = 0.0
     # the groups k = 0, 1, 2 with their other two coordinates (j, l), as literals: constant rows
-    for k in range(nb):
+    for k in range(BLOCK):
         _plane_group(0, 1, 2, k, H, f, lam, shear, kb_e)
-    for k in range(nb):
+    for k in range(BLOCK):
         _plane_group(1, 2, 0, k, H, f, lam, shear, kb_e)
-    for k in range(nb):
+    for k in range(BLOCK):
         _plane_group(2, 0, 1, k, H, f, lam, shear, kb_e)
     # mode ξηζ along j_k: s_k += E Δe_k, Q_3 += V/72 s_k j_k
     for g in range(3):
-        rg = (H_J + 3 * g) * BLOCK
-        rs = (H_SHG + SHG_MODE4 + g) * BLOCK
-        for k in range(nb):
-            y_t = _young(lam, shear * H[H_RATIO * BLOCK + k])
-            flow = H[H_FLOW * BLOCK + k]
+        rg = (R_J + 3 * g) * BLOCK
+        rs = (R_SHG + SHG_MODE4 + g) * BLOCK
+        for k in range(BLOCK):
+            y_t = _young(lam, shear * H[R_RATIO * BLOCK + k])
+            flow = H[R_FLOW * BLOCK + k]
             jg0, jg1, jg2 = H[rg + k], H[rg + BLOCK + k], H[rg + 2 * BLOCK + k]
-            e4 = f * (H[(H_QD + 9) * BLOCK + k] * jg0 + H[(H_QD + 10) * BLOCK + k] * jg1
-                      + H[(H_QD + 11) * BLOCK + k] * jg2)
+            e4 = f * (H[(R_QD + 9) * BLOCK + k] * jg0 + H[(R_QD + 10) * BLOCK + k] * jg1
+                      + H[(R_QD + 11) * BLOCK + k] * jg2)
             s4 = H[rs + k]
             s4 += (y_t if s4 * e4 >= 0.0 else y_e) * e4
             s4 = s4 if s4 < flow else flow
             s4 = s4 if s4 > -flow else -flow
             H[rs + k] = s4
-            w4 = H[H_VOL * BLOCK + k] / 72.0
-            H[(H_QN + 9) * BLOCK + k] += w4 * s4 * jg0
-            H[(H_QN + 10) * BLOCK + k] += w4 * s4 * jg1
-            H[(H_QN + 11) * BLOCK + k] += w4 * s4 * jg2
+            w4 = H[R_VOL * BLOCK + k] / 72.0
+            H[(R_QN + 9) * BLOCK + k] += w4 * s4 * jg0
+            H[(R_QN + 10) * BLOCK + k] += w4 * s4 * jg1
+            H[(R_QN + 11) * BLOCK + k] += w4 * s4 * jg2
 
 
 @njit(cache=True, inline="always")
@@ -372,19 +440,19 @@ def _plane_group(g, j, l, k, H, f, lam, shear, kb_e):
     """Group g (other coordinates j, l) of brick k in the flat block array H: its plane-stress
     hourglass stress σ_g rotated, projected, incremented, bounded and stored, and its forces added
     to Q_j and Q_l (:func:`assumed_strain_forces`)."""
-    mu_t = shear * H[H_RATIO * BLOCK + k]
+    mu_t = shear * H[R_RATIO * BLOCK + k]
     kb_t = _lam_bar(lam, mu_t) + mu_t
-    jg = _block_vector(H, H_J + 3 * g, k)
-    jj = _block_vector(H, H_J + 3 * j, k)
-    jl = _block_vector(H, H_J + 3 * l, k)
+    jg = _block_vector(H, R_J + 3 * g, k)
+    jj = _block_vector(H, R_J + 3 * j, k)
+    jl = _block_vector(H, R_J + 3 * l, k)
     r = 1.0 / math.sqrt(_dot(jg, jg))
     n0, n1, n2 = jg[0] * r, jg[1] * r, jg[2] * r
     n = (n0, n1, n2)
-    c0 = (H_SHG + SHG_PLANE + 6 * g) * BLOCK + k
+    c0 = (R_SHG + SHG_PLANE + 6 * g) * BLOCK + k
     sxx, syy, szz = H[c0], H[c0 + BLOCK], H[c0 + 2 * BLOCK]
     sxy, syz, szx = H[c0 + 3 * BLOCK], H[c0 + 4 * BLOCK], H[c0 + 5 * BLOCK]
     # rotated with the spin: σ + Δt (Ωσ − σΩ) (as :func:`impactdyn.constitutive.jaumann_rate`)
-    wxy, wyz, wxz = _block_vector(H, H_SPIN, k)
+    wxy, wyz, wxz = _block_vector(H, R_SPIN, k)
     rxx, ryy, rzz, rxy, ryz, rzx = spin_terms(sxx, syy, szz, sxy, syz, szx, wxy, wyz, wxz)
     sxx, syy, szz, sxy, syz, szx = sxx + rxx, syy + ryy, szz + rzz, sxy + rxy, syz + ryz, szx + rzx
     # on the current plane: P σ P = σ − n⊗t − t⊗n + (n·t) n⊗n, t = σ n
@@ -399,8 +467,8 @@ def _plane_group(g, j, l, k, H, f, lam, shear, kb_e):
     syz += tn * n1 * n2 - n1 * t2 - t1 * n2
     szx += tn * n2 * n0 - n2 * t0 - t2 * n0
     # the strain increment Δε = sym(a⊗b + c⊗d) of in-plane a = P Δq_j, b = P j_l, c = P Δq_l, d = P j_j
-    qj = _block_vector(H, H_QD + 3 * j, k)
-    ql = _block_vector(H, H_QD + 3 * l, k)
+    qj = _block_vector(H, R_QD + 3 * j, k)
+    ql = _block_vector(H, R_QD + 3 * l, k)
     a = _in_plane((f * qj[0], f * qj[1], f * qj[2]), n)
     b = _in_plane(jl, n)
     c = _in_plane((f * ql[0], f * ql[1], f * ql[2]), n)
@@ -429,14 +497,14 @@ def _plane_group(g, j, l, k, H, f, lam, shear, kb_e):
     dx, dy, dz = sxx - mean, syy - mean, szz - mean
     seq = math.sqrt(1.5 * (dx * dx + dy * dy + dz * dz) + 3.0 * (sxy * sxy + syz * syz + szx * szx))
     # back onto the flow stress: a factor 1 inside it (1.0 · σ is exact)
-    back = H[H_FLOW * BLOCK + k] / seq
+    back = H[R_FLOW * BLOCK + k] / seq
     back = (back if back < 1.0 else 1.0) if seq > 0.0 else 1.0
     sxx, syy, szz, sxy, syz, szx = back * sxx, back * syy, back * szz, back * sxy, back * syz, back * szx
     H[c0], H[c0 + BLOCK], H[c0 + 2 * BLOCK] = sxx, syy, szz
     H[c0 + 3 * BLOCK], H[c0 + 4 * BLOCK], H[c0 + 5 * BLOCK] = sxy, syz, szx
     # Q_j += V/24 σ j_l, Q_l += V/24 σ j_j (σ in the plane: σ j = σ P j)
-    w1 = H[H_VOL * BLOCK + k] / 24.0
-    rj, rl = (H_QN + 3 * j) * BLOCK + k, (H_QN + 3 * l) * BLOCK + k
+    w1 = H[R_VOL * BLOCK + k] / 24.0
+    rj, rl = (R_QN + 3 * j) * BLOCK + k, (R_QN + 3 * l) * BLOCK + k
     H[rj] += w1 * (sxx * jl[0] + sxy * jl[1] + szx * jl[2])
     H[rj + BLOCK] += w1 * (sxy * jl[0] + syy * jl[1] + syz * jl[2])
     H[rj + 2 * BLOCK] += w1 * (szx * jl[0] + syz * jl[1] + szz * jl[2])
@@ -451,36 +519,37 @@ def _block_vector(H, row, k):
     return H[row * BLOCK + k], H[(row + 1) * BLOCK + k], H[(row + 2) * BLOCK + k]
 
 
-def work_arrays(n_threads: int) -> tuple[np.ndarray, ...]:
-    """Per-thread block work space of :func:`element_pass`: (geo, hg_shapes, hg_forces, lb, vec, hga)."""
-    return (np.zeros((n_threads, 4, 3, 8, BLOCK)), np.zeros((n_threads, 4, 8, BLOCK)),
-            np.zeros((n_threads, 2, 4, 3, BLOCK)), np.zeros((n_threads, 3, 3, BLOCK)),
-            np.zeros((n_threads, N_VEC, BLOCK)), np.zeros((n_threads, N_HGA * BLOCK)))
+def work_arrays(n_threads: int) -> np.ndarray:
+    """Per-thread block array of :func:`element_pass`, (n_threads, N_ROWS · BLOCK) (rows :data:`R_X` …)."""
+    return np.zeros((n_threads, N_ROWS * BLOCK))
+
+
+def hourglass_stress_array(n_elements: int) -> np.ndarray:
+    """Zeroed ``Shg`` of the assumed-strain form for ``n_elements`` elements, (n_blocks, N_SHG, BLOCK):
+    element e's column c at [e // BLOCK, c, e % BLOCK] (blocked like the element pass, so that a block's
+    stresses are contiguous rows)."""
+    return np.zeros(((n_elements + BLOCK - 1) // BLOCK, N_SHG, BLOCK))
 
 
 # fastmath 'contract' only: fused multiply-adds (5 % faster), no change to NaN/inf semantics
 @njit(parallel=True, cache=True, fastmath={"contract"}, error_model="numpy")
-def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, geo, hgs, hgf, lb, vec, hga, kind,
-                 mprm, table, hg_form, qh, q1, q2, erode_failed, erode_dt, min_dt, dt, dt_full_prev):
+def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, blocks, kind, mprm, table, hg_form,
+                 qh, q1, q2, erode_failed, erode_dt, min_dt, dt, dt_full_prev):
     """Stress update and nodal forces of every element over the half step Δt = ``dt`` (module docstring).
 
     x (n_nodes, 3) at the step's end, v (n_nodes, 3) the half-step velocities v^{n+½}; element
-    state S, es, flags, Lbuf, Qhg, Shg (:mod:`._state`) updated in place; F (n_elements, 8, 3) holds
-    the previous forces f^n on entry and receives f^{n+1} = f_int + f_hg.  ``dt_full_prev`` is
-    Δt^n, the interval the previous forces acted over (their work is completed here).
-    ``hg_form`` is one of HG_VISCOUS, HG_STIFFNESS, HG_ASSUMED_STRAIN (``qh``: the coefficient of
-    the first two).
+    state S, es, flags, Lbuf, Qhg, Shg (:mod:`._state`; Shg blocked, :func:`hourglass_stress_array`)
+    updated in place; F (n_elements, 8, 3) holds the previous forces f^n on entry and receives
+    f^{n+1} = f_int + f_hg.  ``dt_full_prev`` is Δt^n, the interval the previous forces acted over
+    (their work is completed here).  ``hg_form`` is one of HG_VISCOUS, HG_STIFFNESS,
+    HG_ASSUMED_STRAIN (``qh``: the coefficient of the first two).
     ``dt = 0`` computes the forces of the current state without updating it (the first step).
 
-    The elements are taken in blocks of :data:`BLOCK` (one block per parallel iteration): the
-    geometry, velocity gradients, hourglass velocities and forces of a block are computed in
-    loops over its elements that vectorise (component-first block arrays, :mod:`._hex`); the
-    material update runs element by element.  geo (n_threads, 4, 3, 8, BLOCK) holds a block's
-    end coordinates, velocities, volume gradients and forces;
-    hgs (n_threads, 4, 8, BLOCK) its γ; hgf (n_threads, 2, 4, 3, BLOCK) its hourglass velocities
-    q̇ and forces Q; lb (n_threads, 3, 3, BLOCK) its velocity gradients; vec (n_threads, N_VEC,
-    BLOCK) its per-element scalars; hga (n_threads, N_HGA · BLOCK) the assumed-strain form's flat
-    block array (:data:`H_J`, :func:`assumed_strain_forces`) (:func:`work_arrays`).
+    The elements are taken in blocks of :data:`BLOCK` (one block per parallel iteration), in the
+    thread's row of ``blocks`` (n_threads, N_ROWS · BLOCK), :func:`work_arrays`: the geometry,
+    velocity gradients, hourglass velocities and forces of a block are computed in loops over its
+    bricks that vectorise (rows :data:`R_X` …, component-first, :mod:`._hex`); the material update
+    runs brick by brick.
 
     Returns (status, min_e Δt_e): status 0, or the largest breakdown code (``bad`` marks the
     elements).
@@ -497,9 +566,13 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, 
         shear = table[0, SHEAR]
         lam0 = table[0, RHO0] * table[0, C0] ** 2 - 2.0 / 3.0 * shear
     for blk in prange((ne + BLOCK - 1) // BLOCK):
-        tid = get_thread_id()
-        X, V, B, FS = geo[tid, 0], geo[tid, 1], geo[tid, 2], geo[tid, 3]
-        G, QD, QN, LB, W, HG = hgs[tid], hgf[tid, 0], hgf[tid, 1], lb[tid], vec[tid], hga[tid]
+        A = blocks[get_thread_id()]
+        # (3, 8, BLOCK) and (4, 8, BLOCK) views of the block array for the geometry of :mod:`._hex`
+        X = A[R_X * BLOCK:(R_X + 24) * BLOCK].reshape((3, 8, BLOCK))
+        B = A[R_B * BLOCK:(R_B + 24) * BLOCK].reshape((3, 8, BLOCK))
+        G = A[R_G * BLOCK:(R_G + 32) * BLOCK].reshape((4, 8, BLOCK))
+        LB = A[R_LB * BLOCK:(R_LB + 9) * BLOCK].reshape((3, 3, BLOCK))
+        vols = A[R_VOL * BLOCK:(R_VOL + 1) * BLOCK]
         e0 = blk * BLOCK
         nb = min(BLOCK, ne - e0)
         # gather the block; p2 = f^n · v^{n+½}, the second half of the previous forces' work
@@ -509,43 +582,27 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, 
             for a in range(8):
                 n = conn[e, a]
                 for i in range(3):
-                    xv = x[n, i]
                     vv = v[n, i]
-                    X[i, a, k] = xv
-                    V[i, a, k] = vv
+                    A[(R_X + 8 * i + a) * BLOCK + k] = x[n, i]
+                    A[(R_V + 8 * i + a) * BLOCK + k] = vv
                     p2 += F[e, a, i] * vv
-            W[V_P2, k] = p2
-        # geometry at the step's end
-        volume_gradient(X, B, W[V_VOL], nb)
-        hourglass_shapes(X, B, W[V_VOL], G, W[V_TMP:V_TMP + 4], nb)
+            A[R_P2 * BLOCK + k] = p2
+        # geometry at the step's end, velocity gradient and hourglass velocities
+        volume_gradient(X, B, vols, nb)
+        hourglass_shapes(X, B, vols, G, A[R_TMP * BLOCK:(R_TMP + 4) * BLOCK].reshape((4, BLOCK)), nb)
         if hg_form == HG_ASSUMED_STRAIN:
-            reciprocal_vectors(B, W[V_VOL], W, nb)
-        # velocity gradient in the end configuration G = Σ_I v_I ⊗ b_I, and hourglass velocities
-        # q̇_αi = Σ_I γ_αI v_iI
-        for i in range(3):
-            for j in range(3):
-                for k in range(nb):
-                    s = 0.0
-                    for a in range(8):
-                        s += V[i, a, k] * B[j, a, k]
-                    LB[i, j, k] = s / W[V_VOL, k]
-        for al in range(4):
-            for i in range(3):
-                for k in range(nb):
-                    s = 0.0
-                    for a in range(8):
-                        s += G[al, a, k] * V[i, a, k]
-                    QD[al, i, k] = s
-        # element by element: work of the previous forces, bulk viscosity, material, hourglass forces
+            reciprocal_vectors(A)
+        velocity_gradients(A)
+        # brick by brick: work of the previous forces, bulk viscosity, material, hourglass forces
         bstatus = 0
         for k in range(nb):
             e = e0 + k
-            W[V_OK, k] = 0.0
+            A[R_OK * BLOCK + k] = 0.0
             if flags[e, ERODED] != 0:
                 continue
-            vol = W[V_VOL, k]
+            vol = A[R_VOL * BLOCK + k]
             vbar = 0.5 * (es[e, VOL] + vol)
-            p2 = W[V_P2, k]
+            p2 = A[R_P2 * BLOCK + k]
             if not (vol > 0.0 and vbar > 0.0):
                 es[e, W_SIGMA] += half * (es[e, P1_SIGMA] + es[e, P1_Q] + es[e, P1_HG] + p2)
                 _erase(F, es, Shg, e)
@@ -559,9 +616,8 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, 
             trd = Lbuf[e, 0, 0] + Lbuf[e, 1, 1] + Lbuf[e, 2, 2]
             # complete the work of the previous forces over Δt^n: ½Δt^n f^n·(v^{n−½} + v^{n+½}), by kind
             p2_hg = 0.0
-            for al in range(4):
-                for i in range(3):
-                    p2_hg += Qhg[e, al, i] * QD[al, i, k]
+            for r in range(12):
+                p2_hg += Qhg[e, r // 3, r % 3] * A[(R_QD + r) * BLOCK + k]
             p2_q = -es[e, Q] * vbar * trd
             es[e, W_SIGMA] += half * (es[e, P1_SIGMA] + p2 - p2_q - p2_hg)
             es[e, W_Q] += half * (es[e, P1_Q] + p2_q)
@@ -569,7 +625,7 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, 
             # bulk viscosity and the material update
             rho = emass[e] / vol
             ell = vol / largest_face_area(X, k)
-            W[V_LE, k] = ell
+            A[R_LE * BLOCK + k] = ell
             q = 0.0
             if trd < 0.0:
                 q = rho * ell * (q1 * ell * trd * trd - q2 * es[e, C] * trd)
@@ -583,109 +639,79 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, 
             es[e, Q] = q
             es[e, VOL] = vol
             es[e, W_PLASTIC] += dwp
-            # generalised hourglass forces Q_αi: QN ← the viscous force or the stiffness form's increment
-            # here, the assumed-strain form's forces for the whole block below
+            # generalised hourglass forces Q_αi: the viscous force or the stiffness form's increment here,
+            # the assumed-strain form's forces for the whole block below
             if hg_form == HG_ASSUMED_STRAIN:
                 seq = von_mises(S, e)
                 ratio = tangent_ratio(seq_old, seq, es[e, EPS_P] - eps_p_old, shear)
-                HG[H_RATIO * BLOCK + k] = ratio
-                HG[H_FLOW * BLOCK + k] = seq if ratio < 1.0 else np.inf
-                HG[H_SPIN * BLOCK + k] = 0.5 * dt * (Lbuf[e, 0, 1] - Lbuf[e, 1, 0])
-                HG[(H_SPIN + 1) * BLOCK + k] = 0.5 * dt * (Lbuf[e, 1, 2] - Lbuf[e, 2, 1])
-                HG[(H_SPIN + 2) * BLOCK + k] = 0.5 * dt * (Lbuf[e, 0, 2] - Lbuf[e, 2, 0])
+                A[R_RATIO * BLOCK + k] = ratio
+                A[R_FLOW * BLOCK + k] = seq if ratio < 1.0 else np.inf
+                A[R_SPIN * BLOCK + k] = 0.5 * dt * (Lbuf[e, 0, 1] - Lbuf[e, 1, 0])
+                A[(R_SPIN + 1) * BLOCK + k] = 0.5 * dt * (Lbuf[e, 1, 2] - Lbuf[e, 2, 1])
+                A[(R_SPIN + 2) * BLOCK + k] = 0.5 * dt * (Lbuf[e, 0, 2] - Lbuf[e, 2, 0])
             else:
                 if hg_form == HG_STIFFNESS:
                     bb = 0.0
-                    for a in range(8):
-                        bb += B[0, a, k] * B[0, a, k] + B[1, a, k] * B[1, a, k] + B[2, a, k] * B[2, a, k]
+                    for r in range(24):
+                        bb += A[(R_B + r) * BLOCK + k] ** 2
                     coef = qh * rho * c * c * bb / (3.0 * vol) / 8.0 * dt
                 else:
                     cb = np.cbrt(vol)
                     coef = 0.25 * qh * rho * c * cb * cb
-                for al in range(4):
-                    for i in range(3):
-                        QN[al, i, k] = coef * QD[al, i, k]
+                for r in range(12):
+                    A[(R_QN + r) * BLOCK + k] = coef * A[(R_QD + r) * BLOCK + k]
             p = es[e, P]
-            W[V_SIG + 0, k] = S[e, 0] - p
-            W[V_SIG + 1, k] = S[e, 1] - p
-            W[V_SIG + 2, k] = S[e, 2] - p
-            W[V_SIG + 3, k] = S[e, 3]
-            W[V_SIG + 4, k] = S[e, 4]
-            W[V_SIG + 5, k] = S[e, 5]
-            W[V_Q, k] = q
-            W[V_OK, k] = 1.0
+            A[R_SIG * BLOCK + k] = S[e, 0] - p
+            A[(R_SIG + 1) * BLOCK + k] = S[e, 1] - p
+            A[(R_SIG + 2) * BLOCK + k] = S[e, 2] - p
+            A[(R_SIG + 3) * BLOCK + k] = S[e, 3]
+            A[(R_SIG + 4) * BLOCK + k] = S[e, 4]
+            A[(R_SIG + 5) * BLOCK + k] = S[e, 5]
+            A[R_Q * BLOCK + k] = q
+            A[R_OK * BLOCK + k] = 1.0
         if hg_form == HG_ASSUMED_STRAIN:
-            # the block into the flat array, its forces and stored stresses updated, and back (live bricks)
+            # the block's stored stresses in, its forces and stresses updated, the stresses of live bricks out
             for k in range(nb):
-                if W[V_OK, k] == 0.0:  # eroded: a harmless state for the vectorised arithmetic, not stored
-                    HG[H_RATIO * BLOCK + k] = 1.0
-                    HG[H_FLOW * BLOCK + k] = np.inf
+                if A[R_OK * BLOCK + k] == 0.0:  # eroded: a harmless state for the vectorised arithmetic, not stored
+                    A[R_RATIO * BLOCK + k] = 1.0
+                    A[R_FLOW * BLOCK + k] = np.inf
                     for m in range(3):
-                        HG[(H_SPIN + m) * BLOCK + k] = 0.0
-                HG[H_VOL * BLOCK + k] = W[V_VOL, k]
-                for m in range(9):
-                    HG[(H_J + m) * BLOCK + k] = W[V_J + m, k]
-                for al in range(4):
-                    for i in range(3):
-                        HG[(H_QD + 3 * al + i) * BLOCK + k] = QD[al, i, k]
-                for c in range(N_SHG):
-                    HG[(H_SHG + c) * BLOCK + k] = Shg[e0 + k, c]
-            assumed_strain_forces(HG, nb, dt, lam0, shear)
-            for k in range(nb):
-                for al in range(4):
-                    for i in range(3):
-                        QN[al, i, k] = HG[(H_QN + 3 * al + i) * BLOCK + k]
-                if W[V_OK, k] != 0.0:
-                    for c in range(N_SHG):
-                        Shg[e0 + k, c] = HG[(H_SHG + c) * BLOCK + k]
+                        A[(R_SPIN + m) * BLOCK + k] = 0.0
+            for c in range(N_SHG):
+                for k in range(nb):
+                    A[(R_SHG + c) * BLOCK + k] = Shg[blk, c, k]
+            assumed_strain_forces(A, dt, lam0, shear)
+            for c in range(N_SHG):
+                for k in range(nb):
+                    if A[R_OK * BLOCK + k] != 0.0:
+                        Shg[blk, c, k] = A[(R_SHG + c) * BLOCK + k]
         # the hourglass forces kept (the stiffness form's running sum) and their power on v^{n+½}
         for k in range(nb):
-            if W[V_OK, k] == 0.0:
+            if A[R_OK * BLOCK + k] == 0.0:
                 continue
             e = e0 + k
             p1_hg = 0.0
-            for al in range(4):
-                for i in range(3):
-                    qnew = (Qhg[e, al, i] if hg_form == HG_STIFFNESS else 0.0) + QN[al, i, k]
-                    Qhg[e, al, i] = qnew
-                    QN[al, i, k] = qnew
-                    p1_hg += qnew * QD[al, i, k]
+            for r in range(12):
+                al, i = r // 3, r % 3
+                qnew = (Qhg[e, al, i] if hg_form == HG_STIFFNESS else 0.0) + A[(R_QN + r) * BLOCK + k]
+                Qhg[e, al, i] = qnew
+                A[(R_QN + r) * BLOCK + k] = qnew
+                p1_hg += qnew * A[(R_QD + r) * BLOCK + k]
             es[e, P1_HG] = p1_hg
-        # nodal forces of the block: f_iI = σ_ij B_jI (σ = S − p I), the bulk viscosity's −q B_iI, and
-        # f_hg,iI = Σ_α Q_αi γ_αI; p1 = f_σ·v^{n+½} and bv = B·v^{n+½} for the work bookkeeping
-        for k in range(nb):
-            W[V_P1, k] = 0.0
-            W[V_BV, k] = 0.0
-        for a in range(8):
-            for k in range(nb):
-                sxx, syy, szz = W[V_SIG, k], W[V_SIG + 1, k], W[V_SIG + 2, k]
-                sxy, syz, szx = W[V_SIG + 3, k], W[V_SIG + 4, k], W[V_SIG + 5, k]
-                b0, b1, b2 = B[0, a, k], B[1, a, k], B[2, a, k]
-                f0 = sxx * b0 + sxy * b1 + szx * b2
-                f1 = sxy * b0 + syy * b1 + syz * b2
-                f2 = szx * b0 + syz * b1 + szz * b2
-                W[V_P1, k] += f0 * V[0, a, k] + f1 * V[1, a, k] + f2 * V[2, a, k]
-                W[V_BV, k] += b0 * V[0, a, k] + b1 * V[1, a, k] + b2 * V[2, a, k]
-                g0, g1, g2, g3 = G[0, a, k], G[1, a, k], G[2, a, k], G[3, a, k]
-                q = W[V_Q, k]
-                FS[0, a, k] = f0 - q * b0 + QN[0, 0, k] * g0 + QN[1, 0, k] * g1 + QN[2, 0, k] * g2 + QN[3, 0, k] * g3
-                FS[1, a, k] = f1 - q * b1 + QN[0, 1, k] * g0 + QN[1, 1, k] * g1 + QN[2, 1, k] * g2 + QN[3, 1, k] * g3
-                FS[2, a, k] = f2 - q * b2 + QN[0, 2, k] * g0 + QN[1, 2, k] * g1 + QN[2, 2, k] * g2 + QN[3, 2, k] * g3
+        nodal_forces(A)
         # store the forces, the stable step, erosion and breakdown checks
         bmin = np.inf
         for k in range(nb):
-            if W[V_OK, k] == 0.0:
+            if A[R_OK * BLOCK + k] == 0.0:
                 continue
             e = e0 + k
             for a in range(8):
-                F[e, a, 0] = FS[0, a, k]
-                F[e, a, 1] = FS[1, a, k]
-                F[e, a, 2] = FS[2, a, k]
-            es[e, P1_SIGMA] = W[V_P1, k]
-            es[e, P1_Q] = -W[V_Q, k] * W[V_BV, k]
-            vol = W[V_VOL, k]
+                for i in range(3):
+                    F[e, a, i] = A[(R_F + 8 * i + a) * BLOCK + k]
+            es[e, P1_SIGMA] = A[R_P1 * BLOCK + k]
+            es[e, P1_Q] = -A[R_Q * BLOCK + k] * A[R_BV * BLOCK + k]
             c = es[e, C]
-            ell = W[V_LE, k]
+            ell = A[R_LE * BLOCK + k]
             trd = Lbuf[e, 0, 0] + Lbuf[e, 1, 1] + Lbuf[e, 2, 2]
             qs = 0.0
             if trd < 0.0:
@@ -699,7 +725,7 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, 
             if dte < min_dt:
                 bad[e] = BAD_STEP
                 bstatus = max(bstatus, BAD_STEP)
-            if not math.isfinite(FS[0, 0, k] + FS[1, 7, k] + FS[2, 4, k] + dte):
+            if not math.isfinite(A[R_F * BLOCK + k] + A[(R_F + 23) * BLOCK + k] + A[(R_F + 12) * BLOCK + k] + dte):
                 bad[e] = BAD_FORCE
                 bstatus = max(bstatus, BAD_FORCE)
             bmin = min(bmin, dte)
@@ -788,8 +814,8 @@ def _clear_loads(c0, c1, rec_ptr, rec_node, pext):
 
 @njit(cache=True)
 def advance(t_stop, max_steps, clock, acc, x, v, mass, free, fixed, pext, rear, Fflat, ptr, entry, conn, vol0,
-            emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, geo, hgs, hgf, lb, vec, hga, kind, mprm, table, hg_form, qh,
-            q1, q2, courant, erode_failed, erode_dt, min_dt, rec_time, rec_ptr, rec_node, rec_weight, rec_imp):
+            emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, blocks, kind, mprm, table, hg_form, qh, q1, q2, courant,
+            erode_failed, erode_dt, min_dt, rec_time, rec_ptr, rec_node, rec_weight, rec_imp):
     """Steps from t^n (element pass done) until t ≥ ``t_stop`` or ``max_steps`` steps (module docstring).
 
     Each step: loads due at t^n, node pass (kick to v^{n+½}, drift to x^{n+1}), t ← t^{n+1},
@@ -811,9 +837,9 @@ def advance(t_stop, max_steps, clock, acc, x, v, mass, free, fixed, pext, rear, 
         clock[T_NOW] += clock[DT_NEXT]
         clock[DT_PREV] = clock[DT_NEXT]
         clock[DT_FULL] = dt_full
-        status, dtmin = element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, geo, hgs, hgf, lb,
-                                     vec, hga, kind, mprm, table, hg_form, qh, q1, q2, erode_failed, erode_dt, min_dt,
-                                     clock[DT_PREV], dt_full)
+        status, dtmin = element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, blocks, kind,
+                                     mprm, table, hg_form, qh, q1, q2, erode_failed, erode_dt, min_dt, clock[DT_PREV],
+                                     dt_full)
         steps += 1
         clock[STEPS] += 1
         if status != 0:
