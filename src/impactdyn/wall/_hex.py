@@ -138,17 +138,19 @@ def hourglass_shapes(X, B, vol, G, T, nb):
                 G[al, a, k] = h - (T[0, k] * B[0, a, k] + T[1, k] * B[1, a, k] + T[2, k] * B[2, a, k]) * T[3, k]
 
 
-@njit(cache=True, inline="always")
-def largest_face_area(X, k):
-    """A_max: the largest face area of brick k of the block X, cm²."""
-    amax2 = 0.0
-    for f in range(6):
-        a, b, c, d = FACES[f, 0], FACES[f, 1], FACES[f, 2], FACES[f, 3]
-        p0, p1, p2 = X[0, c, k] - X[0, a, k], X[1, c, k] - X[1, a, k], X[2, c, k] - X[2, a, k]
-        q0, q1, q2 = X[0, d, k] - X[0, b, k], X[1, d, k] - X[1, b, k], X[2, d, k] - X[2, b, k]
-        cx, cy, cz = p1 * q2 - p2 * q1, p2 * q0 - p0 * q2, p0 * q1 - p1 * q0
-        amax2 = max(amax2, cx * cx + cy * cy + cz * cz)
-    return 0.5 * math.sqrt(amax2)
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+def characteristic_lengths(X, vol, ell, nb):
+    """ell[k] = L_e = V/A_max of bricks k < nb of the block X, cm (A_max: the largest face area)."""
+    for k in range(nb):
+        amax2 = 0.0
+        for f in range(6):
+            a, b, c, d = FACES[f, 0], FACES[f, 1], FACES[f, 2], FACES[f, 3]
+            p0, p1, p2 = X[0, c, k] - X[0, a, k], X[1, c, k] - X[1, a, k], X[2, c, k] - X[2, a, k]
+            q0, q1, q2 = X[0, d, k] - X[0, b, k], X[1, d, k] - X[1, b, k], X[2, d, k] - X[2, b, k]
+            cx, cy, cz = p1 * q2 - p2 * q1, p2 * q0 - p0 * q2, p0 * q1 - p1 * q0
+            a2 = cx * cx + cy * cy + cz * cz
+            amax2 = a2 if a2 > amax2 else amax2      # a select, not max(): the loop over k vectorises
+        ell[k] = vol[k] / (0.5 * math.sqrt(amax2))
 
 
 @njit(parallel=True, cache=True)

@@ -99,7 +99,7 @@ import numpy as np
 from numba import get_thread_id, njit, prange
 
 from impactdyn.constitutive import C0, RHO0, SHEAR, spin_terms, von_mises
-from impactdyn.wall._hex import BLOCK, ETA, XI, ZETA, hourglass_shapes, largest_face_area, volume_gradient
+from impactdyn.wall._hex import BLOCK, ETA, XI, ZETA, characteristic_lengths, hourglass_shapes, volume_gradient
 from impactdyn.wall._johnson_cook import jc_update
 from impactdyn.wall._mat13 import KIND as MAT13_KIND
 from impactdyn.wall._mat13 import M_G, M_K, mat13_update
@@ -148,15 +148,16 @@ def _erase(F, es, Shg, e):
 #: R_QN + 3α + i), velocity gradient in the end configuration (R_LB + 3i + j), the 4 rows of work space of
 #: :func:`~impactdyn.wall._hex.hourglass_shapes` (R_TMP), the reciprocal vectors ∇ξ_m (R_J + 3m + i),
 #: volume, the power p2 = fⁿ·v^{n+½}, the stress σ = S − pI (R_SIG + 6 components), bulk viscosity q,
-#: live flag, power p1 = f_σ·v^{n+½}, B·v^{n+½}, characteristic length, and the assumed-strain form's
+#: live flag, power p1 = f_σ·v^{n+½}, B·v^{n+½}, characteristic length, sound speed, tr d, stable step
+#: Δt_e, and the assumed-strain form's
 #: tangent ratio, flow stress, spin over the step Δt (Ω_xy, Ω_yz, Ω_xz) and stored hourglass stresses
 #: (R_SHG + the ``Shg`` column).  One flat array with rows a compile-time multiple of BLOCK apart, and
 #: block kernels that run over all BLOCK bricks (a compile-time trip count), are what let the compiler
 #: see that the rows never overlap and vectorise the loops over the bricks.  Past the end of a short
 #: last block those kernels compute on stale rows, whose results are never read.
 (R_X, R_V, R_B, R_F, R_G, R_QD, R_QN, R_LB, R_TMP, R_J) = (0, 24, 48, 72, 96, 128, 140, 152, 161, 165)
-(R_VOL, R_P2, R_SIG, R_Q, R_OK, R_P1, R_BV, R_LE, R_RATIO, R_FLOW, R_SPIN, R_SHG) = (
-    174, 175, 176, 182, 183, 184, 185, 186, 187, 188, 189, 192)
+(R_VOL, R_P2, R_SIG, R_Q, R_OK, R_P1, R_BV, R_LE, R_C, R_TRD, R_DTE, R_RATIO, R_FLOW, R_SPIN, R_SHG) = (
+    174, 175, 176, 182, 183, 184, 185, 186, 187, 188, 189, 190, 191, 192, 195)
 N_ROWS = R_SHG + N_SHG
 
 
@@ -270,6 +271,18 @@ def _hourglass_sum(A, i, k, g0, g1, g2, g3):
     node whose γ_α are g0 … g3."""
     return (A[(R_QN + i) * BLOCK + k] * g0 + A[(R_QN + 3 + i) * BLOCK + k] * g1
             + A[(R_QN + 6 + i) * BLOCK + k] * g2 + A[(R_QN + 9 + i) * BLOCK + k] * g3)
+
+
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+def stable_steps(A, q1, q2):
+    """The stable step of the bricks of the block array A (row R_DTE; Hallquist, module docstring)::
+
+        Δt_e = L_e / (Q + √(Q² + c²)),   Q = Q1 L_e |tr d| + Q2 c on compression (tr d < 0), else 0
+    """
+    for k in range(BLOCK):
+        ell, c, trd = A[R_LE * BLOCK + k], A[R_C * BLOCK + k], A[R_TRD * BLOCK + k]
+        qs = q1 * ell * abs(trd) + q2 * c if trd < 0.0 else 0.0
+        A[R_DTE * BLOCK + k] = ell / (qs + math.sqrt(qs * qs + c * c))
 
 
 @njit(cache=True, inline="always")
@@ -593,6 +606,7 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, 
         if hg_form == HG_ASSUMED_STRAIN:
             reciprocal_vectors(A)
         velocity_gradients(A)
+        characteristic_lengths(X, vols, A[R_LE * BLOCK:(R_LE + 1) * BLOCK], nb)
         # brick by brick: work of the previous forces, bulk viscosity, material, hourglass forces
         bstatus = 0
         for k in range(nb):
@@ -616,16 +630,16 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, 
             trd = Lbuf[e, 0, 0] + Lbuf[e, 1, 1] + Lbuf[e, 2, 2]
             # complete the work of the previous forces over Δt^n: ½Δt^n f^n·(v^{n−½} + v^{n+½}), by kind
             p2_hg = 0.0
-            for r in range(12):
-                p2_hg += Qhg[e, r // 3, r % 3] * A[(R_QD + r) * BLOCK + k]
+            for al in range(4):
+                for i in range(3):
+                    p2_hg += Qhg[e, al, i] * A[(R_QD + 3 * al + i) * BLOCK + k]
             p2_q = -es[e, Q] * vbar * trd
             es[e, W_SIGMA] += half * (es[e, P1_SIGMA] + p2 - p2_q - p2_hg)
             es[e, W_Q] += half * (es[e, P1_Q] + p2_q)
             es[e, W_HG] += half * (es[e, P1_HG] + p2_hg)
             # bulk viscosity and the material update
             rho = emass[e] / vol
-            ell = vol / largest_face_area(X, k)
-            A[R_LE * BLOCK + k] = ell
+            ell = A[R_LE * BLOCK + k]
             q = 0.0
             if trd < 0.0:
                 q = rho * ell * (q1 * ell * trd * trd - q2 * es[e, C] * trd)
@@ -638,6 +652,8 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, 
             es[e, C] = c
             es[e, Q] = q
             es[e, VOL] = vol
+            A[R_C * BLOCK + k] = c
+            A[R_TRD * BLOCK + k] = trd
             es[e, W_PLASTIC] += dwp
             # generalised hourglass forces Q_αi: the viscous force or the stiffness form's increment here,
             # the assumed-strain form's forces for the whole block below
@@ -691,15 +707,17 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, 
                 continue
             e = e0 + k
             p1_hg = 0.0
-            for r in range(12):
-                al, i = r // 3, r % 3
-                qnew = (Qhg[e, al, i] if hg_form == HG_STIFFNESS else 0.0) + A[(R_QN + r) * BLOCK + k]
-                Qhg[e, al, i] = qnew
-                A[(R_QN + r) * BLOCK + k] = qnew
-                p1_hg += qnew * A[(R_QD + r) * BLOCK + k]
+            for al in range(4):
+                for i in range(3):
+                    r = 3 * al + i
+                    qnew = (Qhg[e, al, i] if hg_form == HG_STIFFNESS else 0.0) + A[(R_QN + r) * BLOCK + k]
+                    Qhg[e, al, i] = qnew
+                    A[(R_QN + r) * BLOCK + k] = qnew
+                    p1_hg += qnew * A[(R_QD + r) * BLOCK + k]
             es[e, P1_HG] = p1_hg
         nodal_forces(A)
-        # store the forces, the stable step, erosion and breakdown checks
+        stable_steps(A, q1, q2)
+        # store the forces and the stable step, erosion and breakdown checks
         bmin = np.inf
         for k in range(nb):
             if A[R_OK * BLOCK + k] == 0.0:
@@ -710,13 +728,7 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, 
                     F[e, a, i] = A[(R_F + 8 * i + a) * BLOCK + k]
             es[e, P1_SIGMA] = A[R_P1 * BLOCK + k]
             es[e, P1_Q] = -A[R_Q * BLOCK + k] * A[R_BV * BLOCK + k]
-            c = es[e, C]
-            ell = A[R_LE * BLOCK + k]
-            trd = Lbuf[e, 0, 0] + Lbuf[e, 1, 1] + Lbuf[e, 2, 2]
-            qs = 0.0
-            if trd < 0.0:
-                qs = q1 * ell * abs(trd) + q2 * c
-            dte = ell / (qs + math.sqrt(qs * qs + c * c))
+            dte = A[R_DTE * BLOCK + k]
             es[e, DT_E] = dte
             if flags[e, FAILED] != 0 and (erode_failed or dte < erode_dt):
                 flags[e, ERODED] = 1
