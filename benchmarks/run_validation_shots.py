@@ -23,8 +23,11 @@ scores (accuracy, false-safe rate = perforated shots called safe / perforated sh
 alarms) of the simulated verdicts beside the JSC equation's (the package default, on the same
 shots), and ``scores.json`` go to OUT.  No constant of the pipeline is calibrated on them.
 
-    OMP_WAIT_POLICY=passive python benchmarks/run_validation_shots.py -o OUT [--only LINE ...]
+    OMP_WAIT_POLICY=passive python benchmarks/run_validation_shots.py -o OUT [--set N] [--only LINE ...]
         [--from-wall] [--score-only] [--wall-model MODEL]
+
+``--set``: the validation set of :func:`select_validation_shots.select` (1, the default, or 2, the
+disjoint set that decides the default wall model).
 
 ``--wall-model``: score the finished shots with the wall stage rerun under another material
 model (``benchmarks/wall_convergence.rerun_wall``; nothing is written but
@@ -88,6 +91,7 @@ def scores(rows: list[dict], key: str) -> dict:
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("-o", "--out", required=True, type=Path)
+    ap.add_argument("--set", type=int, default=1, help="validation set (select_validation_shots.py)")
     ap.add_argument("--only", type=int, nargs="*", help="pyBLOSSUM line numbers to run (default: all 12)")
     ap.add_argument("--from-wall", action="store_true", help="rerun the wall stage on existing shot folders")
     ap.add_argument("--score-only", action="store_true", help="score the shot folders that exist")
@@ -95,7 +99,7 @@ def main() -> int:
     args = ap.parse_args()
     with open(BASE, "rb") as fh:
         base = tomllib.load(fh)
-    shots = select()
+    shots = select(args.set)
     args.out.mkdir(parents=True, exist_ok=True)
     rows = []
     for shot in shots:

@@ -21,7 +21,15 @@ The simulated verdicts of these shots are compared with the test outcome and wit
 equation's on the same shots (accuracy and false-safe rate, BENCHMARKS.md).  No constant of
 the pipeline is calibrated on them.
 
-    python benchmarks/select_validation_shots.py [--json]
+Set 2 (rule written down 2026-11-26, before any shot of it was simulated): the same rule, 1–3,
+applied to the eligible shots that are not in set 1 — a disjoint set, the next nearest to the
+Table 2 shield.  Set n in general: the rule applied to the eligible shots not in sets 1 … n−1.
+Set 2 exists to choose the wall stage's default material model on shots neither model has been
+scored on; the decision rule, also written before the runs: the default becomes
+``johnson_cook`` if on set 2 it has more verdicts right than the type-13 card AND no more
+false-safe verdicts (perforated shots called safe); otherwise the type-13 card stays.
+
+    python benchmarks/select_validation_shots.py [--set N] [--json]
 """
 
 from __future__ import annotations
@@ -51,7 +59,16 @@ def _materials(path) -> dict[int, tuple[str, str, str]]:
     return out
 
 
-def select() -> list[dict]:
+def select(set_number: int = 1) -> list[dict]:
+    """The shots of validation set ``set_number`` (module docstring), sorted by file line."""
+    taken: set[int] = set()
+    for earlier in range(1, set_number):
+        taken |= {r["line"] for r in _select_from(taken)}
+    return _select_from(taken)
+
+
+def _select_from(taken: set[int]) -> list[dict]:
+    """Rule 1–3 on the eligible shots whose file line is not in ``taken``."""
     db = read_database()
     mats = _materials(db.path)
     rows = []
@@ -69,6 +86,7 @@ def select() -> list[dict]:
                      "bumper_thickness_cm": float(db.bumper_thickness_cm[i]), "wall_thickness_cm": float(tw),
                      "spacing_cm": float(s), "wall_yield_ksi": float(db.wall_yield_ksi[i]),
                      "perforated": bool(db.perforated[i]), "distance": float(dist)})
+    rows = [r for r in rows if r["line"] not in taken]
     rows.sort(key=lambda r: (r["distance"], r["line"]))
     chosen = {o: [r for r in rows if r["perforated"] == o][:N_PER_OUTCOME] for o in (True, False)}
     outcome = True
@@ -87,7 +105,8 @@ def select() -> list[dict]:
 
 
 def main() -> None:
-    shots = select()
+    set_number = int(sys.argv[sys.argv.index("--set") + 1]) if "--set" in sys.argv else 1
+    shots = select(set_number)
     if "--json" in sys.argv:
         print(json.dumps(shots, indent=2))
         return
