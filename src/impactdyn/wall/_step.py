@@ -222,17 +222,20 @@ def velocity_gradients(A):
     for i in range(3):
         for j in range(3):
             for k in range(BLOCK):
-                s = 0.0
-                for a in range(8):
-                    s += A[(R_V + 8 * i + a) * BLOCK + k] * A[(R_B + 8 * j + a) * BLOCK + k]
-                A[(R_LB + 3 * i + j) * BLOCK + k] = s / A[R_VOL * BLOCK + k]
+                A[(R_LB + 3 * i + j) * BLOCK + k] = _node_sum(A, R_V + 8 * i, R_B + 8 * j, k) / A[R_VOL * BLOCK + k]
     for al in range(4):
         for i in range(3):
             for k in range(BLOCK):
-                s = 0.0
-                for a in range(8):
-                    s += A[(R_G + 8 * al + a) * BLOCK + k] * A[(R_V + 8 * i + a) * BLOCK + k]
-                A[(R_QD + 3 * al + i) * BLOCK + k] = s
+                A[(R_QD + 3 * al + i) * BLOCK + k] = _node_sum(A, R_G + 8 * al, R_V + 8 * i, k)
+
+
+@njit(cache=True, inline="always")
+def _node_sum(A, row1, row2, k):
+    """Σ_a A[row1 + a] A[row2 + a] over the local nodes a = 0…7 of brick k: two (·, 8) rows contracted."""
+    s = 0.0
+    for a in range(8):
+        s += A[(row1 + a) * BLOCK + k] * A[(row2 + a) * BLOCK + k]
+    return s
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy")
