@@ -15,7 +15,7 @@ thickness and in the plane), with the steps driven two ways:
   Python-side call per step).
 
     python benchmarks/bench_wall.py [--steps 200] [--threads 2] [--repeat 3]
-        [--hourglass assumed_strain stiffness]
+        [--hourglass assumed_strain stiffness] [--material-model mat13]
 
 ``--hourglass`` takes one or more of :data:`impactdyn.wall.HOURGLASS_FORMS`; without it the
 wall solver's default form (:class:`impactdyn.wall.WallOptions`; "assumed_strain" since
@@ -65,12 +65,14 @@ def synthetic_deposition(grid: WallGrid, total_impulse: float = 0.05) -> WallDep
     return WallDeposition(element=keep.astype(np.int64), time=time_us, impulse=impulse)
 
 
-def measure(refinement: int, steps: int, driver: str, hourglass: str | None = None) -> tuple[int, int, float, float]:
+def measure(refinement: int, steps: int, driver: str, hourglass: str | None = None,
+            material_model: str = "mat13") -> tuple[int, int, float, float]:
     grid = report_wall()
-    options = wall.WallOptions(refinement_thickness=refinement, refinement_plane=refinement)
+    options = wall.WallOptions(refinement_thickness=refinement, refinement_plane=refinement,
+                               material_model=material_model)
     if hourglass is not None:
         options = replace(options, hourglass=hourglass)
-    model = wall.wall_model("mat13", "al6061-t6")
+    model = wall.wall_model(material_model, "al6061-t6")
     mesh = wall.build_mesh(grid, model.density, refinement, refinement)
     load = wall.nodal_load(mesh, synthetic_deposition(grid))
     solver = wall.WallSolver(mesh, model, options, load=load, t_start=float(load.time.min()))
@@ -92,6 +94,9 @@ def main() -> None:
     ap.add_argument("--threads", type=int, default=2, help="numba threads")
     ap.add_argument("--repeat", type=int, default=3, help="runs per case (median reported)")
     ap.add_argument("--refinements", type=int, nargs="+", default=[1, 2])
+    ap.add_argument("--material-model", choices=sorted(wall.MODELS), default="mat13",
+                    help="wall material model (default mat13, the model of every figure in BENCHMARKS.md; "
+                         f"the wall stage's default is {wall.WallOptions().material_model!r})")
     ap.add_argument("--hourglass", nargs="+", choices=wall.HOURGLASS_FORMS, default=None,
                     help=f"hourglass form(s) (default: the WallOptions default, {wall.WallOptions().hourglass!r})")
     args = ap.parse_args()
@@ -101,7 +106,7 @@ def main() -> None:
     print(f"impactdyn wall solver benchmark: {platform.processor() or platform.machine()}, "
           f"{os.cpu_count()} cores, numba {numba.__version__}, {args.threads} threads, "
           f"OMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY', '(unset)')}; "
-          f"hourglass form(s) {', '.join(forms)} (default {default_form!r}); "
+          f"hourglass form(s) {', '.join(forms)} (default {default_form!r}); material model {args.material_model}; "
           f"1-min load average {os.getloadavg()[0]:.2f}")
     for r in args.refinements:
         for driver in ("compiled", "python"):
@@ -109,7 +114,7 @@ def main() -> None:
             cpu_rates = {f: [] for f in forms}
             for _ in range(args.repeat):
                 for f in forms:  # alternate the forms run by run
-                    ne, n, el, cpu = measure(r, args.steps, driver, f)
+                    ne, n, el, cpu = measure(r, args.steps, driver, f, args.material_model)
                     rates[f].append(ne * n / el)
                     cpu_rates[f].append(ne * n / cpu)
             for f in forms:

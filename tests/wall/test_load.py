@@ -43,7 +43,7 @@ def test_impulse_taken_equals_impulse_deposited(spread, refinement):
 def test_records_arrive_in_time_order_and_all_are_taken():
     model = wall.wall_model("mat13")
     dep = deposition(times=(1.0, 3.0), seed=4)
-    options = wall.WallOptions(supports="free", end_time_us=3.5)
+    options = wall.WallOptions(supports="free", end_time_us=3.5, material_model="mat13")
     res = wall.run_wall(GRID, dep, model, options)
     np.testing.assert_allclose(res.measures["impulse_applied"], dep.impulse.sum(axis=0), rtol=1e-12)
     assert np.allclose(res.measures["impulse_supports"], 0.0)

@@ -68,4 +68,4 @@ def test_breakdown_raises_a_solver_error():
     model = wall.Mat13Model(card)
     crush = WallDeposition(element=np.array([12]), time=np.array([0.0]), impulse=np.array([[0.0, 5.0, 0.0]]))
     with pytest.raises(wall.WallSolverError, match=r"element .*\(i, j, k\)"):
-        wall.run_wall(GRID, crush, model, wall.WallOptions(end_time_us=1.0))
+        wall.run_wall(GRID, crush, model, wall.WallOptions(end_time_us=1.0, material_model="mat13"))

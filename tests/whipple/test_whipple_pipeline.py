@@ -11,6 +11,7 @@ from impactdyn.ble import perforates
 from impactdyn.cli import main
 from impactdyn.debris import read_deposition
 from impactdyn.io import read_grid, read_lsdyna_deck
+from impactdyn.materials import Mat13Card
 from impactdyn.shield._io import read_particles
 from impactdyn.whipple import ble_verdict, load_whipple_case
 from impactdyn.wall import LSDYNA_HOURGLASS_TYPE
@@ -84,7 +85,7 @@ def test_wall_receives_the_momentum_of_the_arrived_debris(run):
 
 def test_decks_carry_the_wall_stages_model(run, tmp_path, make_case):
     """The LS-DYNA deck runs what the wall stage ran: its hourglass type and bulk viscosity, and
-    MAT_013 for "mat13" or MAT_015 with its EOS for "johnson_cook"."""
+    MAT_015 with its EOS for "johnson_cook" (the default) or MAT_013 for "mat13"."""
     case, out, _ = run
     c = load_whipple_case(case)
     cards = read_lsdyna_deck(out / "decks" / "wall.k").cards
@@ -92,10 +93,11 @@ def test_decks_carry_the_wall_stages_model(run, tmp_path, make_case):
     assert cards["*CONTROL_HOURGLASS"][0][:2] == [LSDYNA_HOURGLASS_TYPE[o.hourglass], pytest.approx(
         o.lsdyna_hourglass[1])]
     assert cards["*CONTROL_BULK_VISCOSITY"][0][:2] == [o.q1, o.q2]
-    assert "*MAT_ISOTROPIC_ELASTIC_FAILURE" in cards and "*MAT_JOHNSON_COOK" not in cards
-    jc = deck_options(load_whipple_case(make_case(tmp_path, wall_solver__material_model="johnson_cook",
-                                                  wall_solver__hourglass="viscous")))
-    assert jc.material.johnson_cook is not None and jc.hourglass == (2, o.hourglass_coefficient)
+    assert o.material_model == "johnson_cook"
+    assert "*MAT_JOHNSON_COOK" in cards and "*MAT_ISOTROPIC_ELASTIC_FAILURE" not in cards
+    m13 = deck_options(load_whipple_case(make_case(tmp_path, wall_solver__material_model="mat13",
+                                                   wall_solver__hourglass="viscous")))
+    assert isinstance(m13.material, Mat13Card) and m13.hourglass == (2, o.hourglass_coefficient)
 
 
 def test_summary_has_the_verdict_and_the_cloud_figures(run):
