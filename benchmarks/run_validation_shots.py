@@ -24,14 +24,15 @@ alarms) of the simulated verdicts beside the JSC equation's (the package default
 shots), and ``scores.json`` go to OUT.  No constant of the pipeline is calibrated on them.
 
     OMP_WAIT_POLICY=passive python benchmarks/run_validation_shots.py -o OUT [--set N] [--only LINE ...]
-        [--from-wall] [--score-only] [--wall-model MODEL]
+        [--from-wall] [--score-only] [--wall-model MODEL [--wall-refinement R]]
 
 ``--set``: the validation set of :func:`select_validation_shots.select` (1, the default, or 2, the
 disjoint set that decides the default wall model).
 
 ``--wall-model``: score the finished shots with the wall stage rerun under another material
 model (``benchmarks/wall_convergence.rerun_wall``; nothing is written but
-``scores_MODEL.json``).
+``scores_MODEL.json``); with ``--wall-refinement R`` the rerun wall is refined R× through the
+thickness and in the plane (the shots' cases use 1), into ``scores_MODEL_Rx.json``.
 """
 
 from __future__ import annotations
@@ -96,6 +97,7 @@ def main() -> int:
     ap.add_argument("--from-wall", action="store_true", help="rerun the wall stage on existing shot folders")
     ap.add_argument("--score-only", action="store_true", help="score the shot folders that exist")
     ap.add_argument("--wall-model", help="rescore with the wall stage rerun under this material model")
+    ap.add_argument("--wall-refinement", type=int, default=1, help="with --wall-model: refine the rerun wall R times")
     args = ap.parse_args()
     with open(BASE, "rb") as fh:
         base = tomllib.load(fh)
@@ -114,7 +116,8 @@ def main() -> int:
         if not summary_file.exists():
             continue
         s = json.loads(summary_file.read_text())
-        wall = rerun_wall(folder, material_model=args.wall_model) if args.wall_model else s["wall"]
+        refine = {"refinement_thickness": args.wall_refinement, "refinement_plane": args.wall_refinement}
+        wall = rerun_wall(folder, material_model=args.wall_model, **refine) if args.wall_model else s["wall"]
         rows.append({**{k: shot[k] for k in ("line", "source", "shot_id", "perforated", "diameter_cm",
                                              "velocity_km_s", "obliquity_deg", "bumper_thickness_cm",
                                              "wall_thickness_cm", "spacing_cm")},
@@ -132,7 +135,9 @@ def main() -> int:
         result = {"rows": rows, "simulated": scores(rows, "simulated"), "jsc": scores(rows, "jsc")}
         for key in ("simulated", "jsc"):
             print(key, json.dumps(result[key]))
-        name = f"scores_{args.wall_model}.json" if args.wall_model else "scores.json"
+        name = "scores.json" if not args.wall_model else (
+            f"scores_{args.wall_model}.json" if args.wall_refinement == 1 else
+            f"scores_{args.wall_model}_{args.wall_refinement}x.json")
         (args.out / name).write_text(json.dumps(result, indent=2))
     return 0
 
