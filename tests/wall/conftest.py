@@ -31,9 +31,11 @@ def elastic_moduli(model: wall.WallModel) -> tuple[float, float, float]:
     return m.rho0, m.rho0 * m.c0 ** 2, m.shear_modulus
 
 
-def distorted_grid_mesh(model: wall.WallModel, seed: int = 3, amplitude: float = 0.15) -> wall.WallMesh:
-    """A free 3 × 2 × 3 brick mesh whose interior nodes are moved randomly (a distorted patch)."""
-    g = WallGrid.uniform((0.0, 0.3), (0.0, 0.2), (0.0, 0.3), (4, 3, 4))
+def distorted_grid_mesh(model: wall.WallModel, seed: int = 3, amplitude: float = 0.15,
+                        nodes: tuple[int, int, int] = (4, 3, 4)) -> wall.WallMesh:
+    """A free brick mesh of 0.1-cm bricks (3 × 2 × 3 by default; ``nodes`` per axis) whose nodes are
+    moved randomly (a distorted patch)."""
+    g = WallGrid.uniform(*((0.0, 0.1 * (n - 1)) for n in nodes), nodes)
     mesh = wall.build_mesh(g, model.density, supports="free")
     rng = np.random.default_rng(seed)
     coords = mesh.coordinates.copy()

@@ -200,7 +200,8 @@ def _in_plane(a, n):
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy")
 def reciprocal_vectors(A):
-    """∇ξ_m = Σ_I ξ_mI B_iI / V (rows R_J + 3m + i) of the bricks of the block array A (ξ_m = ξ, η, ζ at the corners).
+    """∇ξ_m = Σ_I ξ_mI B_iI / V (rows R_J + 3m + i) of the bricks of the block array A
+    (ξ_m = ξ, η, ζ at the corners).
 
     For a parallelepiped b_I = ∇N_I = ⅛ Σ_m ξ_mI ∇ξ_m, so Σ_I ξ_mI b_I = ∇ξ_m exactly
     (|∇ξ| = 2/a, a the edge length along ξ); for other bricks, the mean-gradient image of it.
