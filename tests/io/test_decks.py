@@ -12,7 +12,7 @@ from impactdyn.materials import AL_6061_T6_MAT13, JOHNSON_COOK_DAMAGE, get_mater
 from impactdyn.wallgrid import WallDeposition, WallGrid
 from impactdyn.io._dyna3d import write_dyna3d_deck
 from impactdyn.io._legacy_dc3din import read_dc3din
-from impactdyn.io._lsdyna import read_lsdyna_deck, write_lsdyna_deck
+from impactdyn.io._lsdyna import _point, _points, read_lsdyna_deck, write_lsdyna_deck
 
 
 def cut(line: str, widths) -> list[str]:
@@ -270,3 +270,15 @@ def test_deposition_outside_the_wall(tmp_path):
             write(tmp_path / "deck", wall, deposition=dep)
     with pytest.raises(InputError, match="shapes"):
         WallDeposition(np.array([1, 2]), np.array([1.0]), np.zeros((2, 3)))
+
+
+def test_curve_points_in_one_pass_are_the_point_cards():
+    """The one-pass formatting of the load curves writes exactly what :func:`_point` writes, the
+    fields that need a three-digit exponent (and NaN/inf) included."""
+    rng = np.random.default_rng(7)
+    awkward = np.array([0.0, -0.0, 1e-98, -1e-98, 9.99999999999995e-99, 1e-99, 1e-120, -3e-200, 1e99,
+                        9.999999999999995e98, 1e100, -2.5e150, np.nan, np.inf, -np.inf, 5e-324, 1.0, -1.0])
+    t = np.concatenate([awkward, rng.standard_normal(200) * 10.0 ** rng.integers(-12, 13, 200)])
+    f = np.concatenate([awkward[::-1], rng.standard_normal(200) * 10.0 ** rng.integers(-12, 13, 200)])
+    assert _points(t, f) == [_point(a, b) for a, b in zip(t.tolist(), f.tolist())]
+    assert _points(np.zeros(0), np.zeros(0)) == []

@@ -189,7 +189,7 @@ def _load_cards(wall: WallGrid, dep: WallDeposition, width: float) -> list[str]:
             lcid = len(loads) + 1
             f_all = np.concatenate([[0.0], force[:, dof], [0.0]])
             curves += ["*DEFINE_CURVE", _row([lcid, 0, 1.0, 1.0, 0.0, 0.0])]
-            curves += [_point(ti, fi) for ti, fi in zip(t_all.tolist(), f_all.tolist())]
+            curves += _points(t_all, f_all)
             loads.append(_row([int(nid), dof + 1, lcid, 1.0]))
     return curves + ["*LOAD_NODE_POINT"] + loads
 
@@ -306,6 +306,27 @@ def _point(t: float, f: float) -> str:
     return _field(t, 20) + _field(f, 20)
 
 
+def _points(t: np.ndarray, f: np.ndarray) -> list[str]:
+    """The :func:`_point` cards of the pairs (t_i, f_i), t and f (n,): the same strings, formatted in
+    one pass (the load curves of a shot's deck hold millions of points)."""
+    t = np.asarray(t, dtype=float)
+    f = np.asarray(f, dtype=float)
+    if t.size == 0:
+        return []
+    pairs = np.column_stack([t, f]).ravel().tolist()
+    cards = (("%20.12e%20.12e\n" * t.size) % tuple(pairs)).splitlines()
+    for i in np.flatnonzero(~(_two_digit_exponent(t) & _two_digit_exponent(f))):
+        cards[i] = _point(float(t[i]), float(f[i]))
+    return cards
+
+
+def _two_digit_exponent(x: np.ndarray) -> np.ndarray:
+    """Where %.12e surely writes x with a two-digit exponent (0, or 1e-98 ≤ |x| < 1e99; not NaN/inf)."""
+    a = np.abs(x)
+    return (a == 0.0) | ((a >= 1e-98) & (a < 1e99))
+
+
 def _as_written(values: np.ndarray) -> np.ndarray:
     """Curve abscissae rounded as :func:`_point` writes them."""
-    return np.array([float(_point(v, 0.0)[:20]) for v in np.asarray(values, dtype=float).tolist()])
+    values = np.asarray(values, dtype=float).ravel()
+    return np.array([float(card[:20]) for card in _points(values, np.zeros(values.size))])
