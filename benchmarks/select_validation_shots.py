@@ -62,7 +62,7 @@ def _materials(path) -> dict[int, tuple[str, str, str]]:
 def select(set_number: int = 1) -> list[dict]:
     """The shots of validation set ``set_number`` (module docstring), sorted by file line."""
     taken: set[int] = set()
-    for earlier in range(1, set_number):
+    for _ in range(1, set_number):
         taken |= {r["line"] for r in _select_from(taken)}
     return _select_from(taken)
 

@@ -160,9 +160,9 @@ class WallSolver:
 
     @property
     def hourglass_stress(self) -> np.ndarray:
-        """The assumed-strain form's stored hourglass stresses per element, (n_elements, N_SHG) (a copy;
-        columns in :mod:`._state`); (0, N_SHG) with the other forms."""
-        return self.Shg.transpose(0, 2, 1).reshape(-1, N_SHG)[:self.mesh.n_elements].copy()
+        """The assumed-strain form's stored hourglass stresses per element, (n_elements, N_SHG) (a new
+        array; columns in :mod:`._state`); (0, N_SHG) with the other forms."""
+        return self.Shg.transpose(0, 2, 1).reshape(-1, N_SHG)[:self.mesh.n_elements]
 
     @property
     def failed(self) -> np.ndarray:

@@ -8,10 +8,12 @@ reads and writes one row at a time):
 * ``flags`` (n_elements, 2) uint8 — FAILED, ERODED;
 * ``Lbuf`` (n_elements, 3, 3) — the midstep velocity gradient ∂v_i/∂x_j, 1/µs;
 * ``Qhg`` (n_elements, 4, 3) — generalised hourglass forces Q_αi of the last step;
-* ``Shg`` (n_elements, N_SHG) — the assumed-strain form's hourglass stresses (Mbar), columns
+* ``Shg`` (n_blocks, N_SHG, BLOCK), element e at [e // BLOCK, :, e % BLOCK] (blocked like the element
+  pass, :func:`impactdyn.wall._step.hourglass_stress_array`) — the assumed-strain form's hourglass
+  stresses (Mbar), columns
   SHG_PLANE + 6k … SHG_PLANE + 6k + 5: the plane-stress tensor σ_k of group k = 0, 1, 2 in
   global axes (xx, yy, zz, xy, yz, zx), SHG_MODE4 + k: the uniaxial stress s_k of mode ξηζ
-  along j_k (:func:`impactdyn.wall._step.assumed_strain_forces`); (0, N_SHG) with the other
+  along j_k (:func:`impactdyn.wall._step.assumed_strain_forces`); no blocks with the other
   hourglass forms, which keep no stress.
 
 and :func:`stress_power`, the rates the material models' energy updates share.

@@ -149,9 +149,8 @@ def _erase(F, es, Shg, e):
 #: :func:`~impactdyn.wall._hex.hourglass_shapes` (R_TMP), the reciprocal vectors ∇ξ_m (R_J + 3m + i),
 #: volume, the power p2 = fⁿ·v^{n+½}, the stress σ = S − pI (R_SIG + 6 components), bulk viscosity q,
 #: live flag, power p1 = f_σ·v^{n+½}, B·v^{n+½}, characteristic length, sound speed, tr d, stable step
-#: Δt_e, and the assumed-strain form's
-#: tangent ratio, flow stress, spin over the step Δt (Ω_xy, Ω_yz, Ω_xz) and stored hourglass stresses
-#: (R_SHG + the ``Shg`` column).  One flat array with rows a compile-time multiple of BLOCK apart, and
+#: Δt_e, and the assumed-strain form's tangent ratio, flow stress, spin over the step Δt (Ω_xy, Ω_yz,
+#: Ω_xz) and stored hourglass stresses (R_SHG + the ``Shg`` column).  One flat array with rows a compile-time multiple of BLOCK apart, and
 #: block kernels that run over all BLOCK bricks (a compile-time trip count), are what let the compiler
 #: see that the rows never overlap and vectorise the loops over the bricks.  Past the end of a short
 #: last block those kernels compute on stale rows, whose results are never read.
@@ -329,8 +328,8 @@ def _young(lam, mu):
     return mu * (3.0 * lam + 2.0 * mu) / den if den > 0.0 else 0.0
 
 
-# a plain call from the parallel element pass, once per block (inlined, its tuple arithmetic upset numba's
-# parfor analysis).  The loops over the block's bricks are innermost, branch-free (selects, no min/max calls)
+# a plain call from the parallel element pass, once per block (not inlined: inlined, its tuple arithmetic
+# upset numba's parfor analysis).  The loops over the block's bricks are innermost, branch-free (selects, no min/max calls)
 # and read and write one flat array: they vectorise (3x faster than brick by brick on AVX2).
 @njit(cache=True, fastmath={"contract"}, error_model="numpy")
 def assumed_strain_forces(H, dt, lam, shear):
