@@ -3,7 +3,9 @@
 Reruns only the wall solver on the run's deposition (``debris/debris.h5``) with the case's
 wall settings, then with each variant: 2× refinement through the thickness and in the plane,
 and each other load spread (:data:`impactdyn.wall.SPREADS`); ``--split`` adds the refinement
-through the thickness alone and in the plane alone.  Prints, for every variant, the verdict,
+through the thickness alone and in the plane alone, ``--thickness-series N`` the refinements
+2 … N through the thickness alone, and ``--deposition-depth D`` sets the case's
+``deposition_depth_cm`` on every row (the impulses as a body force over D cm, :mod:`impactdyn.wall._load`).  Prints, for every variant, the verdict,
 crater depth / wall thickness, rear bulge, failed and eroded mass, hourglass / internal energy,
 the work of the load and the plastic work, and the change of bulge, crater depth and load work
 against the case's own settings; ``--json FILE`` keeps them.  The acceptance: the same verdict
@@ -14,7 +16,7 @@ at rest |I|²/2m, so it grows as the nodes under the load get lighter — the re
 depth of an impulsively loaded wall is not a mesh-converged measure (BENCHMARKS.md).
 
     OMP_WAIT_POLICY=passive python benchmarks/wall_convergence.py RUN_FOLDER [--json FILE]
-        [--refinement 2] [--no-spreads] [--split]
+        [--refinement 2] [--no-spreads] [--split] [--thickness-series N] [--deposition-depth D]
 """
 
 from __future__ import annotations
@@ -55,10 +57,16 @@ def main() -> int:
     ap.add_argument("--no-spreads", action="store_true")
     ap.add_argument("--split", action="store_true",
                     help="also refine through the thickness alone and in the plane alone")
+    ap.add_argument("--thickness-series", type=int, default=0, metavar="N",
+                    help="also refine through the thickness alone 2, 3, ..., N times")
+    ap.add_argument("--deposition-depth", type=float, default=None, metavar="D",
+                    help="deposition_depth_cm on every row (default: the case's)")
     ap.add_argument("--json", type=Path)
     args = ap.parse_args()
     case = load_whipple_case(args.run / "case.toml")
     base = case.wall_solver.options(case.wall.clamped_edges)
+    if args.deposition_depth is not None:
+        base = replace(base, deposition_depth_cm=args.deposition_depth)
     r = args.refinement
     variants = {"case settings": {},
                 f"{r}x refinement": {"refinement_thickness": base.refinement_thickness * r,
@@ -66,11 +74,13 @@ def main() -> int:
     if args.split:
         variants |= {f"{r}x thickness": {"refinement_thickness": base.refinement_thickness * r},
                      f"{r}x plane": {"refinement_plane": base.refinement_plane * r}}
+    variants |= {f"{n}x thickness": {"refinement_thickness": base.refinement_thickness * n}
+                 for n in range(2, args.thickness_series + 1)}
     if not args.no_spreads:
         variants |= {f"spread {s}": {"spread": s} for s in SPREADS if s != base.spread}
     rows = {}
     for name, changes in variants.items():
-        rows[name] = row = rerun_wall(args.run, **changes)
+        rows[name] = row = rerun_wall(args.run, deposition_depth_cm=base.deposition_depth_cm, **changes)
         ref = rows["case settings"]
         change = {k: (row[k] / ref[k] - 1.0) if ref[k] else float("nan")
                   for k in ("crater_depth_ratio", "rear_bulge_cm", "load_work", "plastic_work")}

@@ -1,4 +1,6 @@
-"""The deposition as nodal impulses: every spread conserves the impulse exactly."""
+"""The deposition as nodal impulses: every spread conserves the impulse exactly; spread over a
+depth, the energy an impulse brings converges as the thickness is refined (on the front face it
+grows with the refinement)."""
 
 import numpy as np
 import pytest
@@ -21,13 +23,15 @@ def deposition(times=None, seed=0) -> WallDeposition:
 
 @pytest.mark.parametrize("spread", wall.SPREADS)
 @pytest.mark.parametrize("refinement", [1, 2])
-def test_impulse_taken_equals_impulse_deposited(spread, refinement):
+@pytest.mark.parametrize("depth", [None, 0.2])
+def test_impulse_taken_equals_impulse_deposited(spread, refinement, depth):
     model = wall.wall_model("mat13")
     mesh = wall.build_mesh(GRID, model.density, refinement, refinement)
     dep = deposition()
-    load = wall.nodal_load(mesh, dep, spread)
+    load = wall.nodal_load(mesh, dep, spread, depth)
     np.testing.assert_allclose(np.add.reduceat(load.weight, load.ptr[:-1]), 1.0, rtol=1e-15)
-    s = wall.WallSolver(mesh, model, wall.WallOptions(spread=spread), load=load, t_start=2.0)
+    s = wall.WallSolver(mesh, model, wall.WallOptions(spread=spread, deposition_depth_cm=depth), load=load,
+                        t_start=2.0)
     s.advance(np.inf, max_steps=1)          # all records arrive at the first step, on a wall at rest
     assert s.loads_done
     deposited = dep.impulse.sum(axis=0)
@@ -68,3 +72,42 @@ def test_spread_weights():
     mass3 = wall.nodal_load(m3, one, "mass")
     dv = mass3.weight / m3.node_mass[mass3.node]               # the same velocity jump on every node
     np.testing.assert_allclose(dv, dv[0], rtol=1e-13)
+
+
+COLUMN = WallGrid.uniform((0.0, 0.1), (0.0, 0.32), (0.0, 0.1), (2, 3, 2))    # one column, two layers
+
+
+def load_work_on_a_column(refinement: int, depth: float | None) -> float:
+    """The work of one impulse I_y = 1e-4 on the column's face element at rest, refined
+    ``refinement`` times through the thickness (uniaxial: only y moves)."""
+    model = wall.wall_model("mat13")
+    mesh = wall.build_mesh(COLUMN, model.density, refinement, 1, supports="uniaxial")
+    one = WallDeposition(element=np.array([0]), time=np.array([0.0]), impulse=np.array([[0.0, 1e-4, 0.0]]))
+    options = wall.WallOptions(supports="uniaxial", material_model="mat13", deposition_depth_cm=depth)
+    s = wall.WallSolver(mesh, model, options, load=wall.nodal_load(mesh, one, options.spread, depth))
+    s.advance(np.inf, max_steps=1)
+    return s.energies()["load_work"]
+
+
+def test_load_work_over_a_depth_converges_where_on_the_face_it_grows():
+    """Spread over δ = n h (a uniform body force, lumped), an impulse on nodes at rest brings
+    Σ (w_j I)²/2m_j = |I|²/(2ρAδ)·(1 − 1/(4n)): front node w = h/2δ, m = ρAh/2; the n − 1
+    inside w = h/δ, m = ρAh; the last w = h/2δ, m = ρAh.  On the front-face nodes alone it is
+    |I|²/(ρAh), proportional to the refinement."""
+    rho, area, depth, impulse = wall.wall_model("mat13").density, 0.01, 0.16, 1e-4
+    for refinement, n in ((1, 1), (2, 2), (4, 4)):
+        expected = impulse ** 2 / (2.0 * rho * area * depth) * (1.0 - 1.0 / (4 * n))
+        assert load_work_on_a_column(refinement, depth) == pytest.approx(expected, rel=1e-12)
+        front = load_work_on_a_column(refinement, None)
+        assert front == pytest.approx(impulse ** 2 / (rho * area * depth / n), rel=1e-12)
+
+
+def test_depth_weights():
+    mesh = wall.build_mesh(COLUMN, wall.wall_model("mat13").density, 4, 1)        # h = 0.04
+    np.testing.assert_allclose(wall.depth_weights(mesh, 0.16), [1, 2, 2, 2, 1] / np.float64(8), rtol=1e-14)
+    np.testing.assert_allclose(wall.depth_weights(mesh, 0.01), [1.0])           # inside the first half layer
+    np.testing.assert_allclose(wall.depth_weights(mesh, 0.05), [0.4, 0.6], rtol=1e-14)
+    np.testing.assert_allclose(wall.depth_weights(mesh, 0.32).sum(), 1.0, rtol=1e-15)
+    from impactdyn._errors import InputError
+    with pytest.raises(InputError, match="deposition_depth_cm"):
+        wall.depth_weights(mesh, 0.33)

@@ -31,6 +31,8 @@ DEP = WallDeposition(element=np.array([0, 6]), time=np.array([1.0, 2.5]), impuls
     ("supports", {"supports": "welded"}),
     ("output_interval_us", {"output_interval_us": 0.0}),
     ("decay_fraction", {"decay_fraction": 0.0}),
+    ("deposition_depth_cm", {"deposition_depth_cm": -0.1}),
+    ("deposition_depth_cm", {"deposition_depth_cm": float("inf")}),
 ])
 def test_bad_option_names_the_key(key, kwargs):
     with pytest.raises(InputError, match=key):

@@ -71,6 +71,11 @@ class WallOptions:
         the parent's corners, which on a refined mesh leaves the nodes between them unloaded
         and crushed the loaded ones: failed mass 0 → 0.41 g at 2× refinement on a synthetic
         7-km/s-like load).
+    deposition_depth_cm : None (default: the impulses on the front-face nodes, as DYNA3D's
+        nodal loads) or the depth δ (cm) below the front face over which each record's impulse
+        is spread as a uniform body force (:mod:`._load`): the load's energy then converges as
+        the thickness is refined, where on the front face it grows with the refinement.  Must
+        not exceed the wall's thickness.
     escape_velocity_km_s : the speed above which rear-face material attached to failed
         material is leaving the wall (verdict, :mod:`._verdict`).
     erosion_step_fraction : a failed element is eroded when its step falls below this
@@ -94,6 +99,7 @@ class WallOptions:
     output_interval_us: float | None = 1.0
     history_interval_us: float = 0.2
     spread: str = "area"
+    deposition_depth_cm: float | None = None
     escape_velocity_km_s: float = 1.0
     erosion_step_fraction: float = 0.1
     min_step_fraction: float = 1.0e-3
@@ -121,6 +127,8 @@ class WallOptions:
         _check("min_step_fraction", self.min_step_fraction, lo=0.0, lo_open=True, hi=1.0)
         if self.end_time_us is not None:
             _check("end_time_us", self.end_time_us, lo=0.0, lo_open=True)
+        if self.deposition_depth_cm is not None:
+            _check("deposition_depth_cm", self.deposition_depth_cm, lo=0.0, lo_open=True)
         if self.output_interval_us is not None:
             _check("output_interval_us", self.output_interval_us, lo=0.0, lo_open=True)
 

@@ -342,7 +342,7 @@ def run_wall(wall: WallGrid, deposition: WallDeposition, model: Any = "al6061-t6
     if wall.y[-1] - wall.y[0] <= 0:
         raise InputError("wall: thickness must be > 0")
     mesh = build_mesh(wall, m.density, options.refinement_thickness, options.refinement_plane, options.supports)
-    load = nodal_load(mesh, deposition, options.spread)
+    load = nodal_load(mesh, deposition, options.spread, options.deposition_depth_cm)
     t_start = float(load.time.min()) if load.time.size else 0.0
     last = float(load.time.max()) if load.time.size else 0.0
     if options.end_time_us is not None and options.end_time_us < last:

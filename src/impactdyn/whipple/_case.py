@@ -181,6 +181,10 @@ class WhippleCase(Section):
         if self.binning.cell_size_cm >= w.spacing_cm:
             raise ValueError(f"binning.cell_size_cm = {self.binning.cell_size_cm} does not fit in the "
                              f"{w.spacing_cm} cm between bumper and wall")
+        depth = self.wall_solver.deposition_depth_cm
+        if depth is not None and depth > w.thickness_cm:
+            raise ValueError(f"wall_solver.deposition_depth_cm = {depth} exceeds the wall's thickness "
+                             f"(wall.thickness_cm = {w.thickness_cm})")
         import math
 
         from impactdyn._limits import SPH_PARTICLE_BYTES, check_fits  # SPH particles, before allocating them
