@@ -15,7 +15,15 @@ thickness and in the plane), with the steps driven two ways:
   Python-side call per step).
 
     python benchmarks/bench_wall.py [--steps 200] [--threads 2] [--repeat 3]
-        [--hourglass assumed_strain stiffness] [--material-model mat13]
+        [--hourglass assumed_strain stiffness] [--material-model mat13] [--roofline]
+
+``--roofline`` also measures the machine's memory bandwidth (a parallel STREAM triad,
+a[i] = b[i] + s·c[i] over arrays of 3 × 64 MB, counted as 24 bytes per i: two reads and
+one write) and prints, per mesh, the solver's state in bytes per element (the element
+arrays plus the node arrays per element, :class:`impactdyn.wall.WallSolver`) and the
+bytes per element-step that the measured rate would mean if memory traffic alone set it
+(bandwidth / rate).  A step reads the state and writes most of it back, so a value near
+twice the state says the rate is bound by memory, not by arithmetic.
 
 ``--hourglass`` takes one or more of :data:`impactdyn.wall.HOURGLASS_FORMS`; without it the
 wall solver's default form (:class:`impactdyn.wall.WallOptions`; "assumed_strain" since
@@ -65,8 +73,35 @@ def synthetic_deposition(grid: WallGrid, total_impulse: float = 0.05) -> WallDep
     return WallDeposition(element=keep.astype(np.int64), time=time_us, impulse=impulse)
 
 
+@numba.njit(parallel=True, cache=True)
+def _triad(a, b, c, scale):
+    for i in numba.prange(a.size):
+        a[i] = b[i] + scale * c[i]
+
+
+def triad_bandwidth(n: int = 8_000_000, repeat: int = 20) -> float:
+    """Median bytes per second of the parallel triad over float64 arrays of ``n`` (24 bytes per element)."""
+    a, b, c = np.zeros(n), np.ones(n), np.full(n, 2.0)
+    _triad(a, b, c, 3.0)
+    rates = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        _triad(a, b, c, 3.0)
+        rates.append(24.0 * n / (time.perf_counter() - t0))
+    return statistics.median(rates)
+
+
+def state_bytes_per_element(solver: wall.WallSolver) -> float:
+    """The solver's per-element and per-node arrays, in bytes per element."""
+    mesh = solver.mesh
+    element = (solver.x, solver.v, solver.F, solver.S, solver.es, solver.flags, solver.Lbuf, solver.Qhg, solver.Shg,
+               mesh.connectivity, mesh.volume, mesh.element_mass, mesh.node_mass, solver.free, solver.rear,
+               mesh.node_element_ptr, mesh.node_element_entry)
+    return sum(a.nbytes for a in element) / mesh.n_elements
+
+
 def measure(refinement: int, steps: int, driver: str, hourglass: str | None = None,
-            material_model: str = "mat13") -> tuple[int, int, float, float]:
+            material_model: str = "mat13") -> tuple[int, int, float, float, float]:
     grid = report_wall()
     options = wall.WallOptions(refinement_thickness=refinement, refinement_plane=refinement,
                                material_model=material_model)
@@ -85,7 +120,7 @@ def measure(refinement: int, steps: int, driver: str, hourglass: str | None = No
         for _ in range(steps):
             solver.advance(np.inf, max_steps=1)
     elapsed, cpu = time.perf_counter() - t0, time.process_time() - c0
-    return mesh.n_elements, solver.steps - n0, elapsed, cpu
+    return mesh.n_elements, solver.steps - n0, elapsed, cpu, state_bytes_per_element(solver)
 
 
 def main() -> None:
@@ -99,8 +134,11 @@ def main() -> None:
                          f"the wall stage's default is {wall.WallOptions().material_model!r})")
     ap.add_argument("--hourglass", nargs="+", choices=wall.HOURGLASS_FORMS, default=None,
                     help=f"hourglass form(s) (default: the WallOptions default, {wall.WallOptions().hourglass!r})")
+    ap.add_argument("--roofline", action="store_true",
+                    help="also measure the memory bandwidth and print the bytes per element-step it implies")
     args = ap.parse_args()
     numba.set_num_threads(args.threads)
+    bandwidth = triad_bandwidth() if args.roofline else None
     default_form = wall.WallOptions().hourglass
     forms = args.hourglass or [default_form]
     print(f"impactdyn wall solver benchmark: {platform.processor() or platform.machine()}, "
@@ -114,7 +152,7 @@ def main() -> None:
             cpu_rates = {f: [] for f in forms}
             for _ in range(args.repeat):
                 for f in forms:  # alternate the forms run by run
-                    ne, n, el, cpu = measure(r, args.steps, driver, f, args.material_model)
+                    ne, n, el, cpu, state = measure(r, args.steps, driver, f, args.material_model)
                     rates[f].append(ne * n / el)
                     cpu_rates[f].append(ne * n / cpu)
             for f in forms:
@@ -123,6 +161,11 @@ def main() -> None:
                       f"(runs {', '.join(f'{x / 1e6:.2f}' for x in rates[f])}); "
                       f"{statistics.median(cpu_rates[f]) / 1e6:.2f} M per CPU-second; "
                       f"load average {os.getloadavg()[0]:.2f}")
+                if bandwidth is not None and driver == "compiled":
+                    print(f"  state {state:.0f} bytes per element; at the triad's bandwidth the median rate means "
+                          f"{bandwidth / statistics.median(rates[f]):.0f} bytes per element-step")
+    if bandwidth is not None:
+        print(f"memory bandwidth (parallel triad, {args.threads} threads, median of 20): {bandwidth / 1e9:.2f} GB/s")
     print(f"threading layer: {numba.threading_layer()}")
 
 

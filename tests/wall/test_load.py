@@ -1,6 +1,7 @@
-"""The deposition as nodal impulses: every spread conserves the impulse exactly; spread over a
-depth, the energy an impulse brings converges as the thickness is refined (on the front face it
-grows with the refinement)."""
+"""The deposition as nodal impulses: every spread and depth conserves the impulse exactly; spread
+over a depth, the energy an impulse brings converges as the thickness is refined (on the front
+face alone it grows with the refinement); the default depth is the report's nodal load at
+refinement 1."""
 
 import numpy as np
 import pytest
@@ -23,7 +24,7 @@ def deposition(times=None, seed=0) -> WallDeposition:
 
 @pytest.mark.parametrize("spread", wall.SPREADS)
 @pytest.mark.parametrize("refinement", [1, 2])
-@pytest.mark.parametrize("depth", [None, 0.2])
+@pytest.mark.parametrize("depth", [0.0, None, 0.2])
 def test_impulse_taken_equals_impulse_deposited(spread, refinement, depth):
     model = wall.wall_model("mat13")
     mesh = wall.build_mesh(GRID, model.density, refinement, refinement)
@@ -98,7 +99,7 @@ def test_load_work_over_a_depth_converges_where_on_the_face_it_grows():
     for refinement, n in ((1, 1), (2, 2), (4, 4)):
         expected = impulse ** 2 / (2.0 * rho * area * depth) * (1.0 - 1.0 / (4 * n))
         assert load_work_on_a_column(refinement, depth) == pytest.approx(expected, rel=1e-12)
-        front = load_work_on_a_column(refinement, None)
+        front = load_work_on_a_column(refinement, 0.0)
         assert front == pytest.approx(impulse ** 2 / (rho * area * depth / n), rel=1e-12)
 
 
@@ -106,8 +107,22 @@ def test_depth_weights():
     mesh = wall.build_mesh(COLUMN, wall.wall_model("mat13").density, 4, 1)        # h = 0.04
     np.testing.assert_allclose(wall.depth_weights(mesh, 0.16), [1, 2, 2, 2, 1] / np.float64(8), rtol=1e-14)
     np.testing.assert_allclose(wall.depth_weights(mesh, 0.01), [1.0])           # inside the first half layer
+    np.testing.assert_allclose(wall.depth_weights(mesh, 0.0), [1.0])            # the front face alone
     np.testing.assert_allclose(wall.depth_weights(mesh, 0.05), [0.4, 0.6], rtol=1e-14)
     np.testing.assert_allclose(wall.depth_weights(mesh, 0.32).sum(), 1.0, rtol=1e-15)
     from impactdyn._errors import InputError
     with pytest.raises(InputError, match="deposition_depth_cm"):
         wall.depth_weights(mesh, 0.33)
+
+
+def test_default_depth_is_the_reports_nodal_load_at_refinement_1_and_the_same_depth_when_refined():
+    model = wall.wall_model("mat13")
+    dep = deposition()
+    coarse = wall.build_mesh(GRID, model.density)
+    assert wall.default_depth(coarse) == pytest.approx(0.5 * 0.3175 / 2)
+    default, front = wall.nodal_load(coarse, dep, "area"), wall.nodal_load(coarse, dep, "area", 0.0)
+    np.testing.assert_array_equal(default.node, front.node)
+    np.testing.assert_array_equal(default.weight, front.weight)
+    fine = wall.build_mesh(GRID, model.density, 4, 1)            # the parent's half layer = 2 fine layers
+    assert wall.default_depth(fine) == wall.default_depth(coarse)
+    np.testing.assert_allclose(wall.depth_weights(fine, wall.default_depth(fine)), [0.25, 0.5, 0.25], rtol=1e-14)

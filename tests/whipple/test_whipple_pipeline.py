@@ -211,7 +211,7 @@ def test_the_debris_case_carries_the_wall_material(tmp_path, make_case):
     (dict(wall_solver__material_model="bogus"), "material_model"),
     (dict(wall_solver__max_time_us=-1.0), "max_time_us"),
     (dict(wall__thickness_cm=0.0), "wall.thickness_cm"),
-    (dict(wall_solver__deposition_depth_cm=0.0), "deposition_depth_cm"),
+    (dict(wall_solver__deposition_depth_cm=-1.0), "deposition_depth_cm"),
     (dict(wall_solver__deposition_depth_cm=5.0), "wall_solver.deposition_depth_cm = 5.0 exceeds the wall's thickness"),
 ])
 def test_bad_wall_solver_settings_exit_2_before_any_work(tmp_path, capsys, make_case, changes, message):

@@ -16,17 +16,19 @@ so the impulse put on the wall is I exactly (to round-off):
   under the element: every one of them takes the same velocity jump I/Σm, which is the
   spread that brings the least kinetic energy |I|²/(2Σm) for a given impulse.
 
-``depth`` (cm, None by default) takes each of those front-face shares on through the thickness:
-the share becomes a uniform body force over the depth δ below the front face, divided among the
-node layers j by their tributary thickness inside [0, δ] (the lumped form of a uniform force per
-unit volume; δ below half the first layer leaves it all on the front face).  Why: an impulse I
-on nodes at rest brings the energy |I|²/2m of the mass m it lands on.  On the front-face nodes
-m is half the first layer's mass, so the energy the load brings grows as the thickness is
-refined (∝ the refinement) and with it the damage under the load; spread over a fixed depth
-δ = n h it brings |I|²/(2ρAδ)·(1 − 1/(4n)) on a uniform column of cross-section A, which
-converges as h → 0 (tests/wall/test_load.py).  δ is the depth the momentum is taken up over,
-a model input (a fragment's momentum is stopped in its own crater, not on a surface of no
-thickness); the records carry no fragment size to set it from, so it is off unless asked for.
+``depth`` δ (cm) takes each of those front-face shares on through the thickness: the share
+becomes a uniform body force over the depth δ below the front face, divided among the node
+layers j by their tributary thickness inside [0, δ] (the lumped form of a uniform force per
+unit volume; δ = 0, or below half the first layer, leaves it all on the front face).  By
+default δ is half the first element layer of the case's grid (the parent mesh): the mass
+DYNA3D's front-face nodes stand for at the report's mesh, so at refinement 1 the load is the
+report's nodal load exactly, and a refined mesh takes it over the same material depth.  Why:
+an impulse I on nodes at rest brings the energy |I|²/2m of the mass m it lands on.  On the
+front-face nodes alone (δ = 0) m is half the first layer's mass, so the energy the load
+brings grows with the refinement through the thickness and with it the damage under the
+load (BENCHMARKS.md, "wall stage: refinement through the thickness"); spread over a fixed
+depth δ = n h it brings |I|²/(2ρAδ)·(1 − 1/(4n)) on a uniform column of cross-section A,
+which converges as h → 0 (tests/wall/test_load.py).
 
 A node's share goes to the node only in its free translations; the component along a
 fixed translation (a support, or the symmetry plane's x) is taken by the support: it is
@@ -53,7 +55,8 @@ class NodalLoad:
     """Deposition records on the mesh's nodes, sorted by arrival time.
 
     time (n,) µs; impulse (n, 3) g·cm/µs; the nodes and weights of record r are
-    ``node[ptr[r]:ptr[r + 1]]``, ``weight[ptr[r]:ptr[r + 1]]`` (weights sum to 1).
+    ``node[ptr[r]:ptr[r + 1]]``, ``weight[ptr[r]:ptr[r + 1]]`` (weights sum to 1); depth (cm)
+    the depth δ below the front face the impulses are spread over (module docstring).
     """
 
     time: np.ndarray
@@ -61,6 +64,7 @@ class NodalLoad:
     ptr: np.ndarray
     node: np.ndarray
     weight: np.ndarray
+    depth: float = 0.0
 
     @property
     def total_impulse(self) -> np.ndarray:
@@ -102,12 +106,20 @@ def _face_stencil(mesh: WallMesh, spread: str) -> tuple[np.ndarray, np.ndarray]:
     return nodes, w / w.sum(axis=1, keepdims=True)
 
 
+def default_depth(mesh: WallMesh) -> float:
+    """Half the first element layer of the case's grid (``mesh.parent``), cm: the default δ."""
+    return 0.5 * float(mesh.parent.y[1] - mesh.parent.y[0])
+
+
 def depth_weights(mesh: WallMesh, depth: float) -> np.ndarray:
     """Shares of the node layers j = 0, 1, … of a uniform body force over [0, ``depth``] below the
-    front face: their tributary thicknesses inside it, normalised, shape (J,) (module docstring)."""
+    front face: their tributary thicknesses inside it, normalised, shape (J,) (module docstring);
+    ``depth`` 0 is the front face alone."""
     y = mesh.grid.y - mesh.grid.y[0]
-    if not (math.isfinite(depth) and 0.0 < depth <= y[-1]):
-        raise InputError(f"deposition_depth_cm: must be in (0, {y[-1]:g}] (the wall's thickness), got {depth!r}")
+    if not (math.isfinite(depth) and 0.0 <= depth <= y[-1]):
+        raise InputError(f"deposition_depth_cm: must be in [0, {y[-1]:g}] (the wall's thickness), got {depth!r}")
+    if depth == 0.0:
+        return np.ones(1)
     mid = 0.5 * (y[:-1] + y[1:])
     lo = np.concatenate([[0.0], mid])
     hi = np.concatenate([mid, [y[-1]]])
@@ -119,21 +131,21 @@ def depth_weights(mesh: WallMesh, depth: float) -> np.ndarray:
 def nodal_load(mesh: WallMesh, deposition: WallDeposition, spread: str = "corners",
                depth: float | None = None) -> NodalLoad:
     """The deposition on ``mesh``'s nodes with the ``spread`` on the front face, carried to the
-    ``depth`` below it when given (module docstring)."""
+    ``depth`` below it (None: :func:`default_depth`; module docstring)."""
     if spread not in SPREADS:
         raise InputError(f"spread: {spread!r}, expected one of {SPREADS}")
     deposition.check_fits(mesh.parent)
     order = np.argsort(deposition.time, kind="stable")
     elem = deposition.element[order]
     nodes, weights = _face_stencil(mesh, spread)
-    if depth is not None:
-        layer = depth_weights(mesh, depth)
-        layer_stride = mesh.grid.x.size * mesh.grid.z.size     # node numbers: i fastest, then k, then j
-        nodes = (nodes[:, :, None] + layer_stride * np.arange(layer.size)).reshape(nodes.shape[0], -1)
-        weights = (weights[:, :, None] * layer).reshape(nodes.shape)
+    depth = default_depth(mesh) if depth is None else depth
+    layer = depth_weights(mesh, depth)
+    layer_stride = mesh.grid.x.size * mesh.grid.z.size     # node numbers: i fastest, then k, then j
+    nodes = (nodes[:, :, None] + layer_stride * np.arange(layer.size)).reshape(nodes.shape[0], -1)
+    weights = (weights[:, :, None] * layer).reshape(nodes.shape)
     m = nodes.shape[1]
     ptr = np.arange(elem.size + 1, dtype=np.int64) * m
     return NodalLoad(time=np.ascontiguousarray(deposition.time[order], dtype=np.float64),
                      impulse=np.ascontiguousarray(deposition.impulse[order], dtype=np.float64),
                      ptr=ptr, node=np.ascontiguousarray(nodes[elem].ravel(), dtype=np.int64),
-                     weight=np.ascontiguousarray(weights[elem].ravel(), dtype=np.float64))
+                     weight=np.ascontiguousarray(weights[elem].ravel(), dtype=np.float64), depth=float(depth))

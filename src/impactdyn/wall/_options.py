@@ -51,9 +51,12 @@ class WallOptions:
         on the 0.16-cm wall of test shot A1603 (elements 4:1 flat) the hourglass work is 6 % of
         the internal energy against the stiffness form's 29 %.  What it costs: it keeps 21
         stresses per element and is ~30 % slower per step; its hourglass work — the element's
-        own bending energy, not a spurious mode's — is 5.8 % of the internal energy on 7a
-        (stiffness 2.1 %) and 17 % on the synthetic 7-km/s-like load of benchmarks/bench_wall.py
-        at 40 µs (stiffness 11 %).  The viscous form took 55–75 % there.
+        own bending energy, not a spurious mode's: in bending with n elements through the
+        thickness 1/(n² − 1) of the stress work, 6.7 % at the report's n = 4 (tested) — is 5.8 %
+        of the internal energy on 7a with the type-13 card (stiffness 2.1 %), 13 % with
+        Johnson–Cook (whose erosion leaves ligaments of 1–3 elements bending) and 17 % on the
+        synthetic 7-km/s-like load of benchmarks/bench_wall.py at 40 µs (stiffness 11 %).  The
+        viscous form took 55–75 % there.
     hourglass_coefficient : QH of the Flanagan–Belytschko forms (LS-DYNA's default 0.1); the
         assumed-strain form has no coefficient.
     q1, q2 : quadratic and linear bulk-viscosity coefficients (LS-DYNA's 1.5, 0.06).
@@ -71,11 +74,12 @@ class WallOptions:
         the parent's corners, which on a refined mesh leaves the nodes between them unloaded
         and crushed the loaded ones: failed mass 0 → 0.41 g at 2× refinement on a synthetic
         7-km/s-like load).
-    deposition_depth_cm : None (default: the impulses on the front-face nodes, as DYNA3D's
-        nodal loads) or the depth δ (cm) below the front face over which each record's impulse
-        is spread as a uniform body force (:mod:`._load`): the load's energy then converges as
-        the thickness is refined, where on the front face it grows with the refinement.  Must
-        not exceed the wall's thickness.
+    deposition_depth_cm : the depth δ (cm) below the front face over which each record's
+        impulse is spread as a uniform body force (:mod:`._load`).  None (default): half the
+        first element layer of the case's grid, which at refinement 1 is DYNA3D's nodal load
+        on the front face exactly and on a refined mesh the same load over the same depth;
+        0: the front-face nodes alone at every refinement (the load's energy then grows with
+        the refinement through the thickness).  Must not exceed the wall's thickness.
     escape_velocity_km_s : the speed above which rear-face material attached to failed
         material is leaving the wall (verdict, :mod:`._verdict`).
     erosion_step_fraction : a failed element is eroded when its step falls below this
@@ -128,7 +132,7 @@ class WallOptions:
         if self.end_time_us is not None:
             _check("end_time_us", self.end_time_us, lo=0.0, lo_open=True)
         if self.deposition_depth_cm is not None:
-            _check("deposition_depth_cm", self.deposition_depth_cm, lo=0.0, lo_open=True)
+            _check("deposition_depth_cm", self.deposition_depth_cm, lo=0.0)
         if self.output_interval_us is not None:
             _check("output_interval_us", self.output_interval_us, lo=0.0, lo_open=True)
 

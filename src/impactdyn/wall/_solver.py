@@ -298,6 +298,7 @@ class WallSolver:
         meas.update({
             "rear_bulge_cm": float(hist["rear_bulge"][window].mean()) if window.any() else meas["rear_bulge_end_cm"],
             "wall_thickness_cm": wall_thickness,
+            "deposition_depth_cm": self.load.depth,
             "end_time_us": self.time,
             "steps": self.steps,
             "peak_rear_velocity_km_s": (rear_peak if math.isfinite(rear_peak) else 0.0) * KM_S_PER_CM_US,
