@@ -123,8 +123,9 @@ def depth_weights(mesh: WallMesh, depth: float) -> np.ndarray:
     mid = 0.5 * (y[:-1] + y[1:])
     lo = np.concatenate([[0.0], mid])
     hi = np.concatenate([mid, [y[-1]]])
-    inside = np.clip(np.minimum(hi, depth) - lo, 0.0, None)
-    inside = inside[:np.flatnonzero(inside > 0.0)[-1] + 1]
+    inside = np.minimum(hi, depth) - lo
+    inside[inside <= 1e-12 * depth] = 0.0       # a layer starting at δ up to round-off takes nothing
+    inside = inside[:np.flatnonzero(inside)[-1] + 1]
     return inside / inside.sum()
 
 
