@@ -24,7 +24,7 @@ alarms) of the simulated verdicts beside the JSC equation's (the package default
 shots), and ``scores.json`` go to OUT.  No constant of the pipeline is calibrated on them.
 
     OMP_WAIT_POLICY=passive python benchmarks/run_validation_shots.py -o OUT [--set N] [--only LINE ...]
-        [--from-wall] [--score-only] [--wall-model MODEL [--wall-refinement R]]
+        [--from-wall] [--score-only] [--wall-model MODEL [--wall-refinement R [--thickness-only]]]
 
 ``--set``: the validation set of :func:`select_validation_shots.select` (1, the default, or 2, the
 disjoint set that decides the default wall model).
@@ -32,7 +32,8 @@ disjoint set that decides the default wall model).
 ``--wall-model``: score the finished shots with the wall stage rerun under another material
 model (``benchmarks/wall_convergence.rerun_wall``; nothing is written but
 ``scores_MODEL.json``); with ``--wall-refinement R`` the rerun wall is refined R× through the
-thickness and in the plane (the shots' cases use 1), into ``scores_MODEL_Rx.json``.
+thickness and in the plane (the shots' cases use 1), into ``scores_MODEL_Rx.json``, or with
+``--thickness-only`` through the thickness alone, into ``scores_MODEL_tRx.json``.
 """
 
 from __future__ import annotations
@@ -98,6 +99,7 @@ def main() -> int:
     ap.add_argument("--score-only", action="store_true", help="score the shot folders that exist")
     ap.add_argument("--wall-model", help="rescore with the wall stage rerun under this material model")
     ap.add_argument("--wall-refinement", type=int, default=1, help="with --wall-model: refine the rerun wall R times")
+    ap.add_argument("--thickness-only", action="store_true", help="with --wall-refinement: refine the thickness alone")
     args = ap.parse_args()
     with open(BASE, "rb") as fh:
         base = tomllib.load(fh)
@@ -116,7 +118,8 @@ def main() -> int:
         if not summary_file.exists():
             continue
         s = json.loads(summary_file.read_text())
-        refine = {"refinement_thickness": args.wall_refinement, "refinement_plane": args.wall_refinement}
+        refine = {"refinement_thickness": args.wall_refinement,
+                  "refinement_plane": 1 if args.thickness_only else args.wall_refinement}
         wall = rerun_wall(folder, material_model=args.wall_model, **refine) if args.wall_model else s["wall"]
         rows.append({**{k: shot[k] for k in ("line", "source", "shot_id", "perforated", "diameter_cm",
                                              "velocity_km_s", "obliquity_deg", "bumper_thickness_cm",
@@ -137,7 +140,7 @@ def main() -> int:
             print(key, json.dumps(result[key]))
         name = "scores.json" if not args.wall_model else (
             f"scores_{args.wall_model}.json" if args.wall_refinement == 1 else
-            f"scores_{args.wall_model}_{args.wall_refinement}x.json")
+            f"scores_{args.wall_model}_{'t' if args.thickness_only else ''}{args.wall_refinement}x.json")
         (args.out / name).write_text(json.dumps(result, indent=2))
     return 0
 
