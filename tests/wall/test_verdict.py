@@ -66,6 +66,23 @@ def test_crater_measures():
     assert verdict(failed)[0] == wall.NO_PERFORATION
 
 
+def test_thinning_is_measured_across_intact_columns_only():
+    # an eroded element inside column (2, 5) lets its front node pass its rear node (no contact
+    # between the pieces): that column is not a thinning of the wall, a plastic one next to it is
+    eroded = field([(2, 1, 5)])
+    front, rear = MESH.face_nodes("front"), MESH.face_nodes("rear")
+    u = still()
+    u[front[5, 2], 1] = 0.9                               # 2.25 wall thicknesses past its rear node
+    u[front[2, 6], 1] = 0.05                              # away from the eroded element: counted
+    m = wall.measures(MESH, np.zeros_like(eroded), eroded, u)
+    assert m["thinning_cm"] == pytest.approx(0.05)
+    assert m["damage_depth_cm"] == 0.0                   # the eroded element is not reached from the front
+    assert m["crater_depth_ratio"] == pytest.approx(0.05 / 0.4)
+    assert m["front_dent_cm"] == pytest.approx(0.9)
+    u[rear[2, 6], 1] = 0.05                               # the same column moving as a whole: no thinning
+    assert wall.measures(MESH, np.zeros_like(eroded), eroded, u)["thinning_cm"] == 0.0
+
+
 def spall_field():
     """A failed layer under a patch at j = 2 and a failed ring at j = 3: the patch's rear part is cut off."""
     patch = [(i, 2, k) for i in range(4) for k in range(1, 7)]

@@ -26,7 +26,10 @@ Continuous measures (end of the run unless said otherwise; displacements u = x �
 
 * ``crater_depth_cm`` = max(thinning, damage depth): thinning = the largest loss of wall
   thickness, u_y(front node) − u_y(rear node) of one node column (i, k), over the columns
-  whose front and rear nodes are both wall nodes; damage depth = y_{j+1} − y₀ of the deepest
+  whose front and rear nodes are both wall nodes and whose adjacent elements are intact
+  through the whole thickness (across a failed or eroded element the front and rear nodes
+  are no longer held apart: the solver has no contact between the pieces, and their
+  difference can exceed the thickness); damage depth = y_{j+1} − y₀ of the deepest
   layer j reached by damaged material face-connected to the front layer (0 if the front
   layer is intact).  ``crater_depth_ratio`` = crater depth / wall thickness.  The thinning,
   not the front face's displacement, because a thin wall's front face moves mostly with the
@@ -63,6 +66,12 @@ def _grid(mesh: WallMesh, a: np.ndarray) -> np.ndarray:
     """Element array in number order → (ny, nz, nx) [j, k, i]."""
     nx, ny, nz = mesh.shape
     return np.asarray(a).reshape(ny, nz, nx)
+
+
+def _intact_node_columns(mesh: WallMesh, damaged: np.ndarray) -> np.ndarray:
+    """Node columns (NK, NI) [k, i] whose adjacent element columns hold no damaged element."""
+    damaged_column = np.pad(_grid(mesh, damaged).any(axis=0), 1)
+    return ~(damaged_column[:-1, :-1] | damaged_column[:-1, 1:] | damaged_column[1:, :-1] | damaged_column[1:, 1:])
 
 
 def through_path(mesh: WallMesh, damaged: np.ndarray) -> np.ndarray:
@@ -149,7 +158,7 @@ def measures(mesh: WallMesh, failed: np.ndarray, eroded: np.ndarray, displacemen
     front = front[cat[front] == WALL]
     dent = float(max(displacement[front, 1].max(), 0.0)) if front.size else 0.0
     front_g, rear_g = mesh.face_nodes("front"), mesh.face_nodes("rear")
-    both = (cat[front_g] == WALL) & (cat[rear_g] == WALL)
+    both = (cat[front_g] == WALL) & (cat[rear_g] == WALL) & _intact_node_columns(mesh, damaged)
     thinning = displacement[front_g, 1] - displacement[rear_g, 1]
     thinning = float(max(thinning[both].max(), 0.0)) if both.any() else 0.0
     deep = _grid(mesh, front_connected(mesh, damaged))
