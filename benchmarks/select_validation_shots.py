@@ -29,6 +29,11 @@ scored on; the decision rule, also written before the runs: the default becomes
 ``johnson_cook`` if on set 2 it has more verdicts right than the type-13 card AND no more
 false-safe verdicts (perforated shots called safe); otherwise the type-13 card stays.
 
+Set 3 (reserved 2026-11-27; none of its shots has been simulated): it judges the next change to
+the wall's load or failure model.  Sets 1 and 2 were looked at when the wall resolved through
+its thickness turned out to call 11 of their 12 perforations safe (BENCHMARKS.md), so a model
+proposed in answer to that can no longer be judged on them.
+
     python benchmarks/select_validation_shots.py [--set N] [--json]
 """
 
