@@ -21,7 +21,8 @@ Each shot runs the full pipeline into ``OUT/<line>_<shot>`` (every file kept, so
 ``--from-wall`` can rerun only the wall stage after a wall-solver change); the table, the
 scores (accuracy, false-safe rate = perforated shots called safe / perforated shots, false
 alarms) of the simulated verdicts beside the JSC equation's (the package default, on the same
-shots), and ``scores.json`` go to OUT.  No constant of the pipeline is calibrated on them.
+shots), and ``scores.json`` go to OUT; each row keeps the wall's failed mass by the criterion
+that failed it (``failed_mass_by_cause_g``).  No constant of the pipeline is calibrated on them.
 
     OMP_WAIT_POLICY=passive python benchmarks/run_validation_shots.py -o OUT [--set N] [--only LINE ...]
         [--from-wall] [--score-only] [--wall-model MODEL [--wall-refinement R [--thickness-only]]]
@@ -127,13 +128,15 @@ def main() -> int:
                      "simulated": wall["verdict"], "jsc": s["ble"]["verdict"],
                      "jsc_threshold_cm": s["ble"]["threshold_cm"], "crater_depth_ratio": wall["crater_depth_ratio"],
                      "rear_bulge_cm": wall["rear_bulge_cm"], "failed_mass_g": wall["failed_mass_g"],
-                     "eroded_mass_g": wall["eroded_mass_g"], "hourglass_to_internal": wall["hourglass_to_internal"],
+                     "eroded_mass_g": wall["eroded_mass_g"], "failed_mass_by_cause_g": wall.get("failed_mass_by_cause_g"),
+                     "hourglass_to_internal": wall["hourglass_to_internal"],
                      "end_time_us": wall["end_time_us"], "wall_time_s": s["wall_time_s"]})
     for r in rows:
         print(f"{r['line']:4d} {r['shot_id']:<10} {'P ' if r['perforated'] else 'NP'} d {r['diameter_cm']:.3f} "
               f"V {r['velocity_km_s']:.2f} θ {r['obliquity_deg']:>4g}  sim {r['simulated']:<15} "
               f"JSC {r['jsc']:<15} (d_c {r['jsc_threshold_cm']:.3f})  crater/t {r['crater_depth_ratio']:.3f} "
-              f"bulge {r['rear_bulge_cm']:.3f}  hg/int {r['hourglass_to_internal']:.3f}")
+              f"bulge {r['rear_bulge_cm']:.3f}  hg/int {r['hourglass_to_internal']:.3f}"
+              + "".join(f"  {k} {v:.3g} g" for k, v in (r["failed_mass_by_cause_g"] or {}).items() if v > 0))
     if rows:
         result = {"rows": rows, "simulated": scores(rows, "simulated"), "jsc": scores(rows, "jsc")}
         for key in ("simulated", "jsc"):

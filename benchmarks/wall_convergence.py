@@ -7,8 +7,11 @@ through the thickness alone and in the plane alone, ``--thickness-series N`` the
 2 … N through the thickness alone, and ``--deposition-depth D`` sets the case's
 ``deposition_depth_cm`` on every row (the impulses as a body force over D cm, :mod:`impactdyn.wall._load`).  Prints, for every variant, the verdict,
 crater depth / wall thickness, rear bulge, failed and eroded mass, hourglass / internal energy,
-the work of the load and the plastic work, and the change of bulge, crater depth and load work
-against the case's own settings; ``--json FILE`` keeps them.  The acceptance: the same verdict
+the work of the load and the plastic work, the failed mass by the criterion that failed it, and
+the change of bulge, crater depth and load work against the case's own settings; ``--json FILE``
+keeps them.  ``--failure-switches`` (Johnson–Cook walls) adds, for the case's mesh and the
+refined one, the rows with the JC ductile damage off, the spall criterion off, and both off:
+which failure criterion makes a verdict, and whether the response without it converges.  The acceptance: the same verdict
 on every row, and bulge and crater depth within 10 % at 2× refinement.
 
 The work of the load is the energy the impulses bring, Σ I·½(v⁻ + v⁺): for an impulse on a node
@@ -17,6 +20,7 @@ depth of an impulsively loaded wall is not a mesh-converged measure (BENCHMARKS.
 
     OMP_WAIT_POLICY=passive python benchmarks/wall_convergence.py RUN_FOLDER [--json FILE]
         [--refinement 2] [--no-spreads] [--split] [--thickness-series N] [--deposition-depth D]
+        [--failure-switches]
 """
 
 from __future__ import annotations
@@ -29,21 +33,28 @@ from dataclasses import replace
 from pathlib import Path
 
 from impactdyn.debris import read_deposition
-from impactdyn.wall import SPREADS, run_wall
+from impactdyn.wall import SPREADS, run_wall, wall_model
 from impactdyn.whipple import load_whipple_case
 
-KEYS = ("crater_depth_ratio", "rear_bulge_cm", "failed_mass_g", "eroded_mass_g", "hourglass_to_internal",
-        "end_time_us", "steps")
+KEYS = ("crater_depth_ratio", "rear_bulge_cm", "failed_mass_g", "eroded_mass_g", "failed_mass_by_cause_g",
+        "hourglass_to_internal", "end_time_us", "steps")
+
+#: The rows of ``--failure-switches``: Johnson–Cook model keywords.
+FAILURE_SWITCHES = {"no JC damage": {"damage": None}, "no spall": {"spall": False},
+                    "no damage, no spall": {"damage": None, "spall": False}}
 
 
-def rerun_wall(run: Path, **changes) -> dict:
-    """The wall stage of a finished run again, with ``changes`` to its wall options: the verdict,
-    :data:`KEYS` of the measures and the wall time; nothing is written."""
+def rerun_wall(run: Path, model_changes: dict | None = None, **changes) -> dict:
+    """The wall stage of a finished run again, with ``changes`` to its wall options and
+    ``model_changes`` to its material model (:func:`impactdyn.wall.wall_model` keywords, e.g.
+    ``damage=None``): the verdict, :data:`KEYS` of the measures and the wall time; nothing is written."""
     case = load_whipple_case(run / "case.toml")
     wall, deposition, _ = read_deposition(run / "debris" / "debris.h5")
     options = replace(case.wall_solver.options(case.wall.clamped_edges), output_interval_us=None, **changes)
+    model = (wall_model(options.material_model, case.wall.material, **model_changes) if model_changes
+             else case.wall.material)
     tick = time.perf_counter()
-    result = run_wall(wall, deposition, case.wall.material, options)
+    result = run_wall(wall, deposition, model, options)
     energy = result.measures["energy"]
     return {"verdict": result.verdict, **{k: result.measures[k] for k in KEYS},
             "load_work": energy["load_work"], "plastic_work": energy["plastic"],
@@ -61,6 +72,8 @@ def main() -> int:
                     help="also refine through the thickness alone 2, 3, ..., N times")
     ap.add_argument("--deposition-depth", type=float, default=None, metavar="D",
                     help="deposition_depth_cm on every row (default: the case's)")
+    ap.add_argument("--failure-switches", action="store_true",
+                    help="also the case's and the refined mesh with JC damage, spall or both off")
     ap.add_argument("--json", type=Path)
     args = ap.parse_args()
     case = load_whipple_case(args.run / "case.toml")
@@ -78,21 +91,35 @@ def main() -> int:
                  for n in range(2, args.thickness_series + 1)}
     if not args.no_spreads:
         variants |= {f"spread {s}": {"spread": s} for s in SPREADS if s != base.spread}
+    model_changes = {name: None for name in variants}
+    reference = {name: "case settings" for name in variants}     # the row each one's change is taken against
+    if args.failure_switches:
+        for mesh in ("case settings", f"{r}x refinement"):
+            for switch, kw in FAILURE_SWITCHES.items():
+                name = f"{mesh}, {switch}"
+                variants[name], model_changes[name], reference[name] = variants[mesh], kw, f"case settings, {switch}"
+
     rows = {}
     for name, changes in variants.items():
-        rows[name] = row = rerun_wall(args.run, deposition_depth_cm=base.deposition_depth_cm, **changes)
-        ref = rows["case settings"]
+        rows[name] = row = rerun_wall(args.run, model_changes[name], deposition_depth_cm=base.deposition_depth_cm,
+                                      **changes)
+        ref = rows[reference[name]]
         change = {k: (row[k] / ref[k] - 1.0) if ref[k] else float("nan")
                   for k in ("crater_depth_ratio", "rear_bulge_cm", "load_work", "plastic_work")}
         row["change"] = change
-        print(f"{name:<18} {row['verdict']:<15} crater/t {row['crater_depth_ratio']:.4f} ({change['crater_depth_ratio']:+.1%}) "
+        print(f"{name:<40} {row['verdict']:<15} crater/t {row['crater_depth_ratio']:.4f} ({change['crater_depth_ratio']:+.1%}) "
               f"bulge {row['rear_bulge_cm']:.4f} cm ({change['rear_bulge_cm']:+.1%}) failed {row['failed_mass_g']:.4g} g "
               f"eroded {row['eroded_mass_g']:.4g} g hg/int {row['hourglass_to_internal']:.3f} "
               f"load work {row['load_work']:.4g} ({change['load_work']:+.1%}) "
               f"plastic {row['plastic_work']:.4g} ({change['plastic_work']:+.1%}) "
-              f"t_end {row['end_time_us']:.1f} us steps {row['steps']} ({row['wall_time_s']:.0f} s)", flush=True)
-    same = len({row["verdict"] for row in rows.values()}) == 1
-    print("same verdict on every row:", same)
+              f"t_end {row['end_time_us']:.1f} us steps {row['steps']} ({row['wall_time_s']:.0f} s); failed by "
+              + ", ".join(f"{k} {v:.4g} g" for k, v in row["failed_mass_by_cause_g"].items() if v > 0), flush=True)
+    same = len({row["verdict"] for name, row in rows.items() if model_changes[name] is None}) == 1
+    print("same verdict on every row of the case's model:", same)
+    if args.failure_switches:
+        for switch in FAILURE_SWITCHES:
+            pair = {rows[f"{mesh}, {switch}"]["verdict"] for mesh in ("case settings", f"{r}x refinement")}
+            print(f"{switch}: same verdict at both meshes: {len(pair) == 1}")
     if args.json:
         args.json.write_text(json.dumps({"run": str(args.run), "options": repr(base), "rows": rows}, indent=2))
     return 0

@@ -8,8 +8,8 @@ import pytest
 from impactdyn._errors import InputError
 from impactdyn import wall
 from impactdyn.constitutive import temperature
-from impactdyn.materials import AL_6061_T6, AL_6061_T6_JC_DAMAGE, AL_6061_T6_MAT13
-from impactdyn.wall._state import DAMAGE, EPS_P, IE, P
+from impactdyn.materials import AL_6061_T6, AL_6061_T6_JC_DAMAGE, AL_6061_T6_MAT13, JohnsonCookDamage
+from impactdyn.wall._state import DAMAGE, EPS_P, FAILED, IE, P
 from impactdyn.wallgrid import WallDeposition, WallGrid
 
 
@@ -116,10 +116,45 @@ def test_triaxial_tension_fails_by_damage_before_spall(with_damage):
     drive(s, [[0.0, 0.0, 0.0], [0.0, 0.05, 0.0], [0.0, 0.0, 0.0]], steps=400, dt=0.001, stop=failed)
     assert s.failed[0]
     p_spall = AL_6061_T6.spall_strength
+    cause = wall.FAILURE_CAUSES[s.flags[0, FAILED] - 1]
     if with_damage:
         assert -0.6 * p_spall < pmin[0] < -0.25 * p_spall
         assert s.es[0, DAMAGE] >= 1.0 and s.es[0, EPS_P] < 1e-3
+        assert cause == "ductile_damage_at_floor"
     else:
         assert pmin[0] == pytest.approx(-p_spall, rel=0.05)
         assert s.es[0, DAMAGE] == 0.0
+        assert cause == "tensile_pressure"
     assert math.isfinite(s.es[0, P]) and s.es[0, P] >= 0.0          # failed: no tension left
+
+
+@pytest.mark.parametrize("model_name, cause", [("johnson_cook", "ductile_damage"), ("mat13", "plastic_strain")])
+def test_shear_to_failure_records_its_criterion(model_name, cause):
+    # simple shear: Johnson–Cook damage with a constant fracture strain of 0.1 (D1 alone: the fit far
+    # above its floor) fails at εₚ = 0.1; the type-13 card fails at its plastic strain 1.5
+    if model_name == "johnson_cook":
+        model = wall.wall_model(model_name, "al6061-t6", erosion=False, spall=False,
+                                damage=JohnsonCookDamage(D1=0.1, D2=0.0, D3=0.0, D4=0.0, D5=0.0))
+        limit = 0.1
+    else:
+        model, limit = wall.wall_model(model_name, "al6061-t6"), AL_6061_T6_MAT13.failure_strain
+    s = one_element(model)
+    drive(s, [[0.0, 0.4, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]], steps=3000, dt=0.005,
+          stop=lambda s: bool(s.failed[0]))
+    assert s.failed[0]
+    assert wall.FAILURE_CAUSES[s.flags[0, FAILED] - 1] == cause
+    assert s.es[0, EPS_P] == pytest.approx(limit, rel=0.02)
+
+
+def test_failed_mass_by_cause_sums_the_failed_elements():
+    grid = WallGrid.uniform((0.0, 0.3), (0.0, 0.1), (0.0, 0.2), (4, 2, 3))
+    mesh = wall.build_mesh(grid, 2.7)
+    code = np.zeros(mesh.n_elements, dtype=np.uint8)
+    code[[0, 4]] = 1 + wall.FAILURE_CAUSES.index("tensile_pressure")
+    code[2] = 1 + wall.FAILURE_CAUSES.index("ductile_damage_at_floor")
+    by = wall.failed_mass_by_cause(mesh, code)
+    assert list(by) == list(wall.FAILURE_CAUSES)
+    m = mesh.element_mass
+    assert by["tensile_pressure"] == pytest.approx(m[0] + m[4])
+    assert by["ductile_damage_at_floor"] == pytest.approx(m[2])
+    assert by["ductile_damage"] == 0.0 and by["plastic_strain"] == 0.0

@@ -61,6 +61,10 @@ def test_fast_impact_spalls_h_from_the_rear_face(name):
     assert np.average(yc[damaged], weights=mass) == pytest.approx(plane, abs=H / 10)
     assert np.abs(yc[damaged] - plane).max() <= H / 4
     assert result.verdict == wall.DETACHED_SPALL
+    # all of it failed on the tensile pressure, and the measure says so
+    assert result.measures["failed_mass_by_cause_g"]["tensile_pressure"] == pytest.approx(
+        s.mesh.element_mass[damaged].sum(), rel=1e-12)
+    assert np.all(result.frames[-1].failure_cause[damaged] == 1 + wall.FAILURE_CAUSES.index("tensile_pressure"))
     # eroded or not, no momentum is lost
     assert (s.mesh.node_mass * s.v[:, 1]).sum() == pytest.approx(p0, rel=1e-12)
     assert abs(result.measures["energy"]["balance_error"]) < 1e-10

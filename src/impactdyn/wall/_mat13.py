@@ -43,7 +43,7 @@ from impactdyn._errors import InputError
 from impactdyn.constitutive import jaumann_rate, radial_return, von_mises
 from impactdyn.materials import Mat13Card, Material, get_material, mat13_card
 from impactdyn.wall._models import WallModel, register_model
-from impactdyn.wall._state import DAMAGE, EPS_P, FAILED, IE, P, RATE, stress_power
+from impactdyn.wall._state import DAMAGE, EPS_P, FAIL_STRAIN, FAIL_TENSION, FAILED, IE, P, RATE, stress_power
 
 KIND = 0
 (M_RHO, M_G, M_K, M_SIGY, M_EH, M_EPSF, M_PCUT) = range(7)
@@ -139,7 +139,7 @@ def mat13_update(e, L, dt, vbar, mass, rho, vratio, q, S, es, flags, prm):
     p_new = K * (1.0 - vratio)
     epsf = prm[M_EPSF]
     if flags[e, FAILED] == 0 and ((epsf > 0.0 and es[e, EPS_P] >= epsf) or p_new < prm[M_PCUT]):
-        flags[e, FAILED] = 1
+        flags[e, FAILED] = FAIL_STRAIN if (epsf > 0.0 and es[e, EPS_P] >= epsf) else FAIL_TENSION
         for k in range(6):  # released at once; this step's work used the stress it carried
             S[e, k] = 0.0
     if flags[e, FAILED] != 0:

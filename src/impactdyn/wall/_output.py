@@ -5,8 +5,9 @@
 * ``wall.pvd`` + ``wall_series/wall_NNNN.vtu`` — the ParaView time series (skipped when
   ``lean``): the deformed mesh (hexahedra) with point data ``displacement`` (cm) and
   ``velocity`` (cm/µs) and cell data ``plastic_strain``, ``damage``, ``failed``, ``eroded``,
-  ``pressure`` (Mbar) and ``von_mises`` (Mbar); eroded elements stay in the mesh, flagged
-  (threshold on ``eroded`` to hide them);
+  ``failure_cause`` (0 intact, else 1 + the index of the criterion in
+  :data:`impactdyn.wall.FAILURE_CAUSES`), ``pressure`` (Mbar) and ``von_mises`` (Mbar); eroded
+  elements stay in the mesh, flagged (threshold on ``eroded`` to hide them);
 * ``wall.json`` — verdict, evidence, measures, energy and momentum balance, model constants,
   mesh and options;
 
@@ -64,6 +65,7 @@ def _vtu_mesh(result: WallResult, frame: WallFrame):
     cell_data = {
         "plastic_strain": [frame.plastic_strain], "damage": [frame.damage],
         "failed": [frame.failed.astype(np.uint8)], "eroded": [frame.eroded.astype(np.uint8)],
+        "failure_cause": [frame.failure_cause.astype(np.uint8)],
         "pressure": [frame.pressure], "von_mises": [frame.von_mises],
     }
     return meshio.Mesh(points, [("hexahedron", m.connectivity)],

@@ -24,6 +24,8 @@ class WallFrame:
     displacement, velocity : (n_nodes, 3), cm and cm/µs (velocity half a step behind).
     plastic_strain, damage, pressure, von_mises : (n_elements,), pressure and von Mises in Mbar.
     failed, eroded : (n_elements,) bool.
+    failure_cause : (n_elements,) uint8, 0 intact, else 1 + the index in :data:`FAILURE_CAUSES`
+        of the criterion that failed the element.
     """
 
     time: float
@@ -35,6 +37,7 @@ class WallFrame:
     von_mises: np.ndarray
     failed: np.ndarray
     eroded: np.ndarray
+    failure_cause: np.ndarray
 
 
 @dataclass(frozen=True, eq=False)

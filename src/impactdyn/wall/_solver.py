@@ -42,7 +42,7 @@ from impactdyn.wall._models import MODELS, WallModel
 from impactdyn.wall._options import WallOptions, WallSolverError
 from impactdyn.wall._result import HISTORY_KEYS, WallFrame, WallResult
 from impactdyn.wall._state import C, DAMAGE, EPS_P, ERODED, FAILED, N_ES, N_SHG, P, VOL
-from impactdyn.wall._verdict import WALL, classify, measures, node_categories
+from impactdyn.wall._verdict import WALL, classify, failed_mass_by_cause, measures, node_categories
 from impactdyn.wallgrid import WallDeposition, WallGrid
 
 _BREAKDOWN = {_step.BAD_VOLUME: "non-positive volume", _step.BAD_STEP: "time step collapsed",
@@ -220,7 +220,7 @@ class WallSolver:
         return WallFrame(time=self.time, displacement=(self.x - self.x0).astype(f4), velocity=self.v.astype(f4),
                          plastic_strain=es[:, EPS_P].astype(f4), damage=es[:, DAMAGE].astype(f4),
                          pressure=es[:, P].astype(f4), von_mises=vm.astype(f4), failed=self.failed.copy(),
-                         eroded=self.eroded.copy())
+                         eroded=self.eroded.copy(), failure_cause=self.flags[:, FAILED].copy())
 
     def _surface(self) -> tuple[float, float]:
         """(rear bulge, front dent) of the wall nodes now, cm."""
@@ -289,6 +289,7 @@ class WallSolver:
         verdict, evidence = classify(self.mesh, final.failed, final.eroded, self.v,
                                      o.escape_velocity_km_s * CM_US_PER_KM_S)
         meas = measures(self.mesh, final.failed, final.eroded, self.x - self.x0)
+        meas["failed_mass_by_cause_g"] = failed_mass_by_cause(self.mesh, final.failure_cause)
         en = self.energies()
         hist = {k: np.asarray(v, dtype=np.float64) for k, v in history.items()}
         wall_thickness = self.mesh.thickness

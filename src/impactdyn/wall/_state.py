@@ -5,7 +5,8 @@ reads and writes one row at a time):
 
 * ``S`` (n_elements, 6) — deviatoric stress, components (xx, yy, zz, xy, yz, zx), Mbar;
 * ``es`` (n_elements, N_ES) float64 — the scalars below;
-* ``flags`` (n_elements, 2) uint8 — FAILED, ERODED;
+* ``flags`` (n_elements, 2) uint8 — FAILED (0 intact, else the code of the criterion that failed
+  the element, :data:`FAILURE_CAUSES`), ERODED;
 * ``Lbuf`` (n_elements, 3, 3) — the midstep velocity gradient ∂v_i/∂x_j, 1/µs;
 * ``Qhg`` (n_elements, 4, 3) — generalised hourglass forces Q_αi of the last step;
 * ``Shg`` (n_blocks, N_SHG, BLOCK), element e at [e // BLOCK, :, e % BLOCK] (blocked like the element
@@ -37,6 +38,15 @@ N_SHG = 21
 
 #: Columns of ``flags``.
 FAILED, ERODED = 0, 1
+
+#: The criteria that fail an element: ``flags[e, FAILED]`` = 1 + their index here.
+#: ``ductile_damage``: Johnson–Cook damage reached 1; ``ductile_damage_at_floor``: the same, on a
+#: step where the fit's fracture strain D1 + D2 exp(D3 σ*) was at or below the numerical floor
+#: ε_f,min (a triaxiality beyond the fit's zero, where any plastic increment fails the element);
+#: ``tensile_pressure``: p below the model's tensile limit (Johnson–Cook: −p_spall; type 13: the
+#: card's failure pressure); ``plastic_strain``: εₚ reached the type-13 card's failure strain.
+FAILURE_CAUSES = ("ductile_damage", "ductile_damage_at_floor", "tensile_pressure", "plastic_strain")
+FAIL_DAMAGE, FAIL_DAMAGE_FLOOR, FAIL_TENSION, FAIL_STRAIN = (1 + i for i in range(len(FAILURE_CAUSES)))
 
 
 @njit(cache=True, inline="always")

@@ -36,6 +36,10 @@ Continuous measures (end of the run unless said otherwise; displacements u = x â
   wall's bulge; the largest front-face displacement of a wall node is reported as
   ``front_dent_cm`` (bulge plus crater).
 * ``failed_mass_g`` (failed, not eroded), ``eroded_mass_g``, ``damaged_mass_g``.
+* ``failed_mass_by_cause_g``: the damaged mass (failed or eroded) split by the criterion that
+  failed each element (:func:`failed_mass_by_cause`; the criteria of
+  :data:`impactdyn.wall._state.FAILURE_CAUSES`: ductile damage, ductile damage at the
+  fracture-strain floor, tensile pressure, plastic strain): what made the wall fail.
 * ``rear_bulge_cm``: the permanent bulge: the largest outward u_y of a rear-face wall node,
   averaged over the last quarter of the time after the last arrival (the wall still rings
   elastically when the run ends); ``rear_bulge_end_cm``: the same at the end of the run.
@@ -52,6 +56,7 @@ import numpy as np
 from scipy import ndimage
 
 from impactdyn.wall._mesh import WallMesh
+from impactdyn.wall._state import FAILURE_CAUSES
 
 PERFORATION = "perforation"
 DETACHED_SPALL = "detached spall"
@@ -190,3 +195,13 @@ def measures(mesh: WallMesh, failed: np.ndarray, eroded: np.ndarray, displacemen
         "rear_bulge_end_cm": bulge,
         "spall_mass_g": float(mass[spall].sum()),
     }
+
+
+def failed_mass_by_cause(mesh: WallMesh, failure_cause: np.ndarray) -> dict[str, float]:
+    """{criterion: mass (g) of the elements it failed} over :data:`FAILURE_CAUSES` (zeros included).
+
+    failure_cause : (n_elements,) codes, 0 intact, else 1 + the criterion's index.
+    """
+    code = np.asarray(failure_cause)
+    mass = mesh.element_mass
+    return {name: float(mass[code == i + 1].sum()) for i, name in enumerate(FAILURE_CAUSES)}

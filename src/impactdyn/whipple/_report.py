@@ -67,8 +67,8 @@ def wall_figures(wall: dict, ble: dict) -> dict:
     """The wall stage's verdict beside the equation's, and its headline measures."""
     m = wall["measures"]
     keys = ("crater_depth_ratio", "crater_depth_cm", "rear_bulge_cm", "peak_rear_velocity_km_s", "failed_mass_g",
-            "eroded_mass_g", "spall_mass_g", "failed_elements", "eroded_elements", "hourglass_to_internal",
-            "end_time_us", "steps")
+            "eroded_mass_g", "spall_mass_g", "failed_mass_by_cause_g", "failed_elements", "eroded_elements",
+            "hourglass_to_internal", "end_time_us", "steps")
     return {"verdict": wall["verdict"], "criterion": wall["evidence"].get("criterion"),
             "agrees_with_equation": (wall["verdict"] != "no perforation") == (ble["verdict"] == "perforation"),
             "material_model": wall["model"].get("model"), "mesh": wall["mesh"],
@@ -192,6 +192,14 @@ def _fmt(v, unit="", digits=4) -> str:
     return f"{v:.{digits}g}" + (f" {unit}" if unit else "")
 
 
+def _by_cause(masses: dict | None) -> str:
+    """The failed mass by criterion, the criteria that failed something only ("none" if nothing failed)."""
+    if masses is None:
+        return "–"
+    hit = {k: v for k, v in masses.items() if v > 0.0}
+    return ", ".join(f"{k.replace('_', ' ')} {v:.4g} g" for k, v in hit.items()) if hit else "none"
+
+
 def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
     p, ble, cloud, dep, st = case.projectile, s["ble"], s["cloud"], s["deposition"], s["stages"]
     shot = _rows([
@@ -227,6 +235,7 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
         ("peak rear-face velocity", _fmt(wall.get("peak_rear_velocity_km_s"), "km/s")),
         ("failed / eroded / spalled mass", _fmt([wall.get("failed_mass_g", 0.0), wall.get("eroded_mass_g", 0.0),
                                                  wall.get("spall_mass_g", 0.0)], "g")),
+        ("failed mass by criterion", _by_cause(wall.get("failed_mass_by_cause_g"))),
         ("hourglass / internal energy", _fmt(wall.get("hourglass_to_internal"))),
         ("mesh (elements), material model", f"{wall['mesh']['elements']}, {wall['material_model']}"),
     ])
