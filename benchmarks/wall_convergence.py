@@ -10,8 +10,9 @@ crater depth / wall thickness, rear bulge, failed and eroded mass, hourglass / i
 the work of the load and the plastic work, the failed mass by the criterion that failed it, and
 the change of bulge, crater depth and load work against the case's own settings; ``--json FILE``
 keeps them.  ``--failure-switches`` (Johnson–Cook walls) adds, for the case's mesh and the
-refined one, the rows with the JC ductile damage off, the spall criterion off, and both off:
-which failure criterion makes a verdict, and whether the response without it converges.  The acceptance: the same verdict
+refined one, the rows with the JC ductile damage off, the spall criterion off, both off, and the
+damage increments at the fracture-strain floor off (``damage_at_floor=False``): which failure
+criterion makes a verdict, and whether the response without it converges.  The acceptance: the same verdict
 on every row, and bulge and crater depth within 10 % at 2× refinement.
 
 The work of the load is the energy the impulses bring, Σ I·½(v⁻ + v⁺): for an impulse on a node
@@ -41,7 +42,8 @@ KEYS = ("crater_depth_ratio", "rear_bulge_cm", "failed_mass_g", "eroded_mass_g",
 
 #: The rows of ``--failure-switches``: Johnson–Cook model keywords.
 FAILURE_SWITCHES = {"no JC damage": {"damage": None}, "no spall": {"spall": False},
-                    "no damage, no spall": {"damage": None, "spall": False}}
+                    "no damage, no spall": {"damage": None, "spall": False},
+                    "no JC damage at the floor": {"damage_at_floor": False}}
 
 
 def rerun_wall(run: Path, model_changes: dict | None = None, **changes) -> dict:
