@@ -12,7 +12,9 @@ the change of bulge, crater depth and load work against the case's own settings;
 keeps them.  ``--failure-switches`` (Johnson–Cook walls) adds, for the case's mesh and the
 refined one, the rows with the JC ductile damage off, the spall criterion off, both off, and the
 damage increments at the fracture-strain floor off (``damage_at_floor=False``): which failure
-criterion makes a verdict, and whether the response without it converges.  The acceptance: the same verdict
+criterion makes a verdict, and whether the response without it converges.  ``--model-option
+KEY=VALUE`` (repeatable; VALUE read as JSON, e.g. ``damage_at_floor=false``) changes the material
+model of every row (:func:`impactdyn.wall.wall_model` keywords).  The acceptance: the same verdict
 on every row, and bulge and crater depth within 10 % at 2× refinement.
 
 The work of the load is the energy the impulses bring, Σ I·½(v⁻ + v⁺): for an impulse on a node
@@ -21,7 +23,7 @@ depth of an impulsively loaded wall is not a mesh-converged measure (BENCHMARKS.
 
     OMP_WAIT_POLICY=passive python benchmarks/wall_convergence.py RUN_FOLDER [--json FILE]
         [--refinement 2] [--no-spreads] [--split] [--thickness-series N] [--deposition-depth D]
-        [--failure-switches]
+        [--failure-switches] [--model-option KEY=VALUE ...]
 """
 
 from __future__ import annotations
@@ -63,6 +65,17 @@ def rerun_wall(run: Path, model_changes: dict | None = None, **changes) -> dict:
             "wall_time_s": time.perf_counter() - tick}
 
 
+def _model_option(text: str) -> tuple[str, object]:
+    """``KEY=VALUE`` of ``--model-option``, VALUE read as JSON (a bare word stays a string)."""
+    key, sep, value = text.partition("=")
+    if not sep or not key:
+        raise SystemExit(f"--model-option: expected KEY=VALUE, got {text!r}")
+    try:
+        return key, json.loads(value)
+    except json.JSONDecodeError:
+        return key, value
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("run", type=Path)
@@ -76,6 +89,8 @@ def main() -> int:
                     help="deposition_depth_cm on every row (default: the case's)")
     ap.add_argument("--failure-switches", action="store_true",
                     help="also the case's and the refined mesh with JC damage, spall or both off")
+    ap.add_argument("--model-option", action="append", default=[], metavar="KEY=VALUE",
+                    help="a material-model keyword for every row (VALUE as JSON: false, null, 0.5)")
     ap.add_argument("--json", type=Path)
     args = ap.parse_args()
     case = load_whipple_case(args.run / "case.toml")
@@ -93,13 +108,15 @@ def main() -> int:
                  for n in range(2, args.thickness_series + 1)}
     if not args.no_spreads:
         variants |= {f"spread {s}": {"spread": s} for s in SPREADS if s != base.spread}
-    model_changes = {name: None for name in variants}
+    options = dict(_model_option(text) for text in args.model_option)
+    model_changes = {name: options or None for name in variants}
     reference = {name: "case settings" for name in variants}     # the row each one's change is taken against
     if args.failure_switches:
         for mesh in ("case settings", f"{r}x refinement"):
             for switch, kw in FAILURE_SWITCHES.items():
                 name = f"{mesh}, {switch}"
-                variants[name], model_changes[name], reference[name] = variants[mesh], kw, f"case settings, {switch}"
+                variants[name], model_changes[name], reference[name] = (variants[mesh], options | kw,
+                                                                        f"case settings, {switch}")
 
     rows = {}
     for name, changes in variants.items():
@@ -116,8 +133,8 @@ def main() -> int:
               f"plastic {row['plastic_work']:.4g} ({change['plastic_work']:+.1%}) "
               f"t_end {row['end_time_us']:.1f} us steps {row['steps']} ({row['wall_time_s']:.0f} s); failed by "
               + ", ".join(f"{k} {v:.4g} g" for k, v in row["failed_mass_by_cause_g"].items() if v > 0), flush=True)
-    same = len({row["verdict"] for name, row in rows.items() if model_changes[name] is None}) == 1
-    print("same verdict on every row of the case's model:", same)
+    same = len({row["verdict"] for name, row in rows.items() if model_changes[name] == (options or None)}) == 1
+    print("same verdict on every row of the case's model" + (f" with {options}" if options else "") + ":", same)
     if args.failure_switches:
         for switch in FAILURE_SWITCHES:
             pair = {rows[f"{mesh}, {switch}"]["verdict"] for mesh in ("case settings", f"{r}x refinement")}
