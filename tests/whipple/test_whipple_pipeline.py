@@ -189,6 +189,11 @@ def test_wall_stage_takes_the_deposited_impulse_and_gives_a_verdict(run):
     assert abs(m["energy"]["balance_error"]) < 1e-6 * m["energy"]["load_work"]
     assert s["wall"]["agrees_with_equation"] == ((wall["verdict"] != "no perforation")
                                                  == (s["ble"]["verdict"] == "perforation"))
+    # the damaged mass is split by the criterion that failed it, in the summary too
+    by_cause = m["failed_mass_by_cause_g"]
+    assert sum(by_cause.values()) == pytest.approx(m["damaged_mass_g"], rel=1e-12, abs=1e-15)
+    assert s["wall"]["failed_mass_by_cause_g"] == by_cause
+    assert "failed mass by criterion" in (out / "report.html").read_text()
 
 
 def test_the_debris_case_carries_the_wall_material(tmp_path, make_case):
