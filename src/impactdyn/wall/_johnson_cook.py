@@ -25,8 +25,9 @@ Damage (Johnson & Cook, Eng. Fract. Mech. 21 (1985) 31), accumulated on plastic 
 σ* = −p/σ_eq (mean stress over von Mises stress).  ε_f,min = 1e-6 is a numerical floor,
 not a material constant: where the fit gives ε_f ≤ 0 (for the 6061-T6 constants, σ* > 1.35,
 beyond the triaxialities of the tests it was fitted to) any plastic increment fails the
-element (``damage_at_floor=False`` skips those increments instead).  Constants: :data:`impactdyn.materials.JOHNSON_COOK_DAMAGE` (6061-T6: Lesuer,
-Kay & LeBlanc 2001); materials without an entry run without ductile damage.
+element (``damage_at_floor=False`` skips those increments instead).  Constants:
+:data:`impactdyn.materials.JOHNSON_COOK_DAMAGE` (6061-T6: Lesuer, Kay & LeBlanc 2001);
+materials without an entry run without ductile damage.
 
 Spall: p < −p_spall (the library material's spall strength; Kanel et al. 2004) fails the
 element.  Each failed element records which criterion failed it (``flags[e, FAILED]``, codes of
@@ -84,7 +85,7 @@ class JohnsonCookModel(WallModel):
     spall : apply the spall criterion p < −p_spall (needs the material's spall strength).
     erosion : erode failed elements.
     damage_at_floor : accumulate damage on steps where the fit's fracture strain is at the floor
-        (True, the default, as LS-DYNA's *MAT_015: any plastic increment there fails the element);
+        (True, the default: the fit as published, any plastic increment there fails the element);
         False: no ductile damage beyond the fit's zero, tension there left to the spall criterion
         (an alternative for the study in benchmarks/BENCHMARKS.md, "what fails the 7a wall"; not
         a case key, and the LS-DYNA deck cannot carry it).
