@@ -108,21 +108,17 @@ def main() -> int:
                  for n in range(2, args.thickness_series + 1)}
     if not args.no_spreads:
         variants |= {f"spread {s}": {"spread": s} for s in SPREADS if s != base.spread}
-    options = dict(_model_option(text) for text in args.model_option)
-    model_changes = {name: options or None for name in variants}
-    reference = {name: "case settings" for name in variants}     # the row each one's change is taken against
+    model = dict(_model_option(text) for text in args.model_option)
+    # (row, wall-option changes, material-model keywords, the row its change is taken against)
+    specs = [(name, changes, model, "case settings") for name, changes in variants.items()]
     if args.failure_switches:
-        for mesh in ("case settings", f"{r}x refinement"):
-            for switch, kw in FAILURE_SWITCHES.items():
-                name = f"{mesh}, {switch}"
-                variants[name], model_changes[name], reference[name] = (variants[mesh], options | kw,
-                                                                        f"case settings, {switch}")
-
+        specs += [(f"{mesh}, {switch}", variants[mesh], model | kw, f"case settings, {switch}")
+                  for mesh in ("case settings", f"{r}x refinement") for switch, kw in FAILURE_SWITCHES.items()]
     rows = {}
-    for name, changes in variants.items():
-        rows[name] = row = rerun_wall(args.run, model_changes[name], deposition_depth_cm=base.deposition_depth_cm,
+    for name, changes, model_changes, reference in specs:
+        rows[name] = row = rerun_wall(args.run, model_changes or None, deposition_depth_cm=base.deposition_depth_cm,
                                       **changes)
-        ref = rows[reference[name]]
+        ref = rows[reference]
         change = {k: (row[k] / ref[k] - 1.0) if ref[k] else float("nan")
                   for k in ("crater_depth_ratio", "rear_bulge_cm", "load_work", "plastic_work")}
         row["change"] = change
@@ -133,8 +129,8 @@ def main() -> int:
               f"plastic {row['plastic_work']:.4g} ({change['plastic_work']:+.1%}) "
               f"t_end {row['end_time_us']:.1f} us steps {row['steps']} ({row['wall_time_s']:.0f} s); failed by "
               + ", ".join(f"{k} {v:.4g} g" for k, v in row["failed_mass_by_cause_g"].items() if v > 0), flush=True)
-    same = len({row["verdict"] for name, row in rows.items() if model_changes[name] == (options or None)}) == 1
-    print("same verdict on every row of the case's model" + (f" with {options}" if options else "") + ":", same)
+    same = len({rows[name]["verdict"] for name in variants}) == 1
+    print("same verdict on every row of the case's model" + (f" with {model}" if model else "") + ":", same)
     if args.failure_switches:
         for switch in FAILURE_SWITCHES:
             pair = {rows[f"{mesh}, {switch}"]["verdict"] for mesh in ("case settings", f"{r}x refinement")}

@@ -23,9 +23,9 @@ class WallFrame:
     time : µs.
     displacement, velocity : (n_nodes, 3), cm and cm/µs (velocity half a step behind).
     plastic_strain, damage, pressure, von_mises : (n_elements,), pressure and von Mises in Mbar.
-    failed, eroded : (n_elements,) bool.
     failure_cause : (n_elements,) uint8, 0 intact, else 1 + the index in :data:`FAILURE_CAUSES`
-        of the criterion that failed the element.
+        of the criterion that failed the element (:attr:`failed` is its non-zero mask).
+    eroded : (n_elements,) bool.
     """
 
     time: float
@@ -35,9 +35,13 @@ class WallFrame:
     damage: np.ndarray
     pressure: np.ndarray
     von_mises: np.ndarray
-    failed: np.ndarray
-    eroded: np.ndarray
     failure_cause: np.ndarray
+    eroded: np.ndarray
+
+    @property
+    def failed(self) -> np.ndarray:
+        """(n_elements,) bool: the failed elements."""
+        return self.failure_cause != 0
 
 
 @dataclass(frozen=True, eq=False)

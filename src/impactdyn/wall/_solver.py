@@ -219,8 +219,8 @@ class WallSolver:
         f4 = np.float32
         return WallFrame(time=self.time, displacement=(self.x - self.x0).astype(f4), velocity=self.v.astype(f4),
                          plastic_strain=es[:, EPS_P].astype(f4), damage=es[:, DAMAGE].astype(f4),
-                         pressure=es[:, P].astype(f4), von_mises=vm.astype(f4), failed=self.failed.copy(),
-                         eroded=self.eroded.copy(), failure_cause=self.flags[:, FAILED].copy())
+                         pressure=es[:, P].astype(f4), von_mises=vm.astype(f4),
+                         failure_cause=self.flags[:, FAILED].copy(), eroded=self.eroded.copy())
 
     def _surface(self) -> tuple[float, float]:
         """(rear bulge, front dent) of the wall nodes now, cm."""
