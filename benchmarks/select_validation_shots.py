@@ -34,6 +34,17 @@ the wall's load or failure model.  Sets 1 and 2 were looked at when the wall res
 its thickness turned out to call 11 of their 12 perforations safe (BENCHMARKS.md), so a model
 proposed in answer to that can no longer be judged on them.
 
+Set 3's decision rule (written down 2026-11-27, before any shot of set 3 was simulated): how the
+Johnson–Cook wall fails in triaxial tension beyond its damage fit's range — (a) as now, damage
+accumulates where the fit's fracture strain is at its floor, against (b)
+``damage_at_floor=False``, damage only where the fit gives a fracture strain (BENCHMARKS.md,
+"what fails the 7a wall").  Each shot runs end to end once with the defaults, (a); its wall stage
+is rerun under (b) on the same deposition (``run_validation_shots.py --set 3 --model-option
+damage_at_floor=false``).  (b) becomes the default if on set 3 it has at least as many verdicts
+right as (a) AND no more false-safe verdicts (perforated shots called safe); otherwise (a) stays.
+A tie on both goes to (b), the option whose 7a verdict converges with the mesh.  The JSC
+equation's scores on the same shots are reported beside them and take no part in the rule.
+
     python benchmarks/select_validation_shots.py [--set N] [--json]
 """
 
