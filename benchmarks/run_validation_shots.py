@@ -25,7 +25,8 @@ shots), and ``scores.json`` go to OUT; each row keeps the wall's failed mass by 
 that failed it (``failed_mass_by_cause_g``).  No constant of the pipeline is calibrated on them.
 
     OMP_WAIT_POLICY=passive python benchmarks/run_validation_shots.py -o OUT [--set N] [--only LINE ...]
-        [--from-wall] [--score-only] [--wall-model MODEL [--wall-refinement R [--thickness-only]]]
+        [--from-wall] [--score-only] [--wall-model MODEL] [--model-option KEY=VALUE ...]
+        [--wall-refinement R [--thickness-only]]
 
 ``--set``: the validation set of :func:`select_validation_shots.select` (1, the default, or 2, the
 disjoint set that decides the default wall model).
@@ -35,6 +36,9 @@ model (``benchmarks/wall_convergence.rerun_wall``; nothing is written but
 ``scores_MODEL.json``); with ``--wall-refinement R`` the rerun wall is refined R× through the
 thickness and in the plane (the shots' cases use 1), into ``scores_MODEL_Rx.json``, or with
 ``--thickness-only`` through the thickness alone, into ``scores_MODEL_tRx.json``.
+``--model-option KEY=VALUE`` (repeatable, as in ``wall_convergence.py``) reruns the wall with that
+change to its material model (the case's model unless ``--wall-model`` names another), into
+``scores_[MODEL_]KEY-VALUE.json``.
 """
 
 from __future__ import annotations
@@ -50,7 +54,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 from select_validation_shots import select  # noqa: E402
-from wall_convergence import rerun_wall  # noqa: E402
+from wall_convergence import _model_option, rerun_wall  # noqa: E402
 
 from impactdyn.whipple import WhippleCase, run_whipple  # noqa: E402
 
@@ -99,6 +103,8 @@ def main() -> int:
     ap.add_argument("--from-wall", action="store_true", help="rerun the wall stage on existing shot folders")
     ap.add_argument("--score-only", action="store_true", help="score the shot folders that exist")
     ap.add_argument("--wall-model", help="rescore with the wall stage rerun under this material model")
+    ap.add_argument("--model-option", type=_model_option, action="append", default=[], metavar="KEY=VALUE",
+                    help="rescore with the wall stage rerun with this change to its material model")
     ap.add_argument("--wall-refinement", type=int, default=1, help="with --wall-model: refine the rerun wall R times")
     ap.add_argument("--thickness-only", action="store_true", help="with --wall-refinement: refine the thickness alone")
     args = ap.parse_args()
@@ -109,7 +115,8 @@ def main() -> int:
     rows = []
     for shot in shots:
         folder = args.out / f"{shot['line']}_{shot['shot_id']}"
-        run = not (args.score_only or args.wall_model) and (args.only is None or shot["line"] in args.only)
+        rerun = bool(args.wall_model or args.model_option)
+        run = not (args.score_only or rerun) and (args.only is None or shot["line"] in args.only)
         if run:
             case = WhippleCase.model_validate(shot_case(base, shot))
             tick = time.perf_counter()
@@ -121,7 +128,9 @@ def main() -> int:
         s = json.loads(summary_file.read_text())
         refine = {"refinement_thickness": args.wall_refinement,
                   "refinement_plane": 1 if args.thickness_only else args.wall_refinement}
-        wall = rerun_wall(folder, material_model=args.wall_model, **refine) if args.wall_model else s["wall"]
+        if args.wall_model:
+            refine["material_model"] = args.wall_model
+        wall = rerun_wall(folder, dict(args.model_option), **refine) if rerun else s["wall"]
         rows.append({**{k: shot[k] for k in ("line", "source", "shot_id", "perforated", "diameter_cm",
                                              "velocity_km_s", "obliquity_deg", "bumper_thickness_cm",
                                              "wall_thickness_cm", "spacing_cm")},
@@ -141,9 +150,11 @@ def main() -> int:
         result = {"rows": rows, "simulated": scores(rows, "simulated"), "jsc": scores(rows, "jsc")}
         for key in ("simulated", "jsc"):
             print(key, json.dumps(result[key]))
-        name = "scores.json" if not args.wall_model else (
-            f"scores_{args.wall_model}.json" if args.wall_refinement == 1 else
-            f"scores_{args.wall_model}_{'t' if args.thickness_only else ''}{args.wall_refinement}x.json")
+        parts = ([args.wall_model] if args.wall_model else []) + [
+            f"{k}-{json.dumps(v)}" for k, v in args.model_option]
+        if args.wall_refinement != 1:
+            parts.append(f"{'t' if args.thickness_only else ''}{args.wall_refinement}x")
+        name = "_".join(["scores", *parts]) + ".json"
         (args.out / name).write_text(json.dumps(result, indent=2))
     return 0
 
