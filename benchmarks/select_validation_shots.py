@@ -29,7 +29,7 @@ scored on; the decision rule, also written before the runs: the default becomes
 ``johnson_cook`` if on set 2 it has more verdicts right than the type-13 card AND no more
 false-safe verdicts (perforated shots called safe); otherwise the type-13 card stays.
 
-Set 3 (reserved 2026-11-27; none of its shots has been simulated): it judges the next change to
+Set 3 (reserved 2026-11-27, before any of its shots was simulated): it judges the next change to
 the wall's load or failure model.  Sets 1 and 2 were looked at when the wall resolved through
 its thickness turned out to call 11 of their 12 perforations safe (BENCHMARKS.md), so a model
 proposed in answer to that can no longer be judged on them.
@@ -44,6 +44,8 @@ damage_at_floor=false``).  (b) becomes the default if on set 3 it has at least a
 right as (a) AND no more false-safe verdicts (perforated shots called safe); otherwise (a) stays.
 A tie on both goes to (b), the option whose 7a verdict converges with the mesh.  The JSC
 equation's scores on the same shots are reported beside them and take no part in the rule.
+Outcome (BENCHMARKS.md, "validation set 3"): (a) 7 right, 5 false-safe; (b) 6 right, 6
+false-safe: (a) stays.  Set 3 is spent; the next change is judged on set 4.
 
     python benchmarks/select_validation_shots.py [--set N] [--json]
 """
