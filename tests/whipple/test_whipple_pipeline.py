@@ -1,5 +1,6 @@
 """`impactdyn whipple run`: the end-to-end pipeline on a coarse shot, restarts, reports and bad input (issue 4)."""
 
+import html
 import json
 import shutil
 from pathlib import Path
@@ -13,8 +14,8 @@ from impactdyn.debris import read_deposition
 from impactdyn.io import read_grid, read_lsdyna_deck
 from impactdyn.materials import Mat13Card
 from impactdyn.shield._io import read_particles
-from impactdyn.whipple import ble_verdict, load_whipple_case
-from impactdyn.wall import LSDYNA_HOURGLASS_TYPE
+from impactdyn.whipple import ble_verdict, load_whipple_case, wall_ending
+from impactdyn.wall import ENDINGS, LSDYNA_HOURGLASS_TYPE
 from impactdyn.whipple._case import ble_shield
 from impactdyn.whipple._pipeline import deck_options
 
@@ -194,6 +195,17 @@ def test_wall_stage_takes_the_deposited_impulse_and_gives_a_verdict(run):
     assert sum(by_cause.values()) == pytest.approx(m["damaged_mass_g"], rel=1e-12, abs=1e-15)
     assert s["wall"]["failed_mass_by_cause_g"] == by_cause
     assert "failed mass by criterion" in (out / "report.html").read_text()
+    # how the run ended, and the bulge's peak, in the summary and the report
+    assert s["wall"]["ended_by"] == m["ended_by"] in ENDINGS
+    assert s["wall"]["peak_rear_bulge_cm"] >= m["rear_bulge_end_cm"]
+    assert f"run ended by</th><td>{html.escape(wall_ending(s['wall']))}" in (out / "report.html").read_text()
+
+
+def test_a_wall_run_cut_off_at_the_ceiling_is_said_to_be_not_at_rest():
+    record = {"ended_by": "ceiling", "end_time_us": 100.01, "kinetic_left_fraction": 0.215}
+    assert wall_ending(record).startswith("the max_time_us ceiling at 100 µs, 22% of its peak kinetic energy left")
+    assert "not at rest" in wall_ending(record)
+    assert "not at rest" not in wall_ending(record | {"ended_by": "decay"})
 
 
 def test_the_debris_case_carries_the_wall_material(tmp_path, make_case):

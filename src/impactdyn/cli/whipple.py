@@ -24,7 +24,7 @@ def run(
     force: bool = typer.Option(False, "--force", help="Overwrite an existing run folder."),
 ):
     """Run a shot end to end: shield impact, binning, debris flight and deposition, wall decks, report."""
-    from impactdyn.whipple import load_whipple_case, run_whipple
+    from impactdyn.whipple import load_whipple_case, run_whipple, wall_ending
 
     c = load_whipple_case(case)
     bar, update = progress_bars(counts=False)
@@ -43,6 +43,8 @@ def run(
     w = s["wall"]
     typer.echo(f"wall response: {w['verdict']} ({w['criterion']}); crater depth {w.get('crater_depth_ratio', 0):.2f} "
                f"of the thickness, rear bulge {w.get('rear_bulge_cm', 0):.3g} cm; report in {Path(out) / 'report.html'}")
+    if w.get("ended_by") == "ceiling":
+        typer.echo(f"wall run ended at {wall_ending(w)}")
 
 
 @app.command()

@@ -24,7 +24,7 @@ from impactdyn.wall._mat13 import Mat13Model
 from impactdyn.wall._johnson_cook import JohnsonCookModel
 from impactdyn.wall._mesh import SUPPORTS, WallMesh, build_mesh
 from impactdyn.wall._load import SPREADS, NodalLoad, default_depth, depth_weights, nodal_load
-from impactdyn.wall._result import HISTORY_KEYS, WallFrame, WallResult
+from impactdyn.wall._result import ENDINGS, HISTORY_KEYS, WallFrame, WallResult
 from impactdyn.wall._state import FAILURE_CAUSES
 from impactdyn.wall._solver import WallSolver, resolve_model, run_wall
 from impactdyn.wall._verdict import (
@@ -32,7 +32,7 @@ from impactdyn.wall._verdict import (
 from impactdyn.wall._output import write_wall_outputs
 
 __all__ = [
-    "DETACHED_SPALL", "FAILURE_CAUSES", "HISTORY_KEYS", "HOURGLASS_FORMS", "JohnsonCookModel", "LSDYNA_HOURGLASS_TYPE", "MODELS", "Mat13Model",
+    "DETACHED_SPALL", "ENDINGS", "FAILURE_CAUSES", "HISTORY_KEYS", "HOURGLASS_FORMS", "JohnsonCookModel", "LSDYNA_HOURGLASS_TYPE", "MODELS", "Mat13Model",
     "NO_PERFORATION", "NodalLoad", "PERFORATION", "SPREADS", "SUPPORTS", "VERDICTS", "WallFrame", "WallMesh",
     "WallModel", "WallOptions", "WallResult", "WallSolver", "WallSolverError", "build_mesh", "classify", "default_depth",
     "depth_weights", "failed_mass_by_cause", "measures", "nodal_load", "register_model", "resolve_model", "run_wall", "wall_model",

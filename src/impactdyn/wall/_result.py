@@ -15,6 +15,12 @@ from impactdyn.wall._options import WallOptions
 HISTORY_KEYS = ("time", "load_work", "kinetic", "kinetic_wall", "internal", "plastic", "hourglass", "bulk_viscous",
                 "eroded", "balance_error", "rear_bulge", "front_dent", "rear_velocity", "momentum_y")
 
+#: How a run ended (``measures["ended_by"]``): the wall's kinetic energy decayed to
+#: ``decay_fraction`` of its peak after the last arrival; the ``end_time_us`` asked for; or the
+#: ``max_time_us`` ceiling before either, with the wall not at rest.
+ENDED_BY_DECAY, ENDED_AT_END_TIME, ENDED_AT_CEILING = "decay", "end_time", "ceiling"
+ENDINGS = (ENDED_BY_DECAY, ENDED_AT_END_TIME, ENDED_AT_CEILING)
+
 
 @dataclass(frozen=True, eq=False)
 class WallFrame:

@@ -40,7 +40,8 @@ from impactdyn.wall._load import NodalLoad, nodal_load
 from impactdyn.wall._mesh import WallMesh, build_mesh
 from impactdyn.wall._models import MODELS, WallModel
 from impactdyn.wall._options import WallOptions, WallSolverError
-from impactdyn.wall._result import HISTORY_KEYS, WallFrame, WallResult
+from impactdyn.wall._result import (
+    ENDED_AT_CEILING, ENDED_AT_END_TIME, ENDED_BY_DECAY, HISTORY_KEYS, WallFrame, WallResult)
 from impactdyn.wall._state import C, DAMAGE, EPS_P, ERODED, FAILED, N_ES, N_SHG, P, VOL
 from impactdyn.wall._verdict import WALL, classify, failed_mass_by_cause, measures, node_categories
 from impactdyn.wallgrid import WallDeposition, WallGrid
@@ -275,15 +276,19 @@ class WallSolver:
             if progress is not None:
                 progress(self.time, t_end)
             if self.time >= t_end:
+                ended_by = ENDED_AT_END_TIME if o.end_time_us is not None else ENDED_AT_CEILING
                 break
             if (o.end_time_us is None and self.loads_done
                     and row["kinetic_wall"] <= o.decay_fraction * peak_wall):
+                ended_by = ENDED_BY_DECAY
                 break
         if frames[-1].time != self.time:
             frames.append(self.frame())
-        return self._result(history, tuple(frames), rear_peak)
+        kinetic_left = row["kinetic_wall"] / peak_wall if peak_wall > 0.0 else 0.0
+        return self._result(history, tuple(frames), rear_peak, ended_by, kinetic_left)
 
-    def _result(self, history: dict[str, list[float]], frames: tuple[WallFrame, ...], rear_peak: float) -> WallResult:
+    def _result(self, history: dict[str, list[float]], frames: tuple[WallFrame, ...], rear_peak: float,
+                ended_by: str, kinetic_left: float) -> WallResult:
         o = self.options
         final = frames[-1]
         verdict, evidence = classify(self.mesh, final.failed, final.eroded, self.v,
@@ -296,11 +301,16 @@ class WallSolver:
         t_last = float(self.load.time.max()) if self.load.time.size else float(hist["time"][0])
         t = hist["time"]
         window = t >= t_last + 0.75 * (t[-1] - t_last)
+        i_peak = int(np.argmax(hist["rear_bulge"]))
         meas.update({
             "rear_bulge_cm": float(hist["rear_bulge"][window].mean()) if window.any() else meas["rear_bulge_end_cm"],
             "wall_thickness_cm": wall_thickness,
             "deposition_depth_cm": self.load.depth,
+            "peak_rear_bulge_cm": float(hist["rear_bulge"][i_peak]),
+            "peak_rear_bulge_time_us": float(t[i_peak]),
             "end_time_us": self.time,
+            "ended_by": ended_by,
+            "kinetic_left_fraction": kinetic_left,
             "steps": self.steps,
             "peak_rear_velocity_km_s": (rear_peak if math.isfinite(rear_peak) else 0.0) * KM_S_PER_CM_US,
             "peak_kinetic_energy": float(hist["kinetic"].max()) if hist["kinetic"].size else 0.0,

@@ -40,9 +40,18 @@ Continuous measures (end of the run unless said otherwise; displacements u = x �
   failed each element (:func:`failed_mass_by_cause`; the criteria of
   :data:`impactdyn.wall._state.FAILURE_CAUSES`: ductile damage, ductile damage at the
   fracture-strain floor, tensile pressure, plastic strain): what made the wall fail.
-* ``rear_bulge_cm``: the permanent bulge: the largest outward u_y of a rear-face wall node,
-  averaged over the last quarter of the time after the last arrival (the wall still rings
-  elastically when the run ends); ``rear_bulge_end_cm``: the same at the end of the run.
+* ``rear_bulge_cm``: the rear bulge at the end of the run: the largest outward u_y of a
+  rear-face wall node, averaged over the last quarter of the time after the last arrival
+  (the wall still rings elastically when the run ends); ``rear_bulge_end_cm``: the same at
+  the end of the run.  A permanent bulge only if the wall has come to rest (``ended_by`` is
+  "decay"): a run that ends at the ``max_time_us`` ceiling leaves the wall in its first
+  swings, and the value is that moment's deflection (BENCHMARKS.md, "when a wall run ends":
+  the 7b wall's is 0.16 cm at 100 µs, 0.23 cm at 300 µs, and the plate has swung back to
+  under 0.001 cm by 600 µs).
+* ``peak_rear_bulge_cm`` and ``peak_rear_bulge_time_us``: the largest of those over the run's
+  history samples, and when.
+* ``ended_by``: how the run ended (:data:`impactdyn.wall.ENDINGS`: "decay", "end_time" or
+  "ceiling"); ``kinetic_left_fraction``: the wall's kinetic energy at the end over its peak.
 * ``peak_rear_velocity_km_s``: the largest outward rear-face node velocity over the run.
 * ``spall_mass_g``: mass of the detached elements (damaged, or intact not anchored) that
   touch the rear layer.

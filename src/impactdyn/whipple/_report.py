@@ -66,9 +66,10 @@ def deposition_figures(debris: dict) -> dict:
 def wall_figures(wall: dict, ble: dict) -> dict:
     """The wall stage's verdict beside the equation's, and its headline measures."""
     m = wall["measures"]
-    keys = ("crater_depth_ratio", "crater_depth_cm", "rear_bulge_cm", "peak_rear_velocity_km_s", "failed_mass_g",
-            "eroded_mass_g", "spall_mass_g", "failed_mass_by_cause_g", "failed_elements", "eroded_elements",
-            "hourglass_to_internal", "end_time_us", "steps")
+    keys = ("crater_depth_ratio", "crater_depth_cm", "rear_bulge_cm", "peak_rear_bulge_cm", "peak_rear_bulge_time_us",
+            "peak_rear_velocity_km_s", "failed_mass_g", "eroded_mass_g", "spall_mass_g", "failed_mass_by_cause_g",
+            "failed_elements", "eroded_elements", "hourglass_to_internal", "end_time_us", "ended_by",
+            "kinetic_left_fraction", "steps")
     return {"verdict": wall["verdict"], "criterion": wall["evidence"].get("criterion"),
             "agrees_with_equation": (wall["verdict"] != "no perforation") == (ble["verdict"] == "perforation"),
             "material_model": wall["model"].get("model"), "mesh": wall["mesh"],
@@ -192,6 +193,29 @@ def _fmt(v, unit="", digits=4) -> str:
     return f"{v:.{digits}g}" + (f" {unit}" if unit else "")
 
 
+def _bulge(wall: dict) -> str:
+    """The rear bulge at the end of the run, and its peak with the time it came."""
+    if wall.get("peak_rear_bulge_cm") is None:
+        return _fmt(wall.get("rear_bulge_cm"), "cm")
+    return (f"{_fmt(wall.get('rear_bulge_cm'), 'cm')}; {_fmt(wall['peak_rear_bulge_cm'], 'cm')} "
+            f"({wall['peak_rear_bulge_time_us']:.4g} µs)")
+
+
+def wall_ending(wall: dict) -> str:
+    """How the wall run ended, in words, with the warning that a run cut off at the ceiling needs
+    (``wall`` the summary's wall record; :data:`impactdyn.wall.ENDINGS`)."""
+    how = wall.get("ended_by")
+    if how is None:
+        return "–"
+    text = {"decay": "the wall's kinetic energy decayed", "end_time": "the end time asked for",
+            "ceiling": "the max_time_us ceiling"}[how]
+    text += f" at {wall['end_time_us']:.4g} µs, {wall['kinetic_left_fraction']:.0%} of its peak kinetic energy left"
+    if how == "ceiling":
+        text += ("; the wall is not at rest: the failed mass and the verdict stand if the damage has stopped "
+                 "growing, the bulge is that moment's, not a permanent set")
+    return text
+
+
 def _by_cause(masses: dict | None) -> str:
     """The failed mass by criterion, the criteria that failed something only ("none" if nothing failed)."""
     if masses is None:
@@ -231,7 +255,8 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
         ("simulated verdict", f"{wall['verdict']} ({wall['criterion']})"),
         ("equation's verdict", f"{ble['verdict']} ({ble['equation']})"),
         ("crater depth / wall thickness", _fmt(wall.get("crater_depth_ratio"))),
-        ("rear-face permanent bulge", _fmt(wall.get("rear_bulge_cm"), "cm")),
+        ("rear-face bulge at the end; its peak (when)", _bulge(wall)),
+        ("run ended by", wall_ending(wall)),
         ("peak rear-face velocity", _fmt(wall.get("peak_rear_velocity_km_s"), "km/s")),
         ("failed / eroded / spalled mass", _fmt([wall.get("failed_mass_g", 0.0), wall.get("eroded_mass_g", 0.0),
                                                  wall.get("spall_mass_g", 0.0)], "g")),

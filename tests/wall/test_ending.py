@@ -1,0 +1,42 @@
+"""How a wall run ends (``measures["ended_by"]``) and the peak of the rear bulge."""
+
+import numpy as np
+import pytest
+
+from impactdyn import wall
+from impactdyn.wallgrid import WallDeposition, WallGrid
+
+GRID = WallGrid.uniform((0.0, 0.4), (0.0, 0.3), (0.0, 0.4), (5, 4, 5))
+DEP = WallDeposition(element=np.array([0, 6]), time=np.array([1.0, 2.5]), impulse=np.array([[0, 1e-6, 0]] * 2))
+
+
+def _run(**options):
+    return wall.run_wall(GRID, DEP, "al6061-t6", wall.WallOptions(output_interval_us=None, **options)).measures
+
+
+@pytest.mark.parametrize("options, ended_by, t_end", [
+    ({"max_time_us": 6.0}, "ceiling", 6.0),      # the clamped wall still rings at 6 µs
+    ({"end_time_us": 4.0}, "end_time", 4.0),
+])
+def test_a_run_says_which_end_it_met(options, ended_by, t_end):
+    m = _run(**options)
+    assert m["ended_by"] == ended_by
+    assert m["end_time_us"] == pytest.approx(t_end, abs=0.2)
+    assert 0.0 < m["kinetic_left_fraction"] <= 1.0
+
+
+def test_decay_ends_the_run_before_the_ceiling():
+    """With a decay fraction just under 1 the run ends at the first sample after the last
+    arrival at which the wall's kinetic energy is below its peak."""
+    m = _run(max_time_us=50.0, decay_fraction=0.999)
+    assert m["ended_by"] == "decay"
+    assert 2.5 <= m["end_time_us"] < 50.0
+    assert m["kinetic_left_fraction"] <= 0.999
+
+
+def test_peak_bulge_bounds_the_bulge_at_the_end():
+    m = _run(max_time_us=6.0)
+    assert m["peak_rear_bulge_cm"] > 0.0
+    assert m["peak_rear_bulge_cm"] >= m["rear_bulge_end_cm"]
+    assert m["peak_rear_bulge_cm"] >= m["rear_bulge_cm"]
+    assert 1.0 <= m["peak_rear_bulge_time_us"] <= m["end_time_us"]
