@@ -26,7 +26,7 @@ that failed it (``failed_mass_by_cause_g``).  No constant of the pipeline is cal
 
     OMP_WAIT_POLICY=passive python benchmarks/run_validation_shots.py -o OUT [--set N] [--only LINE ...]
         [--from-wall] [--score-only] [--wall-model MODEL] [--model-option KEY=VALUE ...]
-        [--wall-refinement R [--thickness-only]]
+        [--wall-option KEY=VALUE ...] [--wall-refinement R [--thickness-only]]
 
 ``--set``: the validation set of :func:`select_validation_shots.select` (1, the default, or 2, the
 disjoint set that decides the default wall model).
@@ -38,7 +38,8 @@ thickness and in the plane (the shots' cases use 1), into ``scores_MODEL_Rx.json
 ``--thickness-only`` through the thickness alone, into ``scores_MODEL_tRx.json``.
 ``--model-option KEY=VALUE`` (repeatable, as in ``wall_convergence.py``) reruns the wall with that
 change to its material model (the case's model unless ``--wall-model`` names another), into
-``scores_[MODEL_]KEY-VALUE.json``.
+``scores_[MODEL_]KEY-VALUE.json``; ``--wall-option KEY=VALUE`` the same with a change to the
+wall solver's options (:class:`impactdyn.wall.WallOptions`, e.g. ``max_time_us=300``).
 """
 
 from __future__ import annotations
@@ -54,7 +55,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 from select_validation_shots import select  # noqa: E402
-from wall_convergence import _model_option, rerun_wall  # noqa: E402
+from wall_convergence import key_value_option, rerun_wall  # noqa: E402
 
 from impactdyn.whipple import WhippleCase, run_whipple  # noqa: E402
 
@@ -103,8 +104,10 @@ def main() -> int:
     ap.add_argument("--from-wall", action="store_true", help="rerun the wall stage on existing shot folders")
     ap.add_argument("--score-only", action="store_true", help="score the shot folders that exist")
     ap.add_argument("--wall-model", help="rescore with the wall stage rerun under this material model")
-    ap.add_argument("--model-option", type=_model_option, action="append", default=[], metavar="KEY=VALUE",
+    ap.add_argument("--model-option", type=key_value_option, action="append", default=[], metavar="KEY=VALUE",
                     help="rescore with the wall stage rerun with this change to its material model")
+    ap.add_argument("--wall-option", type=key_value_option, action="append", default=[], metavar="KEY=VALUE",
+                    help="rescore with the wall stage rerun with this change to its solver options")
     ap.add_argument("--wall-refinement", type=int, default=1, help="with --wall-model: refine the rerun wall R times")
     ap.add_argument("--thickness-only", action="store_true", help="with --wall-refinement: refine the thickness alone")
     args = ap.parse_args()
@@ -115,7 +118,7 @@ def main() -> int:
     rows = []
     for shot in shots:
         folder = args.out / f"{shot['line']}_{shot['shot_id']}"
-        rerun = bool(args.wall_model or args.model_option)
+        rerun = bool(args.wall_model or args.model_option or args.wall_option)
         run = not (args.score_only or rerun) and (args.only is None or shot["line"] in args.only)
         if run:
             case = WhippleCase.model_validate(shot_case(base, shot))
@@ -130,6 +133,7 @@ def main() -> int:
                   "refinement_plane": 1 if args.thickness_only else args.wall_refinement}
         if args.wall_model:
             refine["material_model"] = args.wall_model
+        refine.update(args.wall_option)
         wall = rerun_wall(folder, dict(args.model_option), **refine) if rerun else s["wall"]
         rows.append({**{k: shot[k] for k in ("line", "source", "shot_id", "perforated", "diameter_cm",
                                              "velocity_km_s", "obliquity_deg", "bumper_thickness_cm",
@@ -139,7 +143,8 @@ def main() -> int:
                      "rear_bulge_cm": wall["rear_bulge_cm"], "failed_mass_g": wall["failed_mass_g"],
                      "eroded_mass_g": wall["eroded_mass_g"], "failed_mass_by_cause_g": wall.get("failed_mass_by_cause_g"),
                      "hourglass_to_internal": wall["hourglass_to_internal"],
-                     "end_time_us": wall["end_time_us"], "wall_time_s": s["wall_time_s"]})
+                     "end_time_us": wall["end_time_us"], "ended_by": wall.get("ended_by"),
+                     "peak_rear_bulge_cm": wall.get("peak_rear_bulge_cm"), "wall_time_s": s["wall_time_s"]})
     for r in rows:
         print(f"{r['line']:4d} {r['shot_id']:<10} {'P ' if r['perforated'] else 'NP'} d {r['diameter_cm']:.3f} "
               f"V {r['velocity_km_s']:.2f} θ {r['obliquity_deg']:>4g}  sim {r['simulated']:<15} "
@@ -151,7 +156,7 @@ def main() -> int:
         for key in ("simulated", "jsc"):
             print(key, json.dumps(result[key]))
         parts = ([args.wall_model] if args.wall_model else []) + [
-            f"{k}-{json.dumps(v)}" for k, v in args.model_option]
+            f"{k}-{json.dumps(v)}" for k, v in args.model_option + args.wall_option]
         if args.wall_refinement != 1:
             parts.append(f"{'t' if args.thickness_only else ''}{args.wall_refinement}x")
         name = "_".join(["scores", *parts]) + ".json"

@@ -39,8 +39,8 @@ from impactdyn.debris import read_deposition
 from impactdyn.wall import SPREADS, run_wall, wall_model
 from impactdyn.whipple import load_whipple_case
 
-KEYS = ("crater_depth_ratio", "rear_bulge_cm", "failed_mass_g", "eroded_mass_g", "failed_mass_by_cause_g",
-        "hourglass_to_internal", "end_time_us", "steps")
+KEYS = ("crater_depth_ratio", "rear_bulge_cm", "peak_rear_bulge_cm", "failed_mass_g", "eroded_mass_g",
+        "failed_mass_by_cause_g", "hourglass_to_internal", "end_time_us", "ended_by", "steps")
 
 #: The rows of ``--failure-switches``: Johnson–Cook model keywords.
 FAILURE_SWITCHES = {"no JC damage": {"damage": None}, "no spall": {"spall": False},
@@ -65,11 +65,11 @@ def rerun_wall(run: Path, model_changes: dict | None = None, **changes) -> dict:
             "wall_time_s": time.perf_counter() - tick}
 
 
-def _model_option(text: str) -> tuple[str, object]:
-    """``KEY=VALUE`` of ``--model-option``, VALUE read as JSON (a bare word stays a string)."""
+def key_value_option(text: str) -> tuple[str, object]:
+    """``KEY=VALUE`` of ``--model-option`` (and ``--wall-option``), VALUE read as JSON (a bare word stays a string)."""
     key, sep, value = text.partition("=")
     if not sep or not key:
-        raise SystemExit(f"--model-option: expected KEY=VALUE, got {text!r}")
+        raise SystemExit(f"expected KEY=VALUE, got {text!r}")
     try:
         return key, json.loads(value)
     except json.JSONDecodeError:
@@ -108,7 +108,7 @@ def main() -> int:
                  for n in range(2, args.thickness_series + 1)}
     if not args.no_spreads:
         variants |= {f"spread {s}": {"spread": s} for s in SPREADS if s != base.spread}
-    model = dict(_model_option(text) for text in args.model_option)
+    model = dict(key_value_option(text) for text in args.model_option)
     # (row, wall-option changes, material-model keywords, the row its change is taken against)
     specs = [(name, changes, model, "case settings") for name, changes in variants.items()]
     if args.failure_switches:
@@ -127,7 +127,8 @@ def main() -> int:
               f"eroded {row['eroded_mass_g']:.4g} g hg/int {row['hourglass_to_internal']:.3f} "
               f"load work {row['load_work']:.4g} ({change['load_work']:+.1%}) "
               f"plastic {row['plastic_work']:.4g} ({change['plastic_work']:+.1%}) "
-              f"t_end {row['end_time_us']:.1f} us steps {row['steps']} ({row['wall_time_s']:.0f} s); failed by "
+              f"t_end {row['end_time_us']:.1f} us ({row['ended_by']}) steps {row['steps']} ({row['wall_time_s']:.0f} s); "
+              f"failed by "
               + ", ".join(f"{k} {v:.4g} g" for k, v in row["failed_mass_by_cause_g"].items() if v > 0), flush=True)
     same = len({rows[name]["verdict"] for name in variants}) == 1
     print("same verdict on every row of the case's model" + (f" with {model}" if model else "") + ":", same)
