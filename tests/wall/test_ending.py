@@ -1,9 +1,11 @@
-"""How a wall run ends (``measures["ended_by"]``) and the peak of the rear bulge."""
+"""How a wall run ends (``measures["ended_by"]``), the peak of the rear bulge, and the permanent bulge
+of a wall brought to rest (``settle``)."""
 
 import numpy as np
 import pytest
 
 from impactdyn import wall
+from .conftest import elastic_model
 from impactdyn.wallgrid import WallDeposition, WallGrid
 
 GRID = WallGrid.uniform((0.0, 0.4), (0.0, 0.3), (0.0, 0.4), (5, 4, 5))
@@ -40,3 +42,25 @@ def test_peak_bulge_bounds_the_bulge_at_the_end():
     assert m["peak_rear_bulge_cm"] >= m["rear_bulge_end_cm"]
     assert m["peak_rear_bulge_cm"] >= m["rear_bulge_cm"]
     assert 1.0 <= m["peak_rear_bulge_time_us"] <= m["end_time_us"]
+
+
+def _settled(model, impulse):
+    dep = WallDeposition(element=np.array([0, 6]), time=np.array([1.0, 2.5]),
+                         impulse=np.array([[0, impulse, 0]] * 2))
+    return wall.run_wall(GRID, dep, model, wall.WallOptions(output_interval_us=None, max_time_us=6.0,
+                                                            settle=True)).measures
+
+
+def test_an_elastic_wall_settles_back_to_its_shape():
+    """Kinetic damping brings a wall loaded below yield back to rest where it started."""
+    m = _settled(elastic_model("johnson_cook"), 1e-6)
+    assert m["settled"] and m["settle_resets"] > 0
+    assert m["peak_rear_bulge_cm"] > 0.0
+    assert m["permanent_rear_bulge_cm"] < 1e-2 * m["peak_rear_bulge_cm"]
+
+
+def test_a_yielded_wall_keeps_a_permanent_bulge_below_its_peak():
+    m = _settled("al6061-t6", 2e-4)
+    assert m["settled"]
+    assert m["energy"]["plastic"] > 0.1 * m["energy"]["internal"]
+    assert 0.1 * m["peak_rear_bulge_cm"] < m["permanent_rear_bulge_cm"] < m["peak_rear_bulge_cm"]

@@ -31,6 +31,9 @@ DEP = WallDeposition(element=np.array([0, 6]), time=np.array([1.0, 2.5]), impuls
     ("supports", {"supports": "welded"}),
     ("output_interval_us", {"output_interval_us": 0.0}),
     ("decay_fraction", {"decay_fraction": 0.0}),
+    ("settle", {"settle": "yes"}),
+    ("settle_tolerance", {"settle_tolerance": 0.0}),
+    ("max_settle_steps", {"max_settle_steps": 0}),
     ("deposition_depth_cm", {"deposition_depth_cm": -0.1}),
     ("deposition_depth_cm", {"deposition_depth_cm": float("inf")}),
 ])

@@ -208,6 +208,11 @@ def test_a_wall_run_cut_off_at_the_ceiling_is_said_to_be_not_at_rest():
     assert "not at rest" not in wall_ending(record | {"ended_by": "decay"})
 
 
+def test_settle_is_a_case_key(tmp_path, make_case):
+    case = load_whipple_case(make_case(tmp_path, wall_solver__settle=True))
+    assert case.wall_solver.options(clamped_edges=True).settle
+
+
 def test_the_debris_case_carries_the_wall_material(tmp_path, make_case):
     """Rerunning debris/config.resolved.toml with `impactdyn debris run` writes the decks of the same wall."""
     from impactdyn.debris import DeckOptions
@@ -227,6 +232,7 @@ def test_the_debris_case_carries_the_wall_material(tmp_path, make_case):
     (dict(wall_solver__refinement_thickness=0), "case.toml: wall_solver: refinement_thickness: must be a positive"),
     (dict(wall_solver__material_model="bogus"), "material_model"),
     (dict(wall_solver__max_time_us=-1.0), "max_time_us"),
+    (dict(wall_solver__settle_tolerance=0.0), "settle_tolerance"),
     (dict(wall__thickness_cm=0.0), "wall.thickness_cm"),
     (dict(wall_solver__deposition_depth_cm=-1.0), "deposition_depth_cm"),
     (dict(wall_solver__deposition_depth_cm=5.0), "wall_solver.deposition_depth_cm = 5.0 exceeds the wall's thickness"),

@@ -84,6 +84,14 @@ class WallOptions:
         on the front face exactly and on a refined mesh the same load over the same depth;
         0: the front-face nodes alone at every refinement (the load's energy then grows with
         the refinement through the thickness).  Must not exceed the wall's thickness.
+    settle : after the run, bring the wall to rest by kinetic damping and report its permanent
+        rear bulge (:meth:`impactdyn.wall.WallSolver.settle`); off by default: it takes 15–25 times
+        the run's steps (Table 2 7b and 7a: 12,600 and 24,600 against 840 and 960; 7a's wall stage
+        ~2 min instead of ~8 s).  Without it no run measures a permanent set: a supported wall
+        still rings when the run ends (BENCHMARKS.md, "when a wall run ends").
+    settle_tolerance : the settling stops at a kinetic-energy peak below this fraction of the
+        first (1e-6: displacements to ~1e-3 of the swing's amplitude).
+    max_settle_steps : the most steps the settling may take; if reached, ``settled`` is false.
     escape_velocity_km_s : the speed above which rear-face material attached to failed
         material is leaving the wall (verdict, :mod:`._verdict`).
     erosion_step_fraction : a failed element is eroded when its step falls below this
@@ -108,16 +116,22 @@ class WallOptions:
     history_interval_us: float = 0.2
     spread: str = "area"
     deposition_depth_cm: float | None = None
+    settle: bool = False
+    settle_tolerance: float = 1.0e-6
+    max_settle_steps: int = 200_000
     escape_velocity_km_s: float = 1.0
     erosion_step_fraction: float = 0.1
     min_step_fraction: float = 1.0e-3
 
     def __post_init__(self) -> None:
-        for name in ("refinement_thickness", "refinement_plane"):
+        for name in ("refinement_thickness", "refinement_plane", "max_settle_steps"):
             r = getattr(self, name)
             if isinstance(r, bool) or not isinstance(r, int) or r < 1:
                 raise InputError(f"{name}: must be a positive integer, got {r!r}")
         check_model_name(self.material_model)
+        if not isinstance(self.settle, bool):
+            raise InputError(f"settle: must be true or false, got {self.settle!r}")
+        _check("settle_tolerance", self.settle_tolerance, lo=0.0, lo_open=True, hi=1.0)
         if self.supports not in SUPPORTS:
             raise InputError(f"supports: {self.supports!r}, expected one of {SUPPORTS}")
         if self.hourglass not in HOURGLASS_FORMS:

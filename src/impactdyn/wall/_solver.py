@@ -46,6 +46,10 @@ from impactdyn.wall._state import C, DAMAGE, EPS_P, ERODED, FAILED, N_ES, N_SHG,
 from impactdyn.wall._verdict import WALL, classify, failed_mass_by_cause, measures, node_categories
 from impactdyn.wallgrid import WallDeposition, WallGrid
 
+#: The largest Courant factor of :meth:`WallSolver.settle` (its docstring): central differences
+#: are stable at the run's factor 0.9, so Δt_e ω_max < 2/0.9 and at 0.35 θ = Δt ω_max < 0.78.
+SETTLE_COURANT = 0.35
+
 _BREAKDOWN = {_step.BAD_VOLUME: "non-positive volume", _step.BAD_STEP: "time step collapsed",
               _step.BAD_FORCE: "non-finite force"}
 
@@ -128,8 +132,9 @@ class WallSolver:
                                   o.hourglass_coefficient, o.q1, o.q2, self.model.erodes, self.erode_dt, self.min_dt,
                                   dt, dt_full_prev)
 
-    def advance(self, t_stop: float, max_steps: int = 2**62) -> int:
-        """Step until t ≥ ``t_stop`` (or ``max_steps`` steps); returns the steps taken.
+    def advance(self, t_stop: float, max_steps: int = 2**62, settling: bool = False) -> int:
+        """Step until t ≥ ``t_stop`` (or ``max_steps`` steps); returns the steps taken.  ``settling``:
+        the steps of :meth:`settle` (Courant factor at most :data:`SETTLE_COURANT`, no bulk viscosity).
 
         Raises :class:`WallSolverError` on a breakdown.
         """
@@ -138,9 +143,10 @@ class WallSolver:
             t_stop, max_steps, self.clock, self.acc, self.x, self.v, m.node_mass, self.free, self.fixed, self.pext,
             self.rear, self.Fflat, m.node_element_ptr, m.node_element_entry, m.connectivity, m.volume,
             m.element_mass, self.S, self.es, self.flags, self.bad, self.Lbuf, self.Qhg, self.Shg, self.F, self.work,
-            self.model.kind, self.mprm, self.table, o.hourglass_form, o.hourglass_coefficient, o.q1,
-            o.q2, o.courant, self.model.erodes, self.erode_dt, self.min_dt, ld.time, ld.ptr, ld.node, ld.weight,
-            ld.impulse)
+            self.model.kind, self.mprm, self.table, o.hourglass_form, o.hourglass_coefficient,
+            0.0 if settling else o.q1, 0.0 if settling else o.q2,
+            min(o.courant, SETTLE_COURANT) if settling else o.courant, self.model.erodes, self.erode_dt,
+            self.min_dt, ld.time, ld.ptr, ld.node, ld.weight, ld.impulse)
         if status:
             bad = np.flatnonzero(self.bad)
             ijk = m.element_ijk()[bad[0]] if bad.size else None
@@ -212,6 +218,59 @@ class WallSolver:
         held = out["kinetic"] + out["internal"] + out["hourglass"] + out["bulk_viscous"] + out["eroded"]
         out["balance_error"] = (e_in - held) / e_in if e_in > 0 else 0.0
         return out
+
+    def _wall_kinetic(self) -> float:
+        """½ Σ m |v|² over the wall nodes (category WALL), now."""
+        m = self.mesh
+        return float(_step.nodal_energy(self.v, m.node_mass, self.free, self.Fflat, m.node_element_ptr,
+                                        m.node_element_entry, self.category, 0.0)[1])
+
+    def settle(self) -> dict[str, Any]:
+        """Bring the wall to rest by kinetic damping and measure its permanent bulge.
+
+        Kinetic damping (Cundall 1976; Barnes, Int. J. Space Structures 14 (1999) 89, "form
+        finding and analysis of tension structures by dynamic relaxation"): the explicit steps go
+        on with no load; whenever the kinetic energy of the wall nodes passes a peak, every wall
+        node's velocity is set to zero.  Each reset removes the energy of the motion then
+        dominant, so the wall creeps to static equilibrium with its plastic state (further
+        yielding on the way is computed as usual) without a damping constant.  It stops at a
+        reset whose peak is below ``settle_tolerance`` of the first peak (``settled``), or after
+        ``max_settle_steps`` steps (not settled).  The energy balance is not kept through it:
+        call it after the run's measures are taken.  The steps take a Courant factor of at most
+        :data:`SETTLE_COURANT`: the positions are not moved back to the peak (the stresses are
+        incremental and would no longer match them), so a mode of frequency ω whose kinetic energy
+        peaks every second step is reset every third, and each such cycle multiplies its amplitude
+        by |1 − 6θ² + 5θ⁴ − θ⁶|, θ = Δt ω (central differences, from rest), more than 1 for
+        θ > 0.78: at the run's factor 0.9, where θ reaches ~1.8, a wall of a few elements drifted
+        away instead of settling.
+        The bulk viscosity is off: on the way to rest it only turned each reset's motion into heat,
+        which the Mie–Grüneisen pressure turned into an expansion the resets then kept.
+
+        Returns ``permanent_rear_bulge_cm`` (the largest outward u_y of a rear-face wall node at
+        rest), ``settled``, ``settle_steps`` and ``settle_resets``.
+        """
+        o = self.options
+        self.clock[_step.DT_NEXT] *= min(o.courant, SETTLE_COURANT) / o.courant
+        self.update_categories()
+        last = self._wall_kinetic()
+        first = None
+        steps = resets = 0
+        settled = last == 0.0
+        while not settled and steps < o.max_settle_steps:
+            self.advance(math.inf, 1, settling=True)
+            steps += 1
+            k = self._wall_kinetic()
+            if k < last:          # a peak has passed: stop every wall node
+                first = last if first is None else first
+                settled = last <= o.settle_tolerance * first
+                self.update_categories()
+                self.v[self.category == WALL] = 0.0
+                resets += 1
+                k = 0.0
+            last = k
+        bulge, _ = self._surface()
+        return {"permanent_rear_bulge_cm": bulge, "settled": bool(settled), "settle_steps": steps,
+                "settle_resets": resets}
 
     def frame(self) -> WallFrame:
         """The current state as an output frame."""
@@ -285,7 +344,10 @@ class WallSolver:
         if frames[-1].time != self.time:
             frames.append(self.frame())
         kinetic_left = row["kinetic_wall"] / peak_wall if peak_wall > 0.0 else 0.0
-        return self._result(history, tuple(frames), rear_peak, ended_by, kinetic_left)
+        result = self._result(history, tuple(frames), rear_peak, ended_by, kinetic_left)
+        if o.settle:
+            result.measures.update(self.settle())
+        return result
 
     def _result(self, history: dict[str, list[float]], frames: tuple[WallFrame, ...], rear_peak: float,
                 ended_by: str, kinetic_left: float) -> WallResult:
