@@ -1,12 +1,16 @@
 """How a wall run ends (``measures["ended_by"]``), the peak of the rear bulge, and the permanent bulge
 of a wall brought to rest (``settle``)."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
 from impactdyn import wall
-from .conftest import elastic_model
+from impactdyn.materials import AL_6061_T6_MAT13
 from impactdyn.wallgrid import WallDeposition, WallGrid
+
+from .conftest import elastic_model
 
 GRID = WallGrid.uniform((0.0, 0.4), (0.0, 0.3), (0.0, 0.4), (5, 4, 5))
 DEP = WallDeposition(element=np.array([0, 6]), time=np.array([1.0, 2.5]), impulse=np.array([[0, 1e-6, 0]] * 2))
@@ -64,3 +68,27 @@ def test_a_yielded_wall_keeps_a_permanent_bulge_below_its_peak():
     assert m["settled"]
     assert m["energy"]["plastic"] > 0.1 * m["energy"]["internal"]
     assert 0.1 * m["peak_rear_bulge_cm"] < m["permanent_rear_bulge_cm"] < m["peak_rear_bulge_cm"]
+
+
+def test_the_settled_bulge_is_the_mean_the_ringing_plate_swings_about():
+    """A clamped plate struck on a central patch yields and then rings elastically about its
+    permanent shape: the settled centre deflection is the mean of the ringing (the measure of
+    benchmarks/verify_wall_calculix.py; 0.1 % apart there)."""
+    card = dataclasses.replace(AL_6061_T6_MAT13, failure_strain=0.0, failure_pressure=-1.0e30)
+    grid = WallGrid.uniform((0.0, 1.0), (0.0, 0.16), (-1.0, 1.0), (11, 5, 21))
+    mesh = wall.build_mesh(grid, card.density, 1, 1, "clamped")
+    x = mesh.coordinates
+    v = np.zeros_like(x)
+    v[:, 1] = np.where((x[:, 0] < 0.3) & (np.abs(x[:, 2]) < 0.3), 0.025, 0.0) * ~mesh.fixed[:, 1]
+    solver = wall.WallSolver(mesh, wall.wall_model("mat13", card),
+                             wall.WallOptions(material_model="mat13", supports="clamped"), velocity=v)
+    centre = int(np.flatnonzero((x[:, 0] == 0.0) & (x[:, 2] == 0.0) & (x[:, 1] == 0.16))[0])
+    ringing = []
+    while solver.time < 100.0:
+        solver.advance(solver.time + 0.25)
+        if solver.time >= 50.0:
+            ringing.append(solver.x[centre, 1] - x[centre, 1])
+    assert solver.energies()["plastic"] > 0.0
+    assert max(ringing) - min(ringing) > 0.02 * np.mean(ringing)      # still ringing
+    assert solver.settle()["settled"]
+    assert solver.x[centre, 1] - x[centre, 1] == pytest.approx(np.mean(ringing), rel=0.01)
