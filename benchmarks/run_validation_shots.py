@@ -115,10 +115,14 @@ def main() -> int:
         base = tomllib.load(fh)
     shots = select(args.set)
     args.out.mkdir(parents=True, exist_ok=True)
+    # the wall stage rerun on the finished shots under these changes, or the shots' own results
+    rerun = bool(args.wall_model or args.model_option or args.wall_option)
+    changes = {"refinement_thickness": args.wall_refinement,
+               "refinement_plane": 1 if args.thickness_only else args.wall_refinement,
+               **({"material_model": args.wall_model} if args.wall_model else {}), **dict(args.wall_option)}
     rows = []
     for shot in shots:
         folder = args.out / f"{shot['line']}_{shot['shot_id']}"
-        rerun = bool(args.wall_model or args.model_option or args.wall_option)
         run = not (args.score_only or rerun) and (args.only is None or shot["line"] in args.only)
         if run:
             case = WhippleCase.model_validate(shot_case(base, shot))
@@ -129,12 +133,7 @@ def main() -> int:
         if not summary_file.exists():
             continue
         s = json.loads(summary_file.read_text())
-        refine = {"refinement_thickness": args.wall_refinement,
-                  "refinement_plane": 1 if args.thickness_only else args.wall_refinement}
-        if args.wall_model:
-            refine["material_model"] = args.wall_model
-        refine.update(args.wall_option)
-        wall = rerun_wall(folder, dict(args.model_option), **refine) if rerun else s["wall"]
+        wall = rerun_wall(folder, dict(args.model_option), **changes) if rerun else s["wall"]
         rows.append({**{k: shot[k] for k in ("line", "source", "shot_id", "perforated", "diameter_cm",
                                              "velocity_km_s", "obliquity_deg", "bumper_thickness_cm",
                                              "wall_thickness_cm", "spacing_cm")},

@@ -7,7 +7,17 @@ import pytest
 
 from impactdyn import wall
 from impactdyn.materials import AL_6061_T6_MAT13, Mat13Card
-from impactdyn.wallgrid import WallGrid
+from impactdyn.wallgrid import WallDeposition, WallGrid
+
+#: A small wall grid (4 × 3 × 4 elements of 0.1 cm) for the tests that run a whole wall.
+SMALL_WALL = WallGrid.uniform((0.0, 0.4), (0.0, 0.3), (0.0, 0.4), (5, 4, 5))
+
+
+def two_records(impulse: float = 1e-6) -> WallDeposition:
+    """Two deposition records on SMALL_WALL's face, at 1 and 2.5 µs, each an impulse ``impulse`` along y."""
+    return WallDeposition(element=np.array([0, 6]), time=np.array([1.0, 2.5]),
+                          impulse=np.array([[0.0, impulse, 0.0]] * 2))
+
 
 #: The report's card with a yield stress no test load reaches: linear elastic (K 0.72, G 0.276 Mbar).
 ELASTIC_CARD = Mat13Card(density=AL_6061_T6_MAT13.density, shear_modulus=AL_6061_T6_MAT13.shear_modulus,

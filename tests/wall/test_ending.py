@@ -8,12 +8,12 @@ import pytest
 
 from impactdyn import wall
 from impactdyn.materials import AL_6061_T6_MAT13
-from impactdyn.wallgrid import WallDeposition, WallGrid
+from impactdyn.wallgrid import WallGrid
 
-from .conftest import elastic_model
+from .conftest import SMALL_WALL, elastic_model, two_records
 
-GRID = WallGrid.uniform((0.0, 0.4), (0.0, 0.3), (0.0, 0.4), (5, 4, 5))
-DEP = WallDeposition(element=np.array([0, 6]), time=np.array([1.0, 2.5]), impulse=np.array([[0, 1e-6, 0]] * 2))
+GRID = SMALL_WALL
+DEP = two_records()
 
 
 def _run(**options):
@@ -49,9 +49,7 @@ def test_peak_bulge_bounds_the_bulge_at_the_end():
 
 
 def _settled(model, impulse):
-    dep = WallDeposition(element=np.array([0, 6]), time=np.array([1.0, 2.5]),
-                         impulse=np.array([[0, impulse, 0]] * 2))
-    return wall.run_wall(GRID, dep, model, wall.WallOptions(output_interval_us=None, max_time_us=6.0,
+    return wall.run_wall(GRID, two_records(impulse), model, wall.WallOptions(output_interval_us=None, max_time_us=6.0,
                                                             settle=True)).measures
 
 

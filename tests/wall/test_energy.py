@@ -18,11 +18,10 @@ import pytest
 
 from impactdyn import wall
 from impactdyn.wall._state import IE
-from impactdyn.wallgrid import WallGrid
 
-from .conftest import elastic_model
+from .conftest import SMALL_WALL, elastic_model
 
-GRID = WallGrid.uniform((0.0, 0.4), (0.0, 0.3), (0.0, 0.4), (5, 4, 5))
+GRID = SMALL_WALL
 
 
 def vibrating_block(model, amplitude=1.0e-4, noise=0.0, **opts):

@@ -10,8 +10,10 @@ from impactdyn import wall
 from impactdyn.materials import AL_6061_T6_MAT13
 from impactdyn.wallgrid import WallDeposition, WallGrid
 
-GRID = WallGrid.uniform((0.0, 0.4), (0.0, 0.3), (0.0, 0.4), (5, 4, 5))
-DEP = WallDeposition(element=np.array([0, 6]), time=np.array([1.0, 2.5]), impulse=np.array([[0, 1e-6, 0]] * 2))
+from .conftest import SMALL_WALL, two_records
+
+GRID = SMALL_WALL
+DEP = two_records()
 
 
 @pytest.mark.parametrize("key, kwargs", [
