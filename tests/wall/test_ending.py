@@ -68,10 +68,9 @@ def test_a_yielded_wall_keeps_a_permanent_bulge_below_its_peak():
     assert 0.1 * m["peak_rear_bulge_cm"] < m["permanent_rear_bulge_cm"] < m["peak_rear_bulge_cm"]
 
 
-def test_the_settled_bulge_is_the_mean_the_ringing_plate_swings_about():
-    """A clamped plate struck on a central patch yields and then rings elastically about its
-    permanent shape: the settled centre deflection is the mean of the ringing (the measure of
-    benchmarks/verify_wall_calculix.py; 0.1 % apart there)."""
+def _struck_plate() -> tuple[wall.WallSolver, int]:
+    """A clamped elastic–plastic plate struck on a central patch (0.025 cm/µs, the kind of
+    benchmarks/verify_wall_calculix.py), at t = 0, and its rear-face centre node."""
     card = dataclasses.replace(AL_6061_T6_MAT13, failure_strain=0.0, failure_pressure=-1.0e30)
     grid = WallGrid.uniform((0.0, 1.0), (0.0, 0.16), (-1.0, 1.0), (11, 5, 21))
     mesh = wall.build_mesh(grid, card.density, 1, 1, "clamped")
@@ -80,13 +79,35 @@ def test_the_settled_bulge_is_the_mean_the_ringing_plate_swings_about():
     v[:, 1] = np.where((x[:, 0] < 0.3) & (np.abs(x[:, 2]) < 0.3), 0.025, 0.0) * ~mesh.fixed[:, 1]
     solver = wall.WallSolver(mesh, wall.wall_model("mat13", card),
                              wall.WallOptions(material_model="mat13", supports="clamped"), velocity=v)
-    centre = int(np.flatnonzero((x[:, 0] == 0.0) & (x[:, 2] == 0.0) & (x[:, 1] == 0.16))[0])
+    return solver, int(np.flatnonzero((x[:, 0] == 0.0) & (x[:, 2] == 0.0) & (x[:, 1] == 0.16))[0])
+
+
+@pytest.fixture(scope="module")
+def ringing_mean() -> float:
+    """The struck plate yields in its first swing (peak ~0.127 cm at 15 µs) and then rings
+    elastically: the mean of its centre deflection over 50–100 µs, the permanent shape it rings
+    about (the measure of benchmarks/verify_wall_calculix.py)."""
+    solver, centre = _struck_plate()
     ringing = []
     while solver.time < 100.0:
         solver.advance(solver.time + 0.25)
         if solver.time >= 50.0:
-            ringing.append(solver.x[centre, 1] - x[centre, 1])
+            ringing.append(solver.x[centre, 1] - solver.mesh.coordinates[centre, 1])
     assert solver.energies()["plastic"] > 0.0
     assert max(ringing) - min(ringing) > 0.02 * np.mean(ringing)      # still ringing
-    assert solver.settle()["settled"]
-    assert solver.x[centre, 1] - x[centre, 1] == pytest.approx(np.mean(ringing), rel=0.01)
+    return float(np.mean(ringing))
+
+
+@pytest.mark.parametrize("start_us", [3.0, 12.0, 60.0])
+def test_the_settled_bulge_is_the_mean_the_ringing_plate_swings_about(ringing_mean, start_us):
+    """Wherever the settling starts — in the first outward swing (3 µs: with kinetic damping from
+    there, 0.059 cm, the swing's remaining plastic work taken away), near its turning point
+    (12 µs: damped from there, +4 %, the rebound's reverse yielding missed), or in the elastic
+    ringing (60 µs) — the plate comes to rest at the mean it rings about."""
+    solver, centre = _struck_plate()
+    solver.advance(start_us)
+    m = solver.settle()
+    assert m["settled"] and m["rebound_end_us"] > start_us
+    deflection = solver.x[centre, 1] - solver.mesh.coordinates[centre, 1]
+    assert deflection == pytest.approx(ringing_mean, rel=0.01)
+    assert m["permanent_rear_bulge_cm"] == pytest.approx(deflection, rel=1e-3)

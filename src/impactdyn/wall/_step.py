@@ -897,6 +897,25 @@ def nodal_energy(v, mass, free, Fflat, ptr, entry, category, dt_full):
     return kin, kin_wall, kin_orphan, kin_cross, np.array([px, py, pz])
 
 
+@njit(parallel=True, cache=True)
+def force_balance(Fflat, ptr, entry, free, category):
+    """How far the wall is from static equilibrium (:meth:`impactdyn.wall.WallSolver.settle`).
+
+    Returns (Σ f_i² over the free translations of the wall nodes (``category`` 0) — the
+    out-of-balance force, squared — and Σ F_ea,i² over every element corner: the element forces
+    that balance each other at rest).
+    """
+    residual = 0.0
+    for n in prange(free.shape[0]):
+        if category[n] == 0:
+            f0, f1, f2 = nodal_force(Fflat, ptr, entry, n)
+            residual += free[n, 0] * f0 * f0 + free[n, 1] * f1 * f1 + free[n, 2] * f2 * f2
+    corners = 0.0
+    for j in prange(Fflat.shape[0]):
+        corners += Fflat[j, 0] ** 2 + Fflat[j, 1] ** 2 + Fflat[j, 2] ** 2
+    return residual, corners
+
+
 @njit(cache=True)
 def energy_sums(es, flags):
     """Σ over live and over eroded elements of (W_σ, W_p, W_hg, W_q): two arrays (4,)."""
