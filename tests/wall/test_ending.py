@@ -111,3 +111,14 @@ def test_the_settled_bulge_is_the_mean_the_ringing_plate_swings_about(ringing_me
     deflection = solver.x[centre, 1] - solver.mesh.coordinates[centre, 1]
     assert deflection == pytest.approx(ringing_mean, rel=0.01)
     assert m["permanent_rear_bulge_cm"] == pytest.approx(deflection, rel=1e-3)
+
+
+def test_settling_reports_its_progress_from_0_to_1():
+    calls = []
+    m = wall.run_wall(GRID, two_records(2e-4), "al6061-t6", wall.WallOptions(output_interval_us=None, max_time_us=6.0,
+                                                                             settle=True),
+                      settle_progress=lambda done, total: calls.append((done, total))).measures
+    assert m["settled"] and len(calls) > 2
+    assert calls[0] == (0.0, 1.0) and calls[-1] == (1.0, 1.0)
+    assert all(0.0 <= done <= 1.0 and total == 1.0 for done, total in calls)
+    assert any(0.0 < done < 1.0 for done, _ in calls)      # the force ratio's way down is shown

@@ -17,7 +17,7 @@ from impactdyn.shield._io import read_particles
 from impactdyn.whipple import ble_verdict, load_whipple_case, wall_ending
 from impactdyn.wall import ENDINGS, LSDYNA_HOURGLASS_TYPE
 from impactdyn.whipple._case import ble_shield
-from impactdyn.whipple._pipeline import deck_options
+from impactdyn.whipple._pipeline import deck_options, run_whipple
 
 EXAMPLES = Path(__file__).parents[2] / "examples" / "whipple"
 
@@ -208,9 +208,20 @@ def test_a_wall_run_cut_off_at_the_ceiling_is_said_to_be_not_at_rest():
     assert "not at rest" not in wall_ending(record | {"ended_by": "decay"})
 
 
-def test_settle_is_a_case_key(tmp_path, make_case):
-    case = load_whipple_case(make_case(tmp_path, wall_solver__settle=True))
+def test_a_settled_wall_reports_its_permanent_bulge_and_progress(run, tmp_path, make_case):
+    """``settle = true`` from the wall stage on: the settling shows as a stage of its own in the
+    progress, and the permanent bulge reaches summary.json and the report."""
+    _, out, _ = run
+    copy = tmp_path / "run"
+    shutil.copytree(out, copy)
+    case = load_whipple_case(make_case(tmp_path, "settled.toml", wall_solver__settle=True))
     assert case.wall_solver.options(clamped_edges=True).settle
+    calls = []
+    s = run_whipple(case, copy, start="wall", progress=lambda stage, done, total: calls.append((stage, done, total)))
+    settling = [c for c in calls if c[0] == "settle"]
+    assert settling[0] == ("settle", 0.0, 1.0) and settling[-1] == ("settle", 1.0, 1.0)
+    assert s["wall"]["settled"] and 0.0 <= s["wall"]["permanent_rear_bulge_cm"] <= s["wall"]["peak_rear_bulge_cm"]
+    assert "rear-face permanent bulge" in (copy / "report.html").read_text()
 
 
 def test_the_debris_case_carries_the_wall_material(tmp_path, make_case):

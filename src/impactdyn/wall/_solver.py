@@ -229,7 +229,7 @@ class WallSolver:
         return float(_step.nodal_energy(self.v, m.node_mass, self.free, self.Fflat, m.node_element_ptr,
                                         m.node_element_entry, self.category, 0.0)[1])
 
-    def settle(self) -> dict[str, Any]:
+    def settle(self, progress: Callable[[float, float], None] | None = None) -> dict[str, Any]:
         """Let the wall swing back, bring it to rest by kinetic damping and measure its permanent bulge.
 
         1. The rebound: the run's own steps (no load left, bulk viscosity and Courant factor as in
@@ -271,11 +271,17 @@ class WallSolver:
         only turned each reset's motion into heat, which the Mie–Grüneisen pressure turned into an
         expansion the resets then kept.
 
+        ``progress(done, 1)`` is called at the start, at every reset and at the end, with ``done``
+        how far the out-of-balance force has come from the first reset's to the tolerance (on a
+        log scale).
+
         Returns ``permanent_rear_bulge_cm`` (the largest outward u_y of a rear-face wall node at
         rest), ``settled``, ``settle_steps`` (both phases), ``rebound_end_us`` (the time phase 1
         ended) and ``settle_resets``.
         """
         o = self.options
+        report = progress if progress is not None else (lambda done, total: None)
+        report(0.0, 1.0)
         steps = self._rebound(o.max_settle_steps)
         rebound_end = self.time
         self.clock[_step.DT_NEXT] *= min(o.courant, SETTLE_COURANT) / o.courant
@@ -284,6 +290,7 @@ class WallSolver:
         rising = False
         resets = 0
         largest = 0.0
+        first_ratio = None
         settled = last == 0.0 and steps < o.max_settle_steps
         while not settled and steps < o.max_settle_steps:
             self.advance(math.inf, 1, settling=True)
@@ -298,8 +305,13 @@ class WallSolver:
                                                         self.mesh.node_element_entry, self.free, self.category)
                 largest = max(largest, corners)
                 settled = residual <= o.settle_tolerance ** 2 * largest
+                ratio = math.sqrt(residual / largest) if largest > 0.0 else 0.0
+                first_ratio = ratio if first_ratio is None else first_ratio
+                if 0.0 < ratio < first_ratio and first_ratio > o.settle_tolerance:
+                    report(min(1.0, math.log(first_ratio / ratio) / math.log(first_ratio / o.settle_tolerance)), 1.0)
             rising = k > last
             last = k
+        report(1.0, 1.0)
         bulge, _ = self._surface()
         return {"permanent_rear_bulge_cm": bulge, "settled": bool(settled), "settle_steps": steps,
                 "rebound_end_us": rebound_end, "settle_resets": resets}
@@ -344,8 +356,10 @@ class WallSolver:
         return out[0], out[1]
 
     # -- the run --------------------------------------------------------------------------------------
-    def run(self, progress: Callable[[float, float], None] | None = None) -> WallResult:
-        """Run to the end time of the options (:class:`WallOptions`) and judge the wall."""
+    def run(self, progress: Callable[[float, float], None] | None = None,
+            settle_progress: Callable[[float, float], None] | None = None) -> WallResult:
+        """Run to the end time of the options (:class:`WallOptions`) and judge the wall; with
+        ``settle``, then bring it to rest (:meth:`settle`, reporting to ``settle_progress``)."""
         o = self.options
         t_end = o.end_time_us if o.end_time_us is not None else o.max_time_us
         history: dict[str, list[float]] = {k: [] for k in HISTORY_KEYS}
@@ -398,7 +412,7 @@ class WallSolver:
         kinetic_left = row["kinetic_wall"] / peak_wall if peak_wall > 0.0 else 0.0
         result = self._result(history, tuple(frames), rear_peak, ended_by, kinetic_left)
         if o.settle:
-            result.measures.update(self.settle())
+            result.measures.update(self.settle(settle_progress))
         return result
 
     def _result(self, history: dict[str, list[float]], frames: tuple[WallFrame, ...], rear_peak: float,
@@ -447,7 +461,8 @@ def nodal_load_empty() -> NodalLoad:
 
 def run_wall(wall: WallGrid, deposition: WallDeposition, model: Any = "al6061-t6",
              options: WallOptions | None = None,
-             progress: Callable[[float, float], None] | None = None) -> WallResult:
+             progress: Callable[[float, float], None] | None = None,
+             settle_progress: Callable[[float, float], None] | None = None) -> WallResult:
     """The rear wall's response to the deposited momentum, its verdict and measures.
 
     wall : the case's wall grid (front face y = y[0]); deposition : the records on its face grid.
@@ -456,6 +471,8 @@ def run_wall(wall: WallGrid, deposition: WallDeposition, model: Any = "al6061-t6
         :class:`~impactdyn.materials.Mat13Card`).
     options : :class:`WallOptions` (defaults when None).
     progress : called as ``progress(t_us, t_end_us)`` after every history sample.
+    settle_progress : with ``options.settle``, called as ``progress(done, 1)`` while the wall is
+        brought to rest (:meth:`WallSolver.settle`).
 
     The run starts at the first arrival (nothing moves before it).  Raises
     :class:`~impactdyn._errors.InputError` naming the key for bad input (an end time before the
@@ -476,4 +493,4 @@ def run_wall(wall: WallGrid, deposition: WallDeposition, model: Any = "al6061-t6
     if options.max_time_us < last:
         raise InputError(f"max_time_us: {options.max_time_us} us is before the last arrival at {last:.6g} us")
     solver = WallSolver(mesh, m, options, load=load, t_start=t_start)
-    return solver.run(progress)
+    return solver.run(progress, settle_progress)

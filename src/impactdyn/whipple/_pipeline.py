@@ -142,7 +142,8 @@ def _wall(s: StageContext) -> dict:
     wall, deposition, _ = read_deposition(s.folder.path / "debris" / "debris.h5")
     options = s.case.wall_solver.options(s.case.wall.clamped_edges)
     result = run_wall(wall, deposition, s.case.wall.material, options,
-                      progress=lambda t, t_end: s.report("wall", t, t_end))
+                      progress=lambda t, t_end: s.report("wall", t, t_end),
+                      settle_progress=(lambda done, total: s.report("settle", done, total)) if options.settle else None)
     out = s.folder.sub("wall")
     files = write_wall_outputs(result, out.path, plots=out.path / "plots", lean=not s.case.output.vtk)
     s.report("wall", 1, 1)
