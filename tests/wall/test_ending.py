@@ -122,3 +122,23 @@ def test_settling_reports_its_progress_from_0_to_1():
     assert calls[0] == (0.0, 1.0) and calls[-1] == (1.0, 1.0)
     assert all(0.0 <= done <= 1.0 and total == 1.0 for done, total in calls)
     assert any(0.0 < done < 1.0 for done, _ in calls)      # the force ratio's way down is shown
+
+
+def test_a_breakdown_while_settling_loses_only_the_permanent_bulge(monkeypatch):
+    """The wall swings on far past the run while it is brought to rest; a breakdown there keeps the
+    run's verdict and measures and says why the permanent bulge is missing."""
+    from impactdyn.whipple import wall_permanent_bulge
+
+    def broken(self, max_steps):
+        self.advance(self.time + 0.5)
+        raise wall.WallSolverError("wall solver broke down at t = 6.5 us: non-positive volume in 1 element(s)")
+
+    options = wall.WallOptions(output_interval_us=None, max_time_us=6.0)
+    plain = wall.run_wall(GRID, two_records(2e-4), "al6061-t6", options)
+    monkeypatch.setattr(wall.WallSolver, "_rebound", broken)
+    result = wall.run_wall(GRID, two_records(2e-4), "al6061-t6", dataclasses.replace(options, settle=True))
+    m = result.measures
+    assert result.verdict == plain.verdict and m["rear_bulge_cm"] == plain.measures["rear_bulge_cm"]
+    assert m["permanent_rear_bulge_cm"] is None and not m["settled"]
+    assert "non-positive volume" in m["settle_error"]
+    assert wall_permanent_bulge(m).startswith("not measured: wall solver broke down at t = 6.5 us")

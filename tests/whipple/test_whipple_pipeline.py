@@ -208,7 +208,7 @@ def test_a_wall_run_cut_off_at_the_ceiling_is_said_to_be_not_at_rest():
     assert "not at rest" not in wall_ending(record | {"ended_by": "decay"})
 
 
-def test_a_settled_wall_reports_its_permanent_bulge_and_progress(run, tmp_path, make_case):
+def test_a_settled_wall_reports_its_permanent_bulge_and_progress(run, tmp_path, make_case, capsys):
     """``settle = true`` from the wall stage on: the settling shows as a stage of its own in the
     progress, and the permanent bulge reaches summary.json and the report."""
     _, out, _ = run
@@ -222,6 +222,9 @@ def test_a_settled_wall_reports_its_permanent_bulge_and_progress(run, tmp_path, 
     assert settling[0] == ("settle", 0.0, 1.0) and settling[-1] == ("settle", 1.0, 1.0)
     assert s["wall"]["settled"] and 0.0 <= s["wall"]["permanent_rear_bulge_cm"] <= s["wall"]["peak_rear_bulge_cm"]
     assert "rear-face permanent bulge" in (copy / "report.html").read_text()
+    capsys.readouterr()
+    assert main(["whipple", "run", str(tmp_path / "settled.toml"), "-o", str(copy), "--from", "wall"]) == 0
+    assert "rear-face permanent bulge (the wall brought to rest): " in capsys.readouterr().out
 
 
 def test_the_debris_case_carries_the_wall_material(tmp_path, make_case):

@@ -24,7 +24,7 @@ def run(
     force: bool = typer.Option(False, "--force", help="Overwrite an existing run folder."),
 ):
     """Run a shot end to end: shield impact, binning, debris flight and deposition, wall decks, report."""
-    from impactdyn.whipple import load_whipple_case, run_whipple, wall_ending
+    from impactdyn.whipple import load_whipple_case, run_whipple, wall_ending, wall_permanent_bulge
 
     c = load_whipple_case(case)
     bar, update = progress_bars(counts=False)
@@ -45,6 +45,8 @@ def run(
                f"of the thickness, rear bulge {w.get('rear_bulge_cm', 0):.3g} cm; report in {Path(out) / 'report.html'}")
     if w.get("ended_by") == "ceiling":
         typer.echo(f"wall run ended at {wall_ending(w)}")
+    if "settled" in w:
+        typer.echo(f"rear-face permanent bulge (the wall brought to rest): {wall_permanent_bulge(w)}")
 
 
 @app.command()

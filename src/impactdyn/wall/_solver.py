@@ -123,6 +123,7 @@ class WallSolver:
         self.min_dt = options.min_step_fraction * dtmin
         self.clock = np.array([t_start, 0.0, options.courant * dtmin, 0.0, 0.0, 0.0])
         self._damaged_count = 0
+        self._settle_steps = 0  # steps taken by the current settle(), for its breakdown record
         self.k0 = None
 
     # -- compiled passes ------------------------------------------------------------------------------
@@ -277,11 +278,25 @@ class WallSolver:
 
         Returns ``permanent_rear_bulge_cm`` (the largest outward u_y of a rear-face wall node at
         rest), ``settled``, ``settle_steps`` (both phases), ``rebound_end_us`` (the time phase 1
-        ended) and ``settle_resets``.
+        ended) and ``settle_resets``.  A breakdown of the solver on the way (the wall's free swing
+        goes on far past the run) does not raise: the run's own measures stand, and
+        ``permanent_rear_bulge_cm`` is None with the message in ``settle_error``.
         """
         o = self.options
         report = progress if progress is not None else (lambda done, total: None)
         report(0.0, 1.0)
+        self._settle_steps = 0
+        try:
+            out = self._settle(report)
+        except WallSolverError as err:  # the run's measures stand; only the permanent bulge is lost
+            out = {"permanent_rear_bulge_cm": None, "settled": False, "settle_steps": self._settle_steps,
+                   "rebound_end_us": None, "settle_resets": None, "settle_error": str(err)}
+        report(1.0, 1.0)
+        return out
+
+    def _settle(self, report: Callable[[float, float], None]) -> dict[str, Any]:
+        """The two phases of :meth:`settle`."""
+        o = self.options
         steps = self._rebound(o.max_settle_steps)
         rebound_end = self.time
         self.clock[_step.DT_NEXT] *= min(o.courant, SETTLE_COURANT) / o.courant
@@ -295,6 +310,7 @@ class WallSolver:
         while not settled and steps < o.max_settle_steps:
             self.advance(math.inf, 1, settling=True)
             steps += 1
+            self._settle_steps = steps
             k = self._wall_kinetic()
             if rising and k < last:          # a peak has passed: stop every wall node
                 self.update_categories()
@@ -311,7 +327,6 @@ class WallSolver:
                     report(min(1.0, math.log(first_ratio / ratio) / math.log(first_ratio / o.settle_tolerance)), 1.0)
             rising = k > last
             last = k
-        report(1.0, 1.0)
         bulge, _ = self._surface()
         return {"permanent_rear_bulge_cm": bulge, "settled": bool(settled), "settle_steps": steps,
                 "rebound_end_us": rebound_end, "settle_resets": resets}
@@ -333,6 +348,7 @@ class WallSolver:
                 swing = math.copysign(1.0, p)
             self.advance(math.inf, 1)
             steps += 1
+            self._settle_steps = steps
             self.update_categories()
         return steps
 

@@ -69,7 +69,7 @@ def wall_figures(wall: dict, ble: dict) -> dict:
     keys = ("crater_depth_ratio", "crater_depth_cm", "rear_bulge_cm", "peak_rear_bulge_cm", "peak_rear_bulge_time_us",
             "peak_rear_velocity_km_s", "failed_mass_g", "eroded_mass_g", "spall_mass_g", "failed_mass_by_cause_g",
             "failed_elements", "eroded_elements", "hourglass_to_internal", "end_time_us", "ended_by",
-            "kinetic_left_fraction", "steps", "permanent_rear_bulge_cm", "settled", "settle_steps")
+            "kinetic_left_fraction", "steps", "permanent_rear_bulge_cm", "settled", "settle_steps", "settle_error")
     return {"verdict": wall["verdict"], "criterion": wall["evidence"].get("criterion"),
             "agrees_with_equation": (wall["verdict"] != "no perforation") == (ble["verdict"] == "perforation"),
             "material_model": wall["model"].get("model"), "mesh": wall["mesh"],
@@ -201,8 +201,10 @@ def _bulge(wall: dict) -> str:
             f"({wall['peak_rear_bulge_time_us']:.4g} µs)")
 
 
-def _permanent(wall: dict) -> str:
+def wall_permanent_bulge(wall: dict) -> str:
     """The permanent bulge of a settled wall, or how to get it."""
+    if wall.get("settle_error"):
+        return f"not measured: {wall['settle_error']} while the wall was brought to rest"
     if wall.get("permanent_rear_bulge_cm") is None:
         return "not computed ([wall_solver] settle = true)"
     text = _fmt(wall["permanent_rear_bulge_cm"], "cm") + f" after {wall['settle_steps']} settling steps"
@@ -265,7 +267,7 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
         ("crater depth / wall thickness", _fmt(wall.get("crater_depth_ratio"))),
         ("rear-face bulge at the end; its peak (when)", _bulge(wall)),
         ("run ended by", wall_ending(wall)),
-        ("rear-face permanent bulge (the wall brought to rest)", _permanent(wall)),
+        ("rear-face permanent bulge (the wall brought to rest)", wall_permanent_bulge(wall)),
         ("peak rear-face velocity", _fmt(wall.get("peak_rear_velocity_km_s"), "km/s")),
         ("failed / eroded / spalled mass", _fmt([wall.get("failed_mass_g", 0.0), wall.get("eroded_mass_g", 0.0),
                                                  wall.get("spall_mass_g", 0.0)], "g")),
