@@ -244,7 +244,7 @@ class WallSolver:
            the swing's remaining plastic work (a clamped plate settled from 3 µs, mid-swing, kept
            0.059 cm against the 0.105 about which it rings once yielding is over; settled at its
            first turning point, 0.109, +4 %, the rebound's reverse yielding missed; after the
-           rebound 0.1046, −0.3 %, from any start in the first swing; BENCHMARKS.md).
+           rebound 0.1045, −0.4 %, from any start in the first swing; BENCHMARKS.md).
         2. Kinetic damping (Cundall 1976; Barnes, Int. J. Space Structures 14 (1999) 89, "form
            finding and analysis of tension structures by dynamic relaxation"): the steps go on;
            whenever the kinetic energy of the wall nodes passes a peak (a rise, then a fall), every
@@ -282,7 +282,6 @@ class WallSolver:
         goes on far past the run) does not raise: the run's own measures stand, and
         ``permanent_rear_bulge_cm`` is None with the message in ``settle_error``.
         """
-        o = self.options
         report = progress if progress is not None else (lambda done, total: None)
         report(0.0, 1.0)
         self._settle_steps = 0
