@@ -123,7 +123,6 @@ class WallSolver:
         self.min_dt = options.min_step_fraction * dtmin
         self.clock = np.array([t_start, 0.0, options.courant * dtmin, 0.0, 0.0, 0.0])
         self._damaged_count = 0
-        self._settle_steps = 0  # steps taken by the current settle(), for its breakdown record
         self.k0 = None
 
     # -- compiled passes ------------------------------------------------------------------------------
@@ -284,11 +283,11 @@ class WallSolver:
         """
         report = progress if progress is not None else (lambda done, total: None)
         report(0.0, 1.0)
-        self._settle_steps = 0
+        first_step = self.steps
         try:
             out = self._settle(report)
         except WallSolverError as err:  # the run's measures stand; only the permanent bulge is lost
-            out = {"permanent_rear_bulge_cm": None, "settled": False, "settle_steps": self._settle_steps,
+            out = {"permanent_rear_bulge_cm": None, "settled": False, "settle_steps": self.steps - first_step,
                    "rebound_end_us": None, "settle_resets": None, "settle_error": str(err)}
         report(1.0, 1.0)
         return out
@@ -309,7 +308,6 @@ class WallSolver:
         while not settled and steps < o.max_settle_steps:
             self.advance(math.inf, 1, settling=True)
             steps += 1
-            self._settle_steps = steps
             k = self._wall_kinetic()
             if rising and k < last:          # a peak has passed: stop every wall node
                 self.update_categories()
@@ -337,7 +335,9 @@ class WallSolver:
         largest = 0.0
         steps = 0
         self.update_categories()
-        while steps < max_steps and self._wall_kinetic() > 0.0:
+        if self._wall_kinetic() == 0.0:  # at rest already: no swing to finish
+            return 0
+        while steps < max_steps:
             wall = self.category == WALL
             p = float(self.mesh.node_mass[wall] @ self.v[wall, 1])
             largest = max(largest, abs(p))
@@ -347,7 +347,6 @@ class WallSolver:
                 swing = math.copysign(1.0, p)
             self.advance(math.inf, 1)
             steps += 1
-            self._settle_steps = steps
             self.update_categories()
         return steps
 

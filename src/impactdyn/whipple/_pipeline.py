@@ -143,7 +143,7 @@ def _wall(s: StageContext) -> dict:
     options = s.case.wall_solver.options(s.case.wall.clamped_edges)
     result = run_wall(wall, deposition, s.case.wall.material, options,
                       progress=lambda t, t_end: s.report("wall", t, t_end),
-                      settle_progress=(lambda done, total: s.report("settle", done, total)) if options.settle else None)
+                      settle_progress=lambda done, total: s.report("settle", done, total))
     out = s.folder.sub("wall")
     files = write_wall_outputs(result, out.path, plots=out.path / "plots", lean=not s.case.output.vtk)
     s.report("wall", 1, 1)
