@@ -99,7 +99,9 @@ import numpy as np
 from numba import get_thread_id, njit, prange
 
 from impactdyn.constitutive import C0, RHO0, SHEAR, spin_terms, von_mises
-from impactdyn.wall._hex import BLOCK, ETA, XI, ZETA, characteristic_lengths, hourglass_shapes, volume_gradient
+from impactdyn.wall._hex import (
+    BLOCK, ETA, N_GEOMETRY_ROWS, ROW_B, ROW_G, ROW_LE, ROW_VOL, ROW_X, XI, ZETA, characteristic_lengths,
+    hourglass_shapes, volume_gradient)
 from impactdyn.wall._johnson_cook import jc_update
 from impactdyn.wall._mat13 import KIND as MAT13_KIND
 from impactdyn.wall._mat13 import M_G, M_K, mat13_update
@@ -142,47 +144,54 @@ def _erase(F, es, Shg, e):
 
 
 #: Rows of the per-thread flat block array ``A`` of :func:`element_pass`; row r of brick k of the
-#: block is A[r·BLOCK + k].  Per brick: end coordinates X and velocities V (row R_X + 8i + a, R_V + 8i + a:
-#: component i at local node a), volume gradient ∂V/∂x (R_B + 8i + a), nodal forces (R_F + 8i + a),
-#: hourglass shape vectors γ (R_G + 8α + a), hourglass velocities q̇ and forces Q (R_QD + 3α + i,
-#: R_QN + 3α + i), velocity gradient in the end configuration (R_LB + 3i + j), the 4 rows of work space of
-#: :func:`~impactdyn.wall._hex.hourglass_shapes` (R_TMP), the reciprocal vectors ∇ξ_m (R_J + 3m + i),
-#: volume, the power p2 = fⁿ·v^{n+½}, the stress σ = S − pI (R_SIG + 6 components), bulk viscosity q,
-#: live flag, power p1 = f_σ·v^{n+½}, B·v^{n+½}, characteristic length, sound speed, tr d, stable step
-#: Δt_e, and the assumed-strain form's tangent ratio, flow stress, spin over the step Δt (Ω_xy, Ω_yz,
-#: Ω_xz) and stored hourglass stresses (R_SHG + the ``Shg`` column).  One flat array with rows a compile-time multiple of BLOCK apart, and
-#: block kernels that run over all BLOCK bricks (a compile-time trip count), are what let the compiler
-#: see that the rows never overlap and vectorise the loops over the bricks.  Past the end of a short
-#: last block those kernels compute on stale rows, whose results are never read.
-(R_X, R_V, R_B, R_F, R_G, R_QD, R_QN, R_LB, R_TMP, R_J) = (0, 24, 48, 72, 96, 128, 140, 152, 161, 165)
-(R_VOL, R_P2, R_SIG, R_Q, R_OK, R_P1, R_BV, R_LE, R_C, R_TRD, R_DTE, R_RATIO, R_FLOW, R_SPIN, R_SHG) = (
-    174, 175, 176, 182, 183, 184, 185, 186, 187, 188, 189, 190, 191, 192, 195)
+#: block is A[r·BLOCK + k].  First the geometry rows of :mod:`._hex` (end coordinates R_X + 8i + a: component i
+#: at local node a; volume gradient ∂V/∂x R_B + 8i + a; hourglass shape vectors γ R_G + 8α + a; volume; 4 rows
+#: of work space; characteristic length), then per brick: velocities (R_V + 8i + a), nodal forces
+#: (R_F + 8i + a), hourglass velocities q̇ and forces Q (R_QD + 3α + i, R_QN + 3α + i), velocity gradient in
+#: the end configuration (R_LB + 3i + j), the reciprocal vectors ∇ξ_m (R_J + 3m + i), the midstep velocity
+#: gradient (R_LM + 3i + j), the power
+#: p2 = fⁿ·v^{n+½}, the stress σ = S − pI (R_SIG + 6 components), bulk viscosity q, live flag, power
+#: p1 = f_σ·v^{n+½}, B·v^{n+½}, sound speed, tr d, stable step Δt_e, and the assumed-strain form's tangent
+#: ratio, flow stress, spin over the step Δt (Ω_xy, Ω_yz, Ω_xz) and stored hourglass stresses (R_SHG + the
+#: ``Shg`` column).  One flat array with rows a compile-time multiple of BLOCK apart, and block kernels that
+#: run over all BLOCK bricks (a compile-time trip count), are what let the compiler see that the rows never
+#: overlap and vectorise the loops over the bricks.  Past the end of a short last block those kernels compute
+#: on stale rows, whose results are never read.
+(R_X, R_B, R_G, R_VOL, R_LE) = (ROW_X, ROW_B, ROW_G, ROW_VOL, ROW_LE)
+(R_V, R_F, R_QD, R_QN, R_LB, R_J, R_LM) = (N_GEOMETRY_ROWS + r for r in (0, 24, 48, 60, 72, 81, 90))
+(R_P2, R_SIG, R_Q, R_OK, R_P1, R_BV, R_C, R_TRD, R_DTE, R_RATIO, R_FLOW, R_SPIN, R_SHG) = (
+    N_GEOMETRY_ROWS + r for r in (99, 100, 106, 107, 108, 109, 110, 111, 112, 113, 114, 115, 118))
 N_ROWS = R_SHG + N_SHG
 
 
-@njit(cache=True, inline="always")
-def midstep_gradient(G, k, h, L, e):
-    """L[e] = G (I − h G)⁻¹: the midstep velocity gradient of element k's uniform motion (h = ½Δt).
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+def midstep_gradients(A, h):
+    """L = G (I − h G)⁻¹ (rows R_LM + 3i + j): the midstep velocity gradient of the uniform motion of the
+    bricks of the block array A (h = ½Δt).
 
-    G[:, :, k] is the gradient of the element's velocities in the end configuration x^{n+1}.
+    G (rows R_LB + 3i + j) is the gradient of a brick's velocities in the end configuration x^{n+1}.
     For the linear (uniform) part of the motion, v = G x^{n+1} + c and x^{n+½} = x^{n+1} − h v,
     so v = G (I − h G)⁻¹ x^{n+½} + c': this is the mean gradient in the midstep configuration,
     exactly, for all the motion the one-point element strains with (the hourglass part aside).
     For a rigid rotation it is the Cayley form (2/Δt)(I − Q)(I + Q)⁻¹, Q = Rⁿ(Rⁿ⁺¹)ᵀ, exactly
     skew: no strain.
     """
-    m00, m01, m02 = 1.0 - h * G[0, 0, k], -h * G[0, 1, k], -h * G[0, 2, k]
-    m10, m11, m12 = -h * G[1, 0, k], 1.0 - h * G[1, 1, k], -h * G[1, 2, k]
-    m20, m21, m22 = -h * G[2, 0, k], -h * G[2, 1, k], 1.0 - h * G[2, 2, k]
-    c00, c01, c02 = m11 * m22 - m12 * m21, m02 * m21 - m01 * m22, m01 * m12 - m02 * m11
-    c10, c11, c12 = m12 * m20 - m10 * m22, m00 * m22 - m02 * m20, m02 * m10 - m00 * m12
-    c20, c21, c22 = m10 * m21 - m11 * m20, m01 * m20 - m00 * m21, m00 * m11 - m01 * m10
-    r = 1.0 / (m00 * c00 + m01 * c10 + m02 * c20)
-    for i in range(3):
-        g0, g1, g2 = G[i, 0, k], G[i, 1, k], G[i, 2, k]
-        L[e, i, 0] = (g0 * c00 + g1 * c10 + g2 * c20) * r
-        L[e, i, 1] = (g0 * c01 + g1 * c11 + g2 * c21) * r
-        L[e, i, 2] = (g0 * c02 + g1 * c12 + g2 * c22) * r
+    for k in range(BLOCK):
+        g00, g01, g02 = _block_vector(A, R_LB, k)
+        g10, g11, g12 = _block_vector(A, R_LB + 3, k)
+        g20, g21, g22 = _block_vector(A, R_LB + 6, k)
+        m00, m01, m02 = 1.0 - h * g00, -h * g01, -h * g02
+        m10, m11, m12 = -h * g10, 1.0 - h * g11, -h * g12
+        m20, m21, m22 = -h * g20, -h * g21, 1.0 - h * g22
+        c00, c01, c02 = m11 * m22 - m12 * m21, m02 * m21 - m01 * m22, m01 * m12 - m02 * m11
+        c10, c11, c12 = m12 * m20 - m10 * m22, m00 * m22 - m02 * m20, m02 * m10 - m00 * m12
+        c20, c21, c22 = m10 * m21 - m11 * m20, m01 * m20 - m00 * m21, m00 * m11 - m01 * m10
+        r = 1.0 / (m00 * c00 + m01 * c10 + m02 * c20)
+        for i in range(3):
+            g0, g1, g2 = _block_vector(A, R_LB + 3 * i, k)
+            A[(R_LM + 3 * i) * BLOCK + k] = (g0 * c00 + g1 * c10 + g2 * c20) * r
+            A[(R_LM + 3 * i + 1) * BLOCK + k] = (g0 * c01 + g1 * c11 + g2 * c21) * r
+            A[(R_LM + 3 * i + 2) * BLOCK + k] = (g0 * c02 + g1 * c12 + g2 * c22) * r
 
 
 @njit(cache=True, inline="always")
@@ -583,12 +592,6 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, 
         lam0 = table[0, RHO0] * table[0, C0] ** 2 - 2.0 / 3.0 * shear
     for blk in prange((ne + BLOCK - 1) // BLOCK):
         A = blocks[get_thread_id()]
-        # (3, 8, BLOCK) and (4, 8, BLOCK) views of the block array for the geometry of :mod:`._hex`
-        X = A[R_X * BLOCK:(R_X + 24) * BLOCK].reshape((3, 8, BLOCK))
-        B = A[R_B * BLOCK:(R_B + 24) * BLOCK].reshape((3, 8, BLOCK))
-        G = A[R_G * BLOCK:(R_G + 32) * BLOCK].reshape((4, 8, BLOCK))
-        LB = A[R_LB * BLOCK:(R_LB + 9) * BLOCK].reshape((3, 3, BLOCK))
-        vols = A[R_VOL * BLOCK:(R_VOL + 1) * BLOCK]
         e0 = blk * BLOCK
         nb = min(BLOCK, ne - e0)
         # gather the block; p2 = f^n · v^{n+½}, the second half of the previous forces' work
@@ -604,12 +607,13 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, 
                     p2 += F[e, a, i] * vv
             A[R_P2 * BLOCK + k] = p2
         # geometry at the step's end, velocity gradient and hourglass velocities
-        volume_gradient(X, B, vols, nb)
-        hourglass_shapes(X, B, vols, G, A[R_TMP * BLOCK:(R_TMP + 4) * BLOCK].reshape((4, BLOCK)), nb)
+        volume_gradient(A)
+        hourglass_shapes(A)
         if hg_form == HG_ASSUMED_STRAIN:
             reciprocal_vectors(A)
         velocity_gradients(A)
-        characteristic_lengths(X, vols, A[R_LE * BLOCK:(R_LE + 1) * BLOCK], nb)
+        midstep_gradients(A, 0.5 * dt)
+        characteristic_lengths(A)
         # brick by brick: work of the previous forces, bulk viscosity, material, hourglass forces
         bstatus = 0
         for k in range(nb):
@@ -629,7 +633,8 @@ def element_pass(x, v, conn, vol0, emass, S, es, flags, bad, Lbuf, Qhg, Shg, F, 
                     bad[e] = BAD_VOLUME
                     bstatus = max(bstatus, BAD_VOLUME)
                 continue
-            midstep_gradient(LB, k, 0.5 * dt, Lbuf, e)
+            for r in range(9):
+                Lbuf[e, r // 3, r % 3] = A[(R_LM + r) * BLOCK + k]
             trd = Lbuf[e, 0, 0] + Lbuf[e, 1, 1] + Lbuf[e, 2, 2]
             # complete the work of the previous forces over Δt^n: ½Δt^n f^n·(v^{n−½} + v^{n+½}), by kind
             p2_hg = 0.0
