@@ -67,6 +67,18 @@ class JohnsonCook:
     t_room: float = 294.0
     reference_strain_rate: float = 1.0e-6
 
+    def __post_init__(self) -> None:
+        for field in ("n", "m", "t_melt", "reference_strain_rate"):
+            value = getattr(self, field)
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+                raise InputError(f"JohnsonCook.{field}: must be a positive number, got {value!r}")
+        for field in ("A", "B", "C", "t_room"):
+            value = getattr(self, field)
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
+                raise InputError(f"JohnsonCook.{field}: must be a number >= 0, got {value!r}")
+        if self.t_melt <= self.t_room:
+            raise InputError(f"JohnsonCook.t_melt: must exceed t_room ({self.t_room!r}), got {self.t_melt!r}")
+
 
 @dataclass(frozen=True)
 class Material:

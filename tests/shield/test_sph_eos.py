@@ -101,6 +101,9 @@ def test_johnson_cook_flow_stress():
     tstar = (500.0 - 294.0) / (925.0 - 294.0)
     assert y == pytest.approx((jc.A + jc.B * 0.1**jc.n) * (1 + jc.C * np.log(1e4)) * (1 - tstar**jc.m))
     assert _strength.flow_stress(params, 0, True, 0.1, 1e-2, 2000.0) == 0.0
+    # the unyielded state skips pow(): continuous into εₚ > 0, and a negative εₚ counts as 0
+    assert _strength.flow_stress(params, 0, True, 1e-300, 0.0, 294.0) == pytest.approx(jc.A, rel=1e-12)
+    assert _strength.flow_stress(params, 0, True, -1e-3, 0.0, 294.0) == _strength.flow_stress(params, 0, True, 0.0, 0.0, 294.0)
 
 
 def test_artificial_stress_is_the_tensile_part():
@@ -139,4 +142,8 @@ def test_material_validation():
         dataclasses.replace(AL_6061_T6, c0=-1.0)
     with pytest.raises(InputError, match="spall_strength"):
         dataclasses.replace(AL_6061_T6, spall_strength=0.0)
+    jc = AL_6061_T6.johnson_cook
+    for field, bad in (("n", 0.0), ("m", -1.0), ("B", -0.1), ("reference_strain_rate", 0.0), ("t_melt", 200.0)):
+        with pytest.raises(InputError, match=f"JohnsonCook.{field}"):
+            dataclasses.replace(jc, **{field: bad})
     assert _eos.pack_materials([dataclasses.replace(AL_6061_T6, spall_strength=None)])[0, _eos.P_SPALL] == np.inf

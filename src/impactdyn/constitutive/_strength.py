@@ -94,7 +94,8 @@ def flow_stress(params, k, johnson_cook, eps_p, rate, T):
     if not johnson_cook or params[k, HAS_JC] == 0.0:
         return params[k, YIELD]
     tstar = min(max((T - params[k, JC_TROOM]) / (params[k, JC_TMELT] - params[k, JC_TROOM]), 0.0), 1.0)
-    hardening = params[k, JC_A] + params[k, JC_B] * max(eps_p, 0.0) ** params[k, JC_N]
+    # εₚ = 0 (an element or particle that has not yielded): no pow() call, the same value (0ⁿ = 0, n > 0)
+    hardening = params[k, JC_A] + (params[k, JC_B] * eps_p ** params[k, JC_N] if eps_p > 0.0 else 0.0)
     rate_term = 1.0 + params[k, JC_C] * math.log(max(rate / params[k, JC_RATE0], 1.0))
     return hardening * rate_term * (1.0 - tstar ** params[k, JC_M])
 
