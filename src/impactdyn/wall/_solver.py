@@ -338,8 +338,7 @@ class WallSolver:
         if self._wall_kinetic() == 0.0:  # at rest already: no swing to finish
             return 0
         while steps < max_steps:
-            wall = self.category == WALL
-            p = float(self.mesh.node_mass[wall] @ self.v[wall, 1])
+            p = _step.wall_momentum_y(self.mesh.node_mass, self.v, self.category)
             largest = max(largest, abs(p))
             if abs(p) > SWING_HYSTERESIS * largest:
                 if swing < 0.0 < p:

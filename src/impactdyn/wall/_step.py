@@ -902,6 +902,20 @@ def nodal_energy(v, mass, free, Fflat, ptr, entry, category, dt_full):
     return kin, kin_wall, kin_orphan, kin_cross, np.array([px, py, pz])
 
 
+@njit(cache=True)
+def wall_momentum_y(mass, v, category):
+    """Σ m v_y over the wall nodes (``category`` 0): the wall's outward momentum (:meth:`impactdyn.wall.WallSolver.settle`).
+
+    Called every step of the rebound: a loop over the nodes instead of ``mass[wall] @ v[wall, 1]``, which
+    copied both masked arrays each step (0.2 ms against a step's ~2 ms on the report's wall).
+    """
+    p = 0.0
+    for n in range(mass.shape[0]):
+        if category[n] == 0:
+            p += mass[n] * v[n, 1]
+    return p
+
+
 @njit(parallel=True, cache=True)
 def force_balance(Fflat, ptr, entry, free, category):
     """How far the wall is from static equilibrium (:meth:`impactdyn.wall.WallSolver.settle`).
