@@ -200,11 +200,6 @@ def gather_coordinates(A, coords, conn, e0):
                 A[(ROW_X + 8 * i + a) * BLOCK + k] = coords[conn[e, a], i]
 
 
-def geometry_array() -> np.ndarray:
-    """A zeroed block array of the geometry rows alone, (N_GEOMETRY_ROWS · BLOCK,)."""
-    return np.zeros(N_GEOMETRY_ROWS * BLOCK)
-
-
 @njit(parallel=True, cache=True)
 def element_volumes(coords, conn):
     """Volume of every element of a mesh, (n_elements,), from the node coordinates (n_nodes, 3)."""

@@ -149,11 +149,10 @@ def _erase(F, es, Shg, e):
 #: of work space; characteristic length), then per brick: velocities (R_V + 8i + a), nodal forces
 #: (R_F + 8i + a), hourglass velocities q̇ and forces Q (R_QD + 3α + i, R_QN + 3α + i), velocity gradient in
 #: the end configuration (R_LB + 3i + j), the reciprocal vectors ∇ξ_m (R_J + 3m + i), the midstep velocity
-#: gradient (R_LM + 3i + j), the power
-#: p2 = fⁿ·v^{n+½}, the stress σ = S − pI (R_SIG + 6 components), bulk viscosity q, live flag, power
-#: p1 = f_σ·v^{n+½}, B·v^{n+½}, sound speed, tr d, stable step Δt_e, and the assumed-strain form's tangent
-#: ratio, flow stress, spin over the step Δt (Ω_xy, Ω_yz, Ω_xz) and stored hourglass stresses (R_SHG + the
-#: ``Shg`` column).  One flat array with rows a compile-time multiple of BLOCK apart, and block kernels that
+#: gradient (R_LM + 3i + j), the power p2 = fⁿ·v^{n+½}, the stress σ = S − pI (R_SIG + 6 components), bulk
+#: viscosity q, live flag, power p1 = f_σ·v^{n+½}, B·v^{n+½}, sound speed, tr d, stable step Δt_e, and the
+#: assumed-strain form's tangent ratio, flow stress, spin over the step Δt (Ω_xy, Ω_yz, Ω_xz) and stored
+#: hourglass stresses (R_SHG + the ``Shg`` column).  One flat array with rows a compile-time multiple of BLOCK apart, and block kernels that
 #: run over all BLOCK bricks (a compile-time trip count), are what let the compiler see that the rows never
 #: overlap and vectorise the loops over the bricks.  Past the end of a short last block those kernels compute
 #: on stale rows, whose results are never read.
