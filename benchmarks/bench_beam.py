@@ -21,6 +21,7 @@ from scipy.integrate import solve_ivp
 
 from impactdyn.beam import BeamModel, listing_restitution, load_case, simulate
 from impactdyn.beam._simulate import initial_state, torque_schedule
+from _machine import describe_machine
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "beam"
 
@@ -100,7 +101,7 @@ def main():
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--baseline-repeat", type=int, default=3)
     args = ap.parse_args()
-    print(f"machine: {platform.processor() or platform.machine()}, {platform.platform()}")
+    print(f"machine: {describe_machine()}, {platform.platform()}")
     print("| sample | impactdyn median (s) | baseline median (s) | speed-up | first impact (ours / baseline) |")
     print("|---|---|---|---|---|")
     for name in ("impactc_sample", "impactb_sample"):

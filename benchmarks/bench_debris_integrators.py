@@ -28,8 +28,6 @@ to the total impulse (:func:`impulse_difference`) against DEFAULT.
 from __future__ import annotations
 
 import argparse
-import os
-import platform
 import time
 
 import numba
@@ -39,6 +37,7 @@ from scipy.integrate import solve_ivp
 from impactdyn.debris._integrators import IntegratorOptions, propagate
 from impactdyn.debris._particle import F_SLICE, ParticleMaterial, C_SLICE, state_rates
 from impactdyn.debris._tets import initial_state, tet_vertices
+from _machine import describe_machine
 
 ALUMINIUM = ParticleMaterial(mu=0.276, lam=0.56, rho_ref=2.703, eta=1.0, zeta=0.0)
 CELL = 0.03175
@@ -177,7 +176,7 @@ def main() -> None:
 
     print(f"N = {args.n} particles, flight 0.5–{args.t_max:g} µs (mean {t_end.mean():.2f}), "
           f"reference: DOP853 rtol 1e-12 on {len(subset)} particles ({t_reference:.0f} s); "
-          f"{platform.processor() or platform.machine()}, {os.cpu_count()} CPUs, "
+          f"{describe_machine()}, "
           f"numba {numba.__version__} with {numba.get_num_threads()} threads\n")
     print("| integrator | wall (s) | CPU (s) | steps/particle | rejected (%) | particle-steps/s (wall) "
           "| max vertex error (cm) | median vertex error (cm) | failed |")

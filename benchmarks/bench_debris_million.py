@@ -17,8 +17,6 @@ steps_per_period counts steps per rigid rotation period (:mod:`impactdyn.debris.
 from __future__ import annotations
 
 import argparse
-import os
-import platform
 import time
 
 import numba
@@ -27,6 +25,7 @@ import numpy as np
 from bench_debris_integrators import ALUMINIUM, synthetic_cloud
 from impactdyn.debris import INTEGRATORS, ComputeOptions, IntegratorOptions, ParticleCloud, propagate_chunked
 from impactdyn.debris._splitting import BLANES_MOAN_S6, VERLET
+from _machine import describe_machine
 
 #: Floating-point operations of a splitting step, counted by hand from the kernels (ζ = 0): a
 #: stage (drift H J⁻¹; C = FᵀF, E', det F, adj C, S, F S and the kick; Eₚ relaxed) ~290, plus
@@ -59,7 +58,7 @@ def main() -> None:
     _, stats = propagate_chunked(cloud, t_end, ALUMINIUM, options, ComputeOptions())
     wall = time.perf_counter() - w0
     steps = stats.steps.sum()
-    print(f"{platform.processor() or platform.machine()}, {os.cpu_count()} CPUs, numba {numba.__version__}, "
+    print(f"{describe_machine()}, numba {numba.__version__}, "
           f"{numba.get_num_threads()} threads")
     flops = (f"~{FLOPS_PER_STEP[args.integrator] * steps / wall / 1e9:.2f} GFLOP/s "
              f"(hand count {FLOPS_PER_STEP[args.integrator]} flops/step)" if args.integrator in FLOPS_PER_STEP

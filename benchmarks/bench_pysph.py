@@ -47,6 +47,7 @@ import tempfile
 import time
 import traceback
 from pathlib import Path
+from _machine import describe_machine
 
 # ---- the example's parameters (SI), as in pysph/examples/solid_mech/impact3d.py -------------
 DX = 0.0005            # m
@@ -331,8 +332,8 @@ class _Remote:
 # ---- driver and report ----------------------------------------------------------------------------
 def main() -> None:
     args = ARGS
-    print(f"machine: {platform.platform()}, {platform.processor() or platform.machine()}, "
-          f"{os.cpu_count()} CPUs; Python {platform.python_version()}, NumPy {np.__version__}; "
+    print(f"machine: {platform.platform()}, {describe_machine()}; "
+          f"Python {platform.python_version()}, NumPy {np.__version__}; "
           f"load average (1 min) at start {os.getloadavg()[0]:.2f}")
     print("case: PySPH examples/solid_mech/impact3d.py: steel sphere r = 5 mm at 3.1 km/s on a 2 x 40 x 40 mm "
           f"aluminium plate; spacing {DX * 1e3:g} mm, h = {HDX} dx, cubic spline (support 2h), dt = {DT:g} s "

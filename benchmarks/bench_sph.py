@@ -17,14 +17,13 @@ per parallel launch (``OMP_WAIT_POLICY=passive`` or
 from __future__ import annotations
 
 import argparse
-import os
-import platform
 import time
 
 import numba
 
 from impactdyn import shield
 from impactdyn.shield import _integrate, _neighbours
+from _machine import describe_machine
 
 
 def main() -> None:
@@ -81,7 +80,7 @@ def main() -> None:
     for (m, name), fn in originals.items():
         setattr(m, name, fn)
 
-    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} CPUs; numba {numba.__version__}, "
+    print(f"machine: {describe_machine()}; numba {numba.__version__}, "
           f"threading layer {numba.threading_layer()}, {numba.get_num_threads()} threads")
     print(f"sphere on plate (7a), spacing {args.spacing} cm: {n} particles, {steps} steps to t = {t_stop:.4f} us")
     print(f"wall {wall:.2f} s -> {n * steps / wall:,.0f} particle-steps/s; "

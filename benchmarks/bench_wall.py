@@ -42,7 +42,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import platform
 import statistics
 import time
 from dataclasses import replace
@@ -52,6 +51,7 @@ import numpy as np
 
 from impactdyn import wall
 from impactdyn.wallgrid import WallDeposition, WallGrid
+from _machine import describe_machine
 
 
 def report_wall() -> WallGrid:
@@ -141,8 +141,8 @@ def main() -> None:
     bandwidth = triad_bandwidth() if args.roofline else None
     default_form = wall.WallOptions().hourglass
     forms = args.hourglass or [default_form]
-    print(f"impactdyn wall solver benchmark: {platform.processor() or platform.machine()}, "
-          f"{os.cpu_count()} cores, numba {numba.__version__}, {args.threads} threads, "
+    print(f"impactdyn wall solver benchmark: {describe_machine()}, "
+          f"numba {numba.__version__}, {args.threads} threads, "
           f"OMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY', '(unset)')}; "
           f"hourglass form(s) {', '.join(forms)} (default {default_form!r}); material model {args.material_model}; "
           f"1-min load average {os.getloadavg()[0]:.2f}")
