@@ -100,8 +100,9 @@ def state_bytes_per_element(solver: wall.WallSolver) -> float:
     return sum(a.nbytes for a in element) / mesh.n_elements
 
 
-def measure(refinement: int, steps: int, driver: str, hourglass: str | None = None,
-            material_model: str = "mat13") -> tuple[int, int, float, float, float]:
+def bench_solver(refinement: int, hourglass: str | None = None, material_model: str = "mat13") -> wall.WallSolver:
+    """The report's wall refined ``refinement`` times (thickness and plane) under the synthetic
+    deposition, at its first arrival; ``hourglass`` None: the solver's default form."""
     grid = report_wall()
     options = wall.WallOptions(refinement_thickness=refinement, refinement_plane=refinement,
                                material_model=material_model)
@@ -110,7 +111,13 @@ def measure(refinement: int, steps: int, driver: str, hourglass: str | None = No
     model = wall.wall_model(material_model, "al6061-t6")
     mesh = wall.build_mesh(grid, model.density, refinement, refinement)
     load = wall.nodal_load(mesh, synthetic_deposition(grid))
-    solver = wall.WallSolver(mesh, model, options, load=load, t_start=float(load.time.min()))
+    return wall.WallSolver(mesh, model, options, load=load, t_start=float(load.time.min()))
+
+
+def measure(refinement: int, steps: int, driver: str, hourglass: str | None = None,
+            material_model: str = "mat13") -> tuple[int, int, float, float, float]:
+    solver = bench_solver(refinement, hourglass, material_model)
+    mesh = solver.mesh
     solver.advance(solver.time + 0.5)  # warm-up: compile or load the kernels, apply the first loads
     n0 = solver.steps
     t0, c0 = time.perf_counter(), time.process_time()
