@@ -48,6 +48,15 @@ _MBAR_PER_MPA = 1.0e-3 * MBAR_PER_GPA
 _CM2_US2_PER_J_G = 1.0e-5  # 1 J/g = 1e3 J/kg = 1e-5 cm²/µs² (1 cm²/µs² = 1e8 J/kg)
 
 
+def _require_numbers(obj: object, fields: tuple[str, ...], positive: bool) -> None:
+    """InputError naming ``Class.field`` for the first of ``fields`` of ``obj`` that is not a finite
+    number > 0 (``positive``) or >= 0."""
+    for field in fields:
+        value = getattr(obj, field)
+        if not (isinstance(value, (int, float)) and math.isfinite(value) and (value > 0 if positive else value >= 0)):
+            raise InputError(f"{type(obj).__name__}.{field}: must be {'>' if positive else '>='} 0, got {value!r}")
+
+
 @dataclass(frozen=True)
 class JohnsonCook:
     """Johnson–Cook flow stress [JC83]::
@@ -68,14 +77,8 @@ class JohnsonCook:
     reference_strain_rate: float = 1.0e-6
 
     def __post_init__(self) -> None:
-        for field in ("n", "m", "t_melt", "reference_strain_rate"):
-            value = getattr(self, field)
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-                raise InputError(f"JohnsonCook.{field}: must be a positive number, got {value!r}")
-        for field in ("A", "B", "C", "t_room"):
-            value = getattr(self, field)
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
-                raise InputError(f"JohnsonCook.{field}: must be a number >= 0, got {value!r}")
+        _require_numbers(self, ("n", "m", "t_melt", "reference_strain_rate"), positive=True)
+        _require_numbers(self, ("A", "B", "C", "t_room"), positive=False)
         if self.t_melt <= self.t_room:
             raise InputError(f"JohnsonCook.t_melt: must exceed t_room ({self.t_room!r}), got {self.t_melt!r}")
 
@@ -247,14 +250,8 @@ class Mat13Card:
     failure_pressure: float
 
     def __post_init__(self) -> None:
-        for name in ("density", "shear_modulus", "bulk_modulus", "yield_stress"):
-            v = getattr(self, name)
-            if not (math.isfinite(v) and v > 0):
-                raise InputError(f"Mat13Card.{name}: must be > 0, got {v!r}")
-        for name in ("hardening_modulus", "failure_strain"):
-            v = getattr(self, name)
-            if not (math.isfinite(v) and v >= 0):
-                raise InputError(f"Mat13Card.{name}: must be >= 0, got {v!r}")
+        _require_numbers(self, ("density", "shear_modulus", "bulk_modulus", "yield_stress"), positive=True)
+        _require_numbers(self, ("hardening_modulus", "failure_strain"), positive=False)
         if not (math.isfinite(self.failure_pressure) and self.failure_pressure <= 0):
             raise InputError(f"Mat13Card.failure_pressure: must be <= 0, got {self.failure_pressure!r}")
 

@@ -88,8 +88,9 @@ class WallOptions:
         and report its permanent rear bulge (:meth:`impactdyn.wall.WallSolver.settle`); off by
         default: it takes 15–50 times the run's steps (Table 2, 14,300–44,800 against 840–960;
         7a's wall stage about 1 min instead of ~8 s on a 2-core Zen 5 VM, 4.5 min on a slower
-        Xeon VM; on a wall of twice the span and four times the elements roughly 16 times that).  Without it no run measures a permanent set: a
-        supported wall still rings when the run ends (BENCHMARKS.md, "when a wall run ends").
+        Xeon VM; on a wall of twice the span and four times the elements roughly 16 times that).
+        Without it no run measures a permanent set: a supported wall still rings when the run
+        ends (BENCHMARKS.md, "when a wall run ends").
     settle_tolerance : the settling stops at rest with the out-of-balance force on the wall's free
         nodes below this fraction of the element forces that balance there (Euclidean norms;
         1e-3: the 7a bulge to 0.01 %, BENCHMARKS.md).
