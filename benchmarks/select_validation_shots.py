@@ -47,6 +47,14 @@ equation's scores on the same shots are reported beside them and take no part in
 Outcome (BENCHMARKS.md, "validation set 3"): (a) 7 right, 5 false-safe; (b) 6 right, 6
 false-safe: (a) stays.  Set 3 is spent; the next change is judged on set 4.
 
+Library data, not a model choice (2026-11-27, session 16, written before any run with them): the
+Johnson–Cook damage constants of 2024-T351 (the library's ``al2024-t4``) and OFHC copper were
+missing, so a 2024 wall could fail by spall alone (9 walls of sets 1–3).  They are published
+material data and are adopted whatever the scores say; no constant is chosen by a shot.  Their
+effect is reported on those 9 walls of the spent sets 1–3 (wall stage rerun on the same
+depositions, with and without them), not judged; set 4 stays reserved for the next change to the
+wall's load or failure model.
+
     python benchmarks/select_validation_shots.py [--set N] [--json]
 """
 

@@ -23,6 +23,11 @@ Sources
        Proc. 7th Int. Symp. Ballistics, The Hague (1983), Table 1 (2024-T351, OFHC copper).
 [L01]  D. R. Lesuer, G. J. Kay, M. M. LeBlanc, *Modeling large-strain,
        high-rate deformation in metals*, LLNL UCRL-JC-134118 (2001) (6061-T6).
+[JC85] G. R. Johnson, W. H. Cook, *Fracture characteristics of three metals
+       subjected to various strains, strain rates, temperatures and pressures*,
+       Eng. Fract. Mech. 21 (1985) 31–48 (OFHC copper damage constants).
+[TW06] X. Teng, T. Wierzbicki, *Evaluation of six fracture models in high velocity
+       perforation*, Eng. Fract. Mech. 73 (2006) 1653–1678 (2024-T351 plates).
 [K04]  G. I. Kanel, S. V. Razorenov, V. E. Fortov, *Shock-wave phenomena and the
        properties of condensed matter*, Springer (2004), ch. 7: spall strengths of
        aluminium alloys 1.0–1.7 GPa and of copper 1.2–1.6 GPa at microsecond
@@ -343,6 +348,25 @@ AL_6061_T6_JC_DAMAGE = JohnsonCookDamage(
     source="[L01] (Lesuer, Kay & LeBlanc, UCRL-JC-134118, 2001), as quoted in public model inputs",
 )
 
+#: Al 2024-T351, the damage set used with the [JC83] strength constants of the library's
+#: ``al2024-t4`` (A 265 MPa, B 426 MPa, n 0.34, C 0.015, m 1) in the impact literature on
+#: 2024-T351 plates (Teng & Wierzbicki's perforation study [TW06] uses 2024-T351).  The values
+#: are the widely quoted ones; neither [TW06] nor a primary table could be read here to check
+#: them.  D1, D2 > 0: the fracture strain falls from 0.26 at zero mean stress through 0.21 in
+#: uniaxial tension (σ* = ⅓) towards 0.13 at high triaxiality; it never reaches the wall
+#: model's floor.
+AL_2024_T351_JC_DAMAGE = JohnsonCookDamage(
+    D1=0.13, D2=0.13, D3=-1.5, D4=0.011, D5=0.0,
+    source="2024-T351 as widely quoted (e.g. the 2024-T351 plates of [TW06]); not checked against a primary table",
+)
+
+#: OFHC copper, Johnson & Cook's own fit [JC85] (with the [JC83] strength constants above).
+CU_OFHC_JC_DAMAGE = JohnsonCookDamage(
+    D1=0.54, D2=4.89, D3=-3.03, D4=0.014, D5=1.12,
+    source="[JC85] (Johnson & Cook, Eng. Fract. Mech. 21 (1985) 31), OFHC copper",
+)
+
 #: Johnson–Cook damage constants by library material name; materials without an entry
-#: have no ductile-damage data here.
-JOHNSON_COOK_DAMAGE: dict[str, JohnsonCookDamage] = {"al6061-t6": AL_6061_T6_JC_DAMAGE}
+#: have no ductile-damage data here (their Johnson–Cook wall fails by spall alone).
+JOHNSON_COOK_DAMAGE: dict[str, JohnsonCookDamage] = {
+    "al6061-t6": AL_6061_T6_JC_DAMAGE, "al2024-t4": AL_2024_T351_JC_DAMAGE, "cu-ofhc": CU_OFHC_JC_DAMAGE}

@@ -8,8 +8,9 @@ import pytest
 from impactdyn._errors import InputError
 from impactdyn import wall
 from impactdyn.constitutive import temperature
-from impactdyn.materials import AL_6061_T6, AL_6061_T6_JC_DAMAGE, AL_6061_T6_MAT13, JohnsonCookDamage
-from impactdyn.wall._state import DAMAGE, EPS_P, FAILED, IE, P
+from impactdyn.materials import (AL_6061_T6, AL_6061_T6_JC_DAMAGE, AL_6061_T6_MAT13, JOHNSON_COOK_DAMAGE,
+                                 JohnsonCookDamage)
+from impactdyn.wall._state import DAMAGE, EPS_P, FAILED, IE, P, RATE
 from impactdyn.wallgrid import WallDeposition, WallGrid
 
 
@@ -51,7 +52,18 @@ def test_unknown_and_duplicate_models():
         wall.register_model(wall.Mat13Model)
     with pytest.raises(InputError, match="Johnson-Cook"):
         wall.wall_model("johnson_cook", "al7075-t6")           # no JC constants in the library
-    assert wall.wall_model("johnson_cook", "cu-ofhc").damage is None   # no damage data: none used
+    assert wall.wall_model("johnson_cook", "cu-ofhc").damage is JOHNSON_COOK_DAMAGE["cu-ofhc"]
+
+
+def test_failure_criteria_say_what_can_fail_the_wall():
+    jc = wall.wall_model("johnson_cook", "al2024-t4")
+    assert jc.failure_criteria() == ("ductile_damage", "ductile_damage_at_floor", "tensile_pressure")
+    assert jc.describe()["failure_criteria"] == list(jc.failure_criteria())
+    assert wall.wall_model("johnson_cook", "al6061-t6", damage=None).failure_criteria() == ("tensile_pressure",)
+    assert wall.wall_model("johnson_cook", "al6061-t6", damage=None, spall=False).failure_criteria() == ()
+    # the report's card: ε_f 1.5, and its p_cut −1.2e34 Mbar means no pressure cutoff
+    assert wall.wall_model("mat13", "al6061-t6").failure_criteria() == ("plastic_strain",)
+    assert wall.wall_model("mat13", "al2024-t4").failure_criteria() == ("plastic_strain", "tensile_pressure")
 
 
 def one_element(model):
@@ -72,31 +84,34 @@ def drive(s, gradient, steps, dt=0.005, stop=None):
             break
 
 
-def test_jc_damage_in_shear_follows_the_formula():
+@pytest.mark.parametrize("material", sorted(JOHNSON_COOK_DAMAGE))
+def test_jc_damage_in_shear_follows_the_formula(material):
     # simple shear: σ* = −p/σ_eq stays near 0 (only the Grüneisen pressure of the plastic heating),
-    # so D ≈ εₚ/(D1 + D2); the test integrates D = Σ Δεₚ/ε_f(σ*, T*) from the element's own states
-    model = wall.wall_model("johnson_cook", "al6061-t6", erosion=False, spall=False)
+    # so D ≈ εₚ/(D1 + D2) up to the rate and heating factors; the test integrates
+    # D = Σ Δεₚ/ε_f(σ*, ε̇*, T*) from the element's own states, for every material with damage data
+    model = wall.wall_model("johnson_cook", material, erosion=False, spall=False)
     s = one_element(model)
     table = model.kernel_table()
-    d = AL_6061_T6_JC_DAMAGE
+    d, jc = JOHNSON_COOK_DAMAGE[material], model.material.johnson_cook
     rows = []
 
     def record(s):
         S = s.S[0]
         seq = math.sqrt(1.5 * (S[0] ** 2 + S[1] ** 2 + S[2] ** 2) + 3.0 * (S[3] ** 2 + S[4] ** 2 + S[5] ** 2))
         rho = s.mesh.element_mass[0] / s.es[0, 7]
-        t_star = (temperature(rho, s.es[0, IE], table, 0) - 294.0) / (925.0 - 294.0)
-        rows.append((s.es[0, EPS_P], s.es[0, P], seq, t_star))
+        t_star = (temperature(rho, s.es[0, IE], table, 0) - jc.t_room) / (jc.t_melt - jc.t_room)
+        rows.append((s.es[0, EPS_P], s.es[0, P], seq, min(max(t_star, 0.0), 1.0), s.es[0, RATE]))
         return False
 
     drive(s, [[0.0, 0.02, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]], steps=600, stop=record)
-    eps_p, p, seq, t_star = np.array(rows).T
+    eps_p, p, seq, t_star, rate = np.array(rows).T
     assert eps_p[-1] > 0.02
-    assert np.abs(p).max() < 0.1 * model.material.johnson_cook.A          # nearly isochoric
-    eps_f = (d.D1 + d.D2 * np.exp(d.D3 * -p / np.maximum(seq, 1e-30))) * (1.0 + d.D5 * t_star)
+    assert np.abs(p / seq)[eps_p > 0.0].max() < 0.1                         # |σ*| small while it flows
+    rate_factor = 1.0 + d.D4 * np.log(np.maximum(rate / jc.reference_strain_rate, 1.0))
+    eps_f = (d.D1 + d.D2 * np.exp(d.D3 * -p / np.maximum(seq, 1e-30))) * rate_factor * (1.0 + d.D5 * t_star)
     expected = np.sum(np.diff(eps_p, prepend=0.0) / eps_f)
     assert s.es[0, DAMAGE] == pytest.approx(expected, rel=1e-3)
-    assert s.es[0, DAMAGE] == pytest.approx(eps_p[-1] / (d.D1 + d.D2), rel=0.1)
+    assert s.es[0, DAMAGE] == pytest.approx(eps_p[-1] / ((d.D1 + d.D2) * rate_factor[-1]), rel=0.1)
 
 
 @pytest.mark.parametrize("with_damage", [True, False, "not at the floor"])

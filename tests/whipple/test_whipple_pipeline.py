@@ -195,6 +195,10 @@ def test_wall_stage_takes_the_deposited_impulse_and_gives_a_verdict(run):
     assert sum(by_cause.values()) == pytest.approx(m["damaged_mass_g"], rel=1e-12, abs=1e-15)
     assert s["wall"]["failed_mass_by_cause_g"] == by_cause
     assert "failed mass by criterion" in (out / "report.html").read_text()
+    # and the criteria that could fail it (the case's Johnson–Cook 6061-T6 wall: damage and spall)
+    assert s["wall"]["failure_criteria"] == wall["model"]["failure_criteria"] == [
+        "ductile_damage", "ductile_damage_at_floor", "tensile_pressure"]
+    assert "failure criteria of the wall model" in (out / "report.html").read_text()
     # how the run ended, and the bulge's peak, in the summary and the report
     assert s["wall"]["ended_by"] == m["ended_by"] in ENDINGS
     assert s["wall"]["peak_rear_bulge_cm"] >= m["rear_bulge_end_cm"]

@@ -26,8 +26,9 @@ Damage (Johnson & Cook, Eng. Fract. Mech. 21 (1985) 31), accumulated on plastic 
 not a material constant: where the fit gives ε_f ≤ 0 (for the 6061-T6 constants, σ* > 1.35,
 beyond the triaxialities of the tests it was fitted to) any plastic increment fails the
 element (``damage_at_floor=False`` skips those increments instead).  Constants:
-:data:`impactdyn.materials.JOHNSON_COOK_DAMAGE` (6061-T6: Lesuer, Kay & LeBlanc 2001);
-materials without an entry run without ductile damage.
+:data:`impactdyn.materials.JOHNSON_COOK_DAMAGE` (6061-T6: Lesuer, Kay & LeBlanc 2001; 2024-T351 as
+widely quoted; OFHC copper: Johnson & Cook 1985); a material without an entry runs without
+ductile damage and fails by spall alone (``failure_criteria`` in :meth:`describe` says which apply).
 
 Spall: p < −p_spall (the library material's spall strength; Kanel et al. 2004) fails the
 element.  Each failed element records which criterion failed it (``flags[e, FAILED]``, codes of
@@ -133,6 +134,10 @@ class JohnsonCookModel(WallModel):
     def kernel_table(self) -> np.ndarray:
         return pack_materials([self.material])
 
+    def failure_criteria(self) -> tuple[str, ...]:
+        ductile = () if self.damage is None else ("ductile_damage", "ductile_damage_at_floor")
+        return ductile + (("tensile_pressure",) if self.kernel_params()[J_SPALL] != 0.0 else ())
+
     def describe(self) -> dict[str, Any]:
         m, jc, d = self.material, self.material.johnson_cook, self.damage
         return {"model": self.name, "material": m.name, "source": m.source,
@@ -145,7 +150,8 @@ class JohnsonCookModel(WallModel):
                                                   "failure_strain_floor": FAILURE_STRAIN_FLOOR,
                                                   "source": d.source},
                 "spall_strength_Mbar": m.spall_strength if self.spall else None,
-                "erosion": self.erosion, "damage_at_floor": self.damage_at_floor}
+                "erosion": self.erosion, "damage_at_floor": self.damage_at_floor,
+                "failure_criteria": list(self.failure_criteria())}
 
     @classmethod
     def from_material(cls, material: Any = "al6061-t6", damage: Any = LIBRARY, spall: bool = True,

@@ -81,9 +81,15 @@ class Mat13Model(WallModel):
         return np.array([c.density, c.shear_modulus, c.bulk_modulus, c.yield_stress, c.hardening_modulus,
                          c.failure_strain, c.failure_pressure], dtype=np.float64)
 
+    def failure_criteria(self) -> tuple[str, ...]:
+        # a cutoff beyond −1e20 Mbar is the card's way of saying "none" (the report's −1.2e34)
+        c = self.card
+        return ((("plastic_strain",) if c.failure_strain > 0.0 else ())
+                + (("tensile_pressure",) if c.failure_pressure > -1.0e20 else ()))
+
     def describe(self) -> dict[str, Any]:
         c = self.card
-        return {"model": self.name, "source": self.source,
+        return {"model": self.name, "source": self.source, "failure_criteria": list(self.failure_criteria()),
                 "density_g_cm3": c.density, "shear_modulus_Mbar": c.shear_modulus,
                 "bulk_modulus_Mbar": c.bulk_modulus, "yield_stress_Mbar": c.yield_stress,
                 "hardening_modulus_Mbar": c.hardening_modulus, "failure_strain": c.failure_strain,

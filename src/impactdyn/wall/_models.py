@@ -69,8 +69,14 @@ class WallModel(ABC):
         return np.zeros((1, N_PARAMS + N_COLD))
 
     @abstractmethod
+    def failure_criteria(self) -> tuple[str, ...]:
+        """The criteria that can fail an element of this model, as names of
+        :data:`impactdyn.wall._state.FAILURE_CAUSES` (empty: the wall cannot fail)."""
+
+    @abstractmethod
     def describe(self) -> dict[str, Any]:
-        """Every constant the model uses, with units and sources (for stage files and reports)."""
+        """Every constant the model uses, with units and sources (for stage files and reports),
+        and its ``failure_criteria``."""
 
     @classmethod
     @abstractmethod

@@ -72,7 +72,8 @@ def wall_figures(wall: dict, ble: dict) -> dict:
             "kinetic_left_fraction", "steps", "permanent_rear_bulge_cm", "settled", "settle_steps", "settle_error")
     return {"verdict": wall["verdict"], "criterion": wall["evidence"].get("criterion"),
             "agrees_with_equation": (wall["verdict"] != "no perforation") == (ble["verdict"] == "perforation"),
-            "material_model": wall["model"].get("model"), "mesh": wall["mesh"],
+            "material_model": wall["model"].get("model"), "failure_criteria": wall["model"].get("failure_criteria"),
+            "mesh": wall["mesh"],
             "energy": m.get("energy")} | {k: m[k] for k in keys if k in m}
 
 
@@ -226,6 +227,13 @@ def wall_ending(wall: dict) -> str:
     return text
 
 
+def _criteria(names: list[str] | None) -> str:
+    """The criteria that can fail the wall, in words ("none" says the wall cannot fail)."""
+    if names is None:
+        return "–"
+    return ", ".join(n.replace("_", " ") for n in names) if names else "none: no element can fail"
+
+
 def _by_cause(masses: dict | None) -> str:
     """The failed mass by criterion, the criteria that failed something only ("none" if nothing failed)."""
     if masses is None:
@@ -271,6 +279,7 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
         ("peak rear-face velocity", _fmt(wall.get("peak_rear_velocity_km_s"), "km/s")),
         ("failed / eroded / spalled mass", _fmt([wall.get("failed_mass_g", 0.0), wall.get("eroded_mass_g", 0.0),
                                                  wall.get("spall_mass_g", 0.0)], "g")),
+        ("failure criteria of the wall model", _criteria(wall.get("failure_criteria"))),
         ("failed mass by criterion", _by_cause(wall.get("failed_mass_by_cause_g"))),
         ("hourglass / internal energy", _fmt(wall.get("hourglass_to_internal"))),
         ("mesh (elements), material model", f"{wall['mesh']['elements']}, {wall['material_model']}"),
