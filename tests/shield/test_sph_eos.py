@@ -147,3 +147,26 @@ def test_material_validation():
         with pytest.raises(InputError, match=f"JohnsonCook.{field}"):
             dataclasses.replace(jc, **{field: bad})
     assert _eos.pack_materials([dataclasses.replace(AL_6061_T6, spall_strength=None)])[0, _eos.P_SPALL] == np.inf
+
+
+@pytest.mark.parametrize("name", [m.name for m in MATERIALS.values() if m.johnson_cook is not None])
+@pytest.mark.parametrize("m_exponent", [None, 0.8])
+def test_flow_stress_floor_is_a_lower_bound(name, m_exponent):
+    """temperature_bound ≥ temperature and flow_stress_floor(T_bound) ≤ flow_stress over random states
+    (compressed, expanded, heated, hardened, fast and slow), for m as given and for an m < 1."""
+    params = _eos.pack_materials([get_material(name)])
+    if m_exponent is not None:
+        params[0, _eos.JC_M] = m_exponent
+    rng = np.random.default_rng(11)
+    rho0 = params[0, _eos.RHO0]
+    for _ in range(2000):
+        rho = rho0 * rng.uniform(0.7, 1.8)
+        e = rng.choice([0.0, rng.uniform(0.0, 3e-3), rng.uniform(-1e-4, 1e-2)])
+        eps_p = rng.choice([0.0, rng.uniform(0.0, 2.0)])
+        rate = rng.choice([0.0, 10.0 ** rng.uniform(-9, 1)])
+        T = _eos.temperature(rho, e, params, 0)
+        T_up = _eos.temperature_bound(rho, e, params, 0)
+        assert T_up >= T
+        assert _strength.flow_stress_floor(params, 0, T_up) <= _strength.flow_stress(params, 0, True, eps_p, rate, T)
+    # tight where the material is cold and at rest: the floor is A itself
+    assert _strength.flow_stress_floor(params, 0, _eos.temperature_bound(rho0, 0.0, params, 0)) == params[0, _eos.JC_A]

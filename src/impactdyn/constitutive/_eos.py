@@ -132,8 +132,26 @@ def temperature(rho, e, params, k):
     mu = rho / params[k, RHO0] - 1.0
     if mu <= 0.0:
         return T_ROOM + max(e, 0.0) / params[k, CV]
+    return T_ROOM * math.exp(params[k, GAMMA0] * mu / (1.0 + mu)) + max(e - _cold_energy_at(mu, params, k), 0.0) / params[k, CV]
+
+
+@njit(cache=True, inline="always")
+def temperature_bound(rho, e, params, k):
+    """An upper bound of :func:`temperature` without its exp(): exp(x) ≤ 1/(1 − x) for 0 ≤ x < 1
+    (x = Γ₀μ/(1 + μ)); +inf where x ≥ 1.  For cheap tests that need T only when it is high."""
+    mu = rho / params[k, RHO0] - 1.0
+    if mu <= 0.0:
+        return T_ROOM + max(e, 0.0) / params[k, CV]
+    x = params[k, GAMMA0] * mu / (1.0 + mu)
+    if x >= 1.0:
+        return np.inf
+    return T_ROOM / (1.0 - x) + max(e - _cold_energy_at(mu, params, k), 0.0) / params[k, CV]
+
+
+@njit(cache=True, inline="always")
+def _cold_energy_at(mu, params, k):
+    """e_s(μ), μ > 0, interpolated in the material's table (module docstring)."""
     x = min(mu, MU_COLD) / MU_COLD * (N_COLD - 1)
     j = min(int(x), N_COLD - 2)
     w = x - j
-    e_s = (1.0 - w) * params[k, N_PARAMS + j] + w * params[k, N_PARAMS + j + 1]
-    return T_ROOM * math.exp(params[k, GAMMA0] * mu / (1.0 + mu)) + max(e - e_s, 0.0) / params[k, CV]
+    return (1.0 - w) * params[k, N_PARAMS + j] + w * params[k, N_PARAMS + j + 1]

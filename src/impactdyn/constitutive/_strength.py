@@ -101,6 +101,20 @@ def flow_stress(params, k, johnson_cook, eps_p, rate, T):
 
 
 @njit(cache=True, inline="always")
+def flow_stress_floor(params, k, T_upper):
+    """A lower bound of the Johnson–Cook :func:`flow_stress` of material k over every εₚ ≥ 0 and
+    strain rate, at any temperature T ≤ ``T_upper``, with no pow() or log() call.
+
+    B ≥ 0 and C ≥ 0 give (A + B εₚⁿ)(1 + C ln max(ε̇*, 1)) ≥ A; for m ≥ 1, T*ᵐ ≤ T* ≤ T*_upper
+    gives 1 − T*ᵐ ≥ 1 − T*_upper.  For m < 1 the bound is A at T*_upper = 0 and 0 above it.
+    """
+    tstar = min(max((T_upper - params[k, JC_TROOM]) / (params[k, JC_TMELT] - params[k, JC_TROOM]), 0.0), 1.0)
+    if params[k, JC_M] >= 1.0:
+        return params[k, JC_A] * (1.0 - tstar)
+    return params[k, JC_A] if tstar == 0.0 else 0.0
+
+
+@njit(cache=True, inline="always")
 def _jacobi_eigh(a, v, i):
     """Eigen-decomposition of the symmetric 3×3 a[i] in place: a[i] → diag(λ), v[i] → eigenvectors (columns)."""
     for r in range(3):

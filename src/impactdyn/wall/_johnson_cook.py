@@ -11,7 +11,10 @@ strength code) and the library material's constants.  Per element and step::
 
 ε̇ is the equivalent deviatoric strain rate √(⅔ d':d') (as the SPH stage uses it), T the
 temperature estimate of :func:`impactdyn.constitutive.temperature` from (ρ, e) (all
-work heats; Taylor–Quinney factor 1).  The Mie–Grüneisen pressure is linear in e with
+work heats; Taylor–Quinney factor 1).  Y and T are evaluated only where σ_eq* exceeds
+:func:`impactdyn.constitutive.flow_stress_floor`, a lower bound of Y without exp, log or pow:
+below it the step is elastic whatever Y is, so the result is the same (bitwise, on the
+benchmark wall's states) and the elastic bulk of the wall skips three transcendental calls.  The Mie–Grüneisen pressure is linear in e with
 slope Γ₀ρ₀ (:mod:`impactdyn.constitutive`), so the trapezoidal energy equation
 
     eⁿ⁺¹ = eⁿ + [½(Sⁿ + Sⁿ⁺¹):d − ½(pⁿ + pⁿ⁺¹) tr d − q tr d] V̄Δt/m
@@ -59,8 +62,8 @@ from numba import njit
 
 from impactdyn._errors import InputError
 from impactdyn.constitutive import (
-    C0, GAMMA0, JC_TMELT, JC_TROOM, JC_RATE0, P_SPALL, RHO0, SHEAR, SLOPE, flow_stress, jaumann_rate, pack_materials,
-    pressure, radial_return, sound_speed, temperature, von_mises)
+    C0, GAMMA0, JC_TMELT, JC_TROOM, JC_RATE0, P_SPALL, RHO0, SHEAR, SLOPE, flow_stress, flow_stress_floor, jaumann_rate,
+    pack_materials, pressure, radial_return, sound_speed, temperature, temperature_bound, von_mises)
 from impactdyn.materials import JOHNSON_COOK_DAMAGE, JohnsonCookDamage, Material, get_material
 from impactdyn.wall._models import WallModel, register_model
 from impactdyn.wall._state import (
@@ -71,6 +74,10 @@ KIND = 1
 
 #: Numerical floor on the JC fracture strain (module docstring).
 FAILURE_STRAIN_FLOOR = 1.0e-6
+
+#: The elastic shortcut of :func:`jc_update` takes trial stresses below this fraction of the flow stress's
+#: lower bound, so that round-off in the bound can never skip a plastic step.
+ELASTIC_MARGIN = 1.0 - 1.0e-12
 
 #: Marker for "take the library's damage constants" (None means no ductile damage).
 LIBRARY = "library"
@@ -185,10 +192,13 @@ def jc_update(e, L, dt, vbar, mass, rho, q, S, es, flags, table, prm):
         es[e, RATE] = rate
         S[e, 0], S[e, 1], S[e, 2] = s0 + dt * ds[0], s1 + dt * ds[1], s2 + dt * ds[2]
         S[e, 3], S[e, 4], S[e, 5] = s3 + dt * ds[3], s4 + dt * ds[4], s5 + dt * ds[5]
-        temp = temperature(rho, es[e, IE], table, 0)
-        yld = flow_stress(table, 0, True, es[e, EPS_P], rate, temp)
-        dep = radial_return(S, e, yld, G)
-        es[e, EPS_P] += dep
+        # a trial stress below a lower bound of the flow stress is elastic for certain: the temperature's
+        # exp() and the flow stress's log() and pow() are skipped there (most of the wall, most steps)
+        if von_mises(S, e) > ELASTIC_MARGIN * flow_stress_floor(table, 0, temperature_bound(rho, es[e, IE], table, 0)):
+            temp = temperature(rho, es[e, IE], table, 0)
+            yld = flow_stress(table, 0, True, es[e, EPS_P], rate, temp)
+            dep = radial_return(S, e, yld, G)
+            es[e, EPS_P] += dep
     if failed:
         for k in range(6):
             S[e, k] = 0.0
