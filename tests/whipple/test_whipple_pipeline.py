@@ -10,7 +10,7 @@ import pytest
 
 from impactdyn.ble import perforates
 from impactdyn.cli import main
-from impactdyn.debris import read_deposition
+from impactdyn.debris import read_arrivals, read_deposition
 from impactdyn.io import read_grid, read_lsdyna_deck
 from impactdyn.materials import Mat13Card
 from impactdyn.shield._io import read_particles
@@ -82,6 +82,10 @@ def test_wall_receives_the_momentum_of_the_arrived_debris(run):
     np.testing.assert_allclose(total, deposited, rtol=1e-9)
     _, _, impulse = read_deposition(out / "debris" / "debris.h5")
     assert s["deposition"]["impulse_on_wall_normal_N_s_full_model"] == pytest.approx(20.0 * impulse[..., 1].sum())
+    # the arriving particles put their on-grid share of momentum on the wall, nothing else
+    mass, momentum, share = read_arrivals(out / "debris" / "debris.h5")
+    assert mass.size == d["n_arrived"] and np.all(mass > 0) and np.all((share >= 0) & (share <= 1))
+    np.testing.assert_allclose((share[:, None] * momentum).sum(axis=0), impulse.sum(axis=(0, 1)), rtol=1e-9)
 
 
 def test_decks_carry_the_wall_stages_model(run, tmp_path, make_case):

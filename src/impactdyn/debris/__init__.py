@@ -17,7 +17,7 @@ from impactdyn.debris._legacy import run_legacy
 from impactdyn.debris._integrators import (
     INTEGRATORS, Failure, IntegratorOptions, PropagationStats, propagate, register_integrator)
 from impactdyn.debris._particle import ParticleMaterial, pack_state, state_rates, total_energy, unpack_state
-from impactdyn.debris._debris_h5 import read_deposition
+from impactdyn.debris._debris_h5 import read_arrivals, read_deposition
 from impactdyn.debris._decks import DeckOptions, write_decks
 from impactdyn.debris._outputs import write_debris_files, write_debris_run
 from impactdyn.debris._propagate import (
@@ -46,5 +46,5 @@ __all__ = [
     "initial_state", "load_debris_case", "momentum_enhancement", "pack_state", "propagate", "propagate_chunked",
     "register_integrator", "remap_grid", "remap_impulse", "run_case", "run_debris", "run_legacy", "seed_and_select", "seed_cells",
     "seed_particles", "shell_cloud_grid", "signed_volume", "state_rates", "tet_vertices", "total_energy",
-    "read_deposition", "unpack_state", "write_debris_files", "write_debris_run", "write_decks",
+    "read_arrivals", "read_deposition", "unpack_state", "write_debris_files", "write_debris_run", "write_decks",
 ]

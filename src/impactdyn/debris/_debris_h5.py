@@ -1,5 +1,6 @@
 """The ``debris.h5`` file of a debris run: its schema, written by :func:`write_hdf5` and read back by
-:func:`read_deposition` (the Whipple pipeline's decks stage and report read it)."""
+:func:`read_deposition` (the Whipple pipeline's decks stage and report read it) and
+:func:`read_arrivals` (the arriving particles' mass and momentum)."""
 
 from __future__ import annotations
 
@@ -9,6 +10,8 @@ import numpy as np
 
 from impactdyn._errors import InputError
 from impactdyn._runfolder import atomic_output
+from impactdyn.debris._deposit import POINTS_PER_PARTICLE
+from impactdyn.debris._particle import P_SLICE
 from impactdyn.debris._propagate import DebrisResult
 from impactdyn.wallgrid import WallDeposition, WallGrid
 
@@ -57,3 +60,19 @@ def read_deposition(path: str | Path) -> tuple[WallGrid, WallDeposition, np.ndar
         except KeyError as err:
             raise InputError(f"{path}: not a debris.h5 file ({err})") from None
     return wall, dep, impulse
+
+
+def read_arrivals(path: str | Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The particles that reached the wall in a ``debris.h5``: mass ``(N,)`` g, momentum ``(N, 3)``
+    g·cm/µs at arrival, and the share ``(N,)`` of it deposited on the wall grid (the fraction of the
+    particle's deposition points that fell on the grid, :func:`impactdyn.debris.deposit`)."""
+    from impactdyn.io import open_hdf5
+
+    path = Path(path)
+    with open_hdf5(path) as f:
+        try:
+            index, states, on = f["arrival/index"][()], f["arrival/states"][()], f["arrival/on_wall"][()]
+            mass = f["particles/mass"][()][index]
+        except KeyError as err:
+            raise InputError(f"{path}: not a debris.h5 file ({err})") from None
+    return mass, states[:, P_SLICE], on.sum(axis=1) / POINTS_PER_PARTICLE
