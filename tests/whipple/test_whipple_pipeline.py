@@ -203,10 +203,26 @@ def test_wall_stage_takes_the_deposited_impulse_and_gives_a_verdict(run):
     assert s["wall"]["failure_criteria"] == wall["model"]["failure_criteria"] == [
         "ductile_damage", "ductile_damage_at_floor", "tensile_pressure"]
     assert "failure criteria of the wall model" in (out / "report.html").read_text()
+    # the coarse case's 0.45-cm projectile lies below the validated sizes: the summary and report say so
+    assert "0.45 cm is below" in s["wall"]["caution"]
+    assert html.escape(s["wall"]["caution"]) in (out / "report.html").read_text()
     # how the run ended, and the bulge's peak, in the summary and the report
     assert s["wall"]["ended_by"] == m["ended_by"] in ENDINGS
     assert s["wall"]["peak_rear_bulge_cm"] >= m["rear_bulge_end_cm"]
     assert f"run ended by</th><td>{html.escape(wall_ending(s['wall']))}" in (out / "report.html").read_text()
+
+
+@pytest.mark.parametrize("diameter, velocity, expected", [
+    (0.575, 7.0, None), (0.53, 3.0, None), (0.67, 8.0, None),
+    (0.318, 6.0, "10 of 13 perforations"), (0.7, 7.0, "above the projectiles"), (0.6, 10.0, "outside"),
+    (0.43, 10.0, "below the projectiles")])
+def test_wall_caution_outside_the_validated_shots(tmp_path, make_case, diameter, velocity, expected):
+    from impactdyn.whipple._report import wall_caution
+
+    case = load_whipple_case(make_case(tmp_path, projectile__diameter_cm=diameter, projectile__velocity_km_s=velocity,
+                                       shield__spacing_cm=0.05))
+    caution = wall_caution(case)
+    assert caution is None if expected is None else (expected in caution and caution.endswith("beside it"))
 
 
 def test_a_wall_run_cut_off_at_the_ceiling_is_said_to_be_not_at_rest():

@@ -43,6 +43,8 @@ def run(
     w = s["wall"]
     typer.echo(f"wall response: {w['verdict']} ({w['criterion']}); crater depth {w.get('crater_depth_ratio', 0):.2f} "
                f"of the thickness, rear bulge {w.get('rear_bulge_cm', 0):.3g} cm; report in {Path(out) / 'report.html'}")
+    if w.get("caution"):
+        typer.echo(f"caution: {w['caution']}")
     if w.get("ended_by") == "ceiling":
         typer.echo(f"wall run ended at {wall_ending(w)}")
     if "settled" in w:

@@ -63,6 +63,29 @@ def deposition_figures(debris: dict) -> dict:
     }
 
 
+#: Where the simulated wall's verdict has been checked against tests (validation sets 1–3 of
+#: benchmarks/BENCHMARKS.md: 36 shots at 3.0–7.6 km/s; on the 14 by 0.53–0.67-cm projectiles no perforation
+#: called safe (of 5) and 2 false alarms (of 9); 10 of the 13 perforations by 0.318-cm projectiles called
+#: safe; no shot between).
+VALIDATED_DIAMETER_CM = (0.53, 0.67)
+VALIDATED_VELOCITY_KM_S = (3.0, 8.0)
+
+
+def wall_caution(case: WhippleCase) -> str | None:
+    """Why the simulated verdict of this shot should not be read without the equation's, or None
+    when the shot lies where the wall stage was validated (:data:`VALIDATED_DIAMETER_CM`)."""
+    d, v = case.projectile.diameter_cm, case.projectile.velocity_km_s
+    notes = []
+    if d < VALIDATED_DIAMETER_CM[0]:
+        notes.append(f"d = {d:g} cm is below the projectiles the wall stage was validated on (0.53-0.67 cm); on "
+                     "the test database it called 10 of 13 perforations by 0.318-cm projectiles safe")
+    elif d > VALIDATED_DIAMETER_CM[1]:
+        notes.append(f"d = {d:g} cm is above the projectiles the wall stage was validated on (0.53-0.67 cm)")
+    if not VALIDATED_VELOCITY_KM_S[0] <= v <= VALIDATED_VELOCITY_KM_S[1]:
+        notes.append(f"V = {v:g} km/s is outside the validation shots' 3-8 km/s")
+    return "; ".join(notes) + ": read the equation's verdict beside it" if notes else None
+
+
 def wall_figures(wall: dict, ble: dict) -> dict:
     """The wall stage's verdict beside the equation's, and its headline measures."""
     m = wall["measures"]
@@ -99,7 +122,7 @@ def write_report(folder: FolderWriter, case: WhippleCase) -> dict:
         "ble": ble,
         "cloud": cloud,
         "deposition": deposition,
-        "wall": wall_figures(records["wall"], ble),
+        "wall": wall_figures(records["wall"], ble) | {"caution": wall_caution(case)},
         "stages": {name: {k: v for k, v in r.items() if k not in ("stage", "settings")}
                    for name, r in records.items()},
         "timings_s": {name: r["wall_time_s"] for name, r in records.items()},
@@ -272,6 +295,7 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
     wall_rows = _rows([
         ("simulated verdict", f"{wall['verdict']} ({wall['criterion']})"),
         ("equation's verdict", f"{ble['verdict']} ({ble['equation']})"),
+        ("caution", wall.get("caution") or "none: the shot lies where the wall stage was validated"),
         ("crater depth / wall thickness", _fmt(wall.get("crater_depth_ratio"))),
         ("rear-face bulge at the end; its peak (when)", _bulge(wall)),
         ("run ended by", wall_ending(wall)),
