@@ -132,7 +132,8 @@ def temperature(rho, e, params, k):
     mu = rho / params[k, RHO0] - 1.0
     if mu <= 0.0:
         return T_ROOM + max(e, 0.0) / params[k, CV]
-    return T_ROOM * math.exp(params[k, GAMMA0] * mu / (1.0 + mu)) + max(e - _cold_energy_at(mu, params, k), 0.0) / params[k, CV]
+    e_s = _cold_energy_at(mu, params, k)
+    return T_ROOM * math.exp(params[k, GAMMA0] * mu / (1.0 + mu)) + max(e - e_s, 0.0) / params[k, CV]
 
 
 @njit(cache=True, inline="always")

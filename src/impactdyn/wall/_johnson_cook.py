@@ -14,8 +14,9 @@ temperature estimate of :func:`impactdyn.constitutive.temperature` from (ρ, e) 
 work heats; Taylor–Quinney factor 1).  Y and T are evaluated only where σ_eq* exceeds
 :func:`impactdyn.constitutive.flow_stress_floor`, a lower bound of Y without exp, log or pow:
 below it the step is elastic whatever Y is, so the result is the same (bitwise, on the
-benchmark wall's states) and the elastic bulk of the wall skips three transcendental calls.  The Mie–Grüneisen pressure is linear in e with
-slope Γ₀ρ₀ (:mod:`impactdyn.constitutive`), so the trapezoidal energy equation
+benchmark wall's states) and the elastic bulk of the wall skips three transcendental calls.
+The Mie–Grüneisen pressure is linear in e with slope Γ₀ρ₀ (:mod:`impactdyn.constitutive`), so
+the trapezoidal energy equation
 
     eⁿ⁺¹ = eⁿ + [½(Sⁿ + Sⁿ⁺¹):d − ½(pⁿ + pⁿ⁺¹) tr d − q tr d] V̄Δt/m
 

@@ -75,14 +75,15 @@ def wall_caution(case: WhippleCase) -> str | None:
     """Why the simulated verdict of this shot should not be read without the equation's, or None
     when the shot lies where the wall stage was validated (:data:`VALIDATED_DIAMETER_CM`)."""
     d, v = case.projectile.diameter_cm, case.projectile.velocity_km_s
+    (d_lo, d_hi), (v_lo, v_hi) = VALIDATED_DIAMETER_CM, VALIDATED_VELOCITY_KM_S
     notes = []
-    if d < VALIDATED_DIAMETER_CM[0]:
-        notes.append(f"d = {d:g} cm is below the projectiles the wall stage was validated on (0.53-0.67 cm); on "
-                     "the test database it called 10 of 13 perforations by 0.318-cm projectiles safe")
-    elif d > VALIDATED_DIAMETER_CM[1]:
-        notes.append(f"d = {d:g} cm is above the projectiles the wall stage was validated on (0.53-0.67 cm)")
-    if not VALIDATED_VELOCITY_KM_S[0] <= v <= VALIDATED_VELOCITY_KM_S[1]:
-        notes.append(f"V = {v:g} km/s is outside the validation shots' 3-8 km/s")
+    if d < d_lo:
+        notes.append(f"d = {d:g} cm is below the projectiles the wall stage was validated on ({d_lo:g}-{d_hi:g} cm); "
+                     "on the test database it called 10 of 13 perforations by 0.318-cm projectiles safe")
+    elif d > d_hi:
+        notes.append(f"d = {d:g} cm is above the projectiles the wall stage was validated on ({d_lo:g}-{d_hi:g} cm)")
+    if not v_lo <= v <= v_hi:
+        notes.append(f"V = {v:g} km/s is outside the validation shots' {v_lo:g}-{v_hi:g} km/s")
     return "; ".join(notes) + ": read the equation's verdict beside it" if notes else None
 
 
