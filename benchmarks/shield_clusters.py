@@ -1,0 +1,62 @@
+"""Does the shield stage hand off fragments? Clusters of touching SPH particles behind the bumper (issue 11).
+
+At the hand-off time the particles behind the bumper's back face are linked when they lie within
+``link`` times the SPH spacing of each other; a solid fragment that holds together is a connected
+cluster at about the reference density.  For each finished Whipple run and each link factor this
+prints the number of clusters and the three largest, as fractions of the (half-model) projectile's
+mass, with their mean density over the projectile material's ρ₀ and their particle counts.
+
+    python benchmarks/shield_clusters.py RUN_FOLDER [RUN_FOLDER ...] [--links 1.05 1.2 1.5]
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
+
+from impactdyn.materials import get_material
+from impactdyn.shield import read_particles
+from impactdyn.whipple import load_whipple_case
+
+
+def clusters(run: Path, link: float) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
+    """(number of clusters, the three largest cluster masses over the half projectile's, their mean
+    ρ/ρ₀ of the projectile material, their particle counts) at the hand-off of ``run``."""
+    case = load_whipple_case(run / "case.toml")
+    particles, _ = read_particles(run / "shield" / "particles.h5")
+    behind = np.flatnonzero(particles.position[:, 1] >= case.bumper.thickness_cm)
+    pairs = cKDTree(particles.position[behind]).query_pairs(link * case.shield.spacing_cm, output_type="ndarray")
+    n = behind.size
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    count, label = connected_components(graph, directed=False)
+    mass = np.bincount(label, weights=particles.mass[behind])
+    top = np.argsort(mass)[::-1][:3]
+    rho0 = get_material(case.projectile.material).rho0
+    projectile = rho0 * np.pi / 6.0 * case.projectile.diameter_cm**3 / 2.0      # the half model's
+    density = np.array([particles.density[behind][label == t].mean() / rho0 for t in top])
+    sizes = np.array([np.count_nonzero(label == t) for t in top])
+    return count, mass[top] / projectile, density, sizes
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("runs", nargs="+", type=Path)
+    ap.add_argument("--links", type=float, nargs="+", default=[1.05, 1.2, 1.5])
+    args = ap.parse_args()
+    print("| run | link / spacing | clusters | three largest / half projectile | their ρ/ρ₀ | their particles |")
+    print("| --- | --- | --- | --- | --- | --- |")
+    for run in args.runs:
+        for link in args.links:
+            count, share, density, sizes = clusters(run, link)
+            print(f"| {run.name} | {link:g} | {count} | {', '.join(f'{x:.3f}' for x in share)} | "
+                  f"{', '.join(f'{x:.2f}' for x in density)} | {', '.join(map(str, sizes))} |")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
