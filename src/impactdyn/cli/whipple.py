@@ -120,6 +120,8 @@ def limit(
         d = "–" if r["limit_diameter_cm"] is None else f"{r['limit_diameter_cm']:.4f} ± {r['half_width_cm']:.4f} cm"
         typer.echo(f"V = {r['velocity_km_s']:g} km/s: simulated limit {d} ({r['status']}, {r['n_shots']} shots); "
                    f"JSC {r['jsc_critical_diameter_cm']:.4f} cm")
+        if r["caution"]:
+            typer.echo(f"  caution: {r['caution']}")
     typer.echo(f"table in {out / 'limit.csv'}, plot in {out / 'limit.png'}")
 
 

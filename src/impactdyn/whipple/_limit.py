@@ -42,11 +42,11 @@ from impactdyn._runfolder import RunFolder
 from impactdyn._config import validate
 from impactdyn._sweep import case_variants, run_all
 from impactdyn.whipple._case import WhippleCase
-from impactdyn.whipple._report import ble_verdict
+from impactdyn.whipple._report import ble_verdict, wall_caution
 from impactdyn.whipple._shots import Shot, run_shot, shot_name, shot_variant, shot_workers, threads_per_shot
 
 LIMIT_HEADER = ["velocity_km_s", "limit_diameter_cm", "half_width_cm", "largest_safe_cm", "smallest_failed_cm",
-                "jsc_critical_diameter_cm", "n_shots", "status"]
+                "jsc_critical_diameter_cm", "n_shots", "status", "caution"]
 SHOTS_HEADER = ["velocity_km_s", "diameter_cm", "simulated_verdict", "failed", "jsc_verdict", "run"]
 
 #: Simulated verdicts that count as a failed rear wall (JSC test practice).
@@ -182,7 +182,8 @@ def _limit_row(s: _Search) -> dict:
             "limit_diameter_cm": 0.5 * (s.safe + s.failed) if both else None,
             "half_width_cm": 0.5 * abs(s.failed - s.safe) if both else None,
             "largest_safe_cm": s.safe, "smallest_failed_cm": s.failed,
-            "jsc_critical_diameter_cm": s.jsc, "n_shots": len(s.shots), "status": s.status}
+            "jsc_critical_diameter_cm": s.jsc, "n_shots": len(s.shots), "status": s.status,
+            "caution": wall_caution(0.5 * (s.safe + s.failed), s.velocity) if both else None}
 
 
 def _plot(path: Path, case: WhippleCase, searches: list[_Search], rows: list[dict], tolerance: float) -> None:

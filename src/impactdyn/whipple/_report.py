@@ -71,10 +71,10 @@ VALIDATED_DIAMETER_CM = (0.53, 0.67)
 VALIDATED_VELOCITY_KM_S = (3.0, 8.0)
 
 
-def wall_caution(case: WhippleCase) -> str | None:
-    """Why the simulated verdict of this shot should not be read without the equation's, or None
-    when the shot lies where the wall stage was validated (:data:`VALIDATED_DIAMETER_CM`)."""
-    d, v = case.projectile.diameter_cm, case.projectile.velocity_km_s
+def wall_caution(d: float, v: float) -> str | None:
+    """Why the simulated verdict of a projectile of diameter ``d`` (cm) at ``v`` (km/s) should not be
+    read without the equation's, or None where the wall stage was validated (:data:`VALIDATED_DIAMETER_CM`,
+    :data:`VALIDATED_VELOCITY_KM_S`)."""
     (d_lo, d_hi), (v_lo, v_hi) = VALIDATED_DIAMETER_CM, VALIDATED_VELOCITY_KM_S
     notes = []
     if d < d_lo:
@@ -123,7 +123,8 @@ def write_report(folder: FolderWriter, case: WhippleCase) -> dict:
         "ble": ble,
         "cloud": cloud,
         "deposition": deposition,
-        "wall": wall_figures(records["wall"], ble) | {"caution": wall_caution(case)},
+        "wall": wall_figures(records["wall"], ble) | {
+            "caution": wall_caution(case.projectile.diameter_cm, case.projectile.velocity_km_s)},
         "stages": {name: {k: v for k, v in r.items() if k not in ("stage", "settings")}
                    for name, r in records.items()},
         "timings_s": {name: r["wall_time_s"] for name, r in records.items()},
