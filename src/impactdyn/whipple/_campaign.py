@@ -2,12 +2,13 @@
 
 Every shot is a full Whipple run (:func:`run_whipple`) in ``runs/V<v>_d<d>/``.
 The campaign folder adds ``campaign.csv`` and ``campaign.json`` (one row per
-shot: the JSC critical diameter and verdict beside the simulated cloud and wall
-figures) and ``campaign.png``: the JSC ballistic-limit curve with each shot
-drawn at its (V, d), coloured by the simulated peak areal momentum on the wall
-and shaped by the JSC verdict.  The simulation gives the wall's load, not its
-failure: a verdict from it needs the wall's response (the decks in each run
-folder are for the user's FE code), so the plot shows the load against the curve.
+shot: the JSC critical diameter and verdict beside the wall stage's verdict, its
+caution where the shot lies outside the wall stage's validation, and the simulated
+cloud and wall figures) and ``campaign.png``: the JSC ballistic-limit curve with each
+shot drawn at its (V, d), coloured by the simulated peak areal momentum on the wall
+and shaped by the JSC verdict, with the wall stage's verdict marked over it.  For the
+diameter where the simulated verdict changes, bisected per velocity, see
+:func:`impactdyn.whipple.run_limit`.
 """
 
 from __future__ import annotations
@@ -20,9 +21,11 @@ from impactdyn._config import validate
 from impactdyn._sweep import case_variants, run_all
 from impactdyn.whipple._case import WhippleCase
 from impactdyn.whipple._shots import Shot, run_shot, shot_name, shot_variant, shot_workers, threads_per_shot
+from impactdyn.whipple._limit import FAILED_VERDICTS
 
 CAMPAIGN_HEADER = [
     "velocity_km_s", "diameter_cm", "ble_critical_diameter_cm", "ble_regime", "ble_verdict",
+    "wall_verdict", "wall_agrees_with_equation", "crater_depth_ratio", "rear_bulge_cm", "caution",
     "peak_areal_momentum_N_s_cm2", "impulse_on_wall_normal_N_s_full_model", "leading_edge_velocity_km_s",
     "centre_of_mass_speed_km_s", "cone_half_angle_deg", "n_debris_particles_arrived", "wall_time_s", "run"]
 
@@ -37,8 +40,10 @@ def campaign_shots(raw: dict, velocities: list[float], diameters: list[float], s
 
 
 def _row(v: float, d: float, s: dict) -> list:
-    c, dep, ble = s["cloud"], s["deposition"], s["ble"]
-    return [v, d, ble["critical_diameter_cm"], ble["regime"], ble["verdict"], dep["peak_areal_momentum_N_s_cm2"],
+    c, dep, ble, w = s["cloud"], s["deposition"], s["ble"], s["wall"]
+    return [v, d, ble["critical_diameter_cm"], ble["regime"], ble["verdict"], w["verdict"], w["agrees_with_equation"],
+            w.get("crater_depth_ratio", ""), w.get("rear_bulge_cm", ""), w["caution"] or "",
+            dep["peak_areal_momentum_N_s_cm2"],
             dep["impulse_on_wall_normal_N_s_full_model"], c.get("leading_edge_velocity_km_s", ""),
             c.get("centre_of_mass_speed_km_s", ""), c.get("cone_half_angle_deg", ""),
             s["stages"]["debris"]["n_arrived"], s["wall_time_s"], f"runs/{shot_name(v, d)}"]
@@ -80,12 +85,14 @@ def _plot(path: Path, case: WhippleCase, rows: list) -> None:
     from impactdyn.whipple._case import ble_shield
 
     p, w, b = case.projectile, case.wall, case.bumper
-    v = np.array([r[0] for r in rows])
-    d = np.array([r[1] for r in rows])
+    table = [dict(zip(CAMPAIGN_HEADER, r)) for r in rows]
+    v = np.array([r["velocity_km_s"] for r in table])
+    d = np.array([r["diameter_cm"] for r in table])
     curve = ballistic_limit_curve(ble_shield(case), np.linspace(1.0, max(15.0, 1.1 * v.max()), 281),
                                   p.obliquity_deg, get_material(p.material).rho0)
-    plot_ballistic_limit([curve], path, outcomes=(v, d, np.array([r[5] for r in rows]),
-                                                  np.array([r[4] == "perforation" for r in rows]),
+    plot_ballistic_limit([curve], path, outcomes=(v, d, np.array([r["peak_areal_momentum_N_s_cm2"] for r in table]),
+                                                  np.array([r["ble_verdict"] == "perforation" for r in table]),
                                                   "simulated peak areal momentum on the wall (N·s/cm²)"),
+                         simulated=(v, d, np.array([r["wall_verdict"] in FAILED_VERDICTS for r in table])),
                          title=f"Campaign: t_b = {b.thickness_cm:g} cm, t_w = {w.thickness_cm:g} cm, "
                                f"S = {w.spacing_cm:g} cm, θ = {p.obliquity_deg:g}°")
