@@ -20,7 +20,6 @@ import sys
 from dataclasses import replace
 from pathlib import Path
 
-import h5py
 import numpy as np
 
 from impactdyn import wall
@@ -64,12 +63,11 @@ def heated_run(run: Path, share: float) -> tuple[wall.WallResult, float]:
     case = load_whipple_case(run / "case.toml")
     h5 = run / "debris" / "debris.h5"
     grid, deposition, _ = read_deposition(h5)
-    mass, momentum, _ = read_arrivals(h5)
-    with h5py.File(h5) as f:
-        on = f["arrival/on_wall"][()].ravel()
+    mass, momentum, on_grid = read_arrivals(h5)
     # the records are the arrived particles' on-grid points, in particle then point order (debris.deposit)
-    record_mass = np.repeat(mass / POINTS_PER_PARTICLE, POINTS_PER_PARTICLE)[on]
-    record_momentum = np.repeat(momentum / POINTS_PER_PARTICLE, POINTS_PER_PARTICLE, axis=0)[on]
+    points = np.rint(on_grid * POINTS_PER_PARTICLE).astype(np.int64)
+    record_mass = np.repeat(mass / POINTS_PER_PARTICLE, points)
+    record_momentum = np.repeat(momentum / POINTS_PER_PARTICLE, points, axis=0)
     np.testing.assert_allclose(record_momentum, deposition.impulse, rtol=1e-12, atol=1e-18)
     heat = share * 0.5 * np.sum(deposition.impulse**2, axis=1) / record_mass
     options = replace(case.wall_solver.options(case.wall.clamped_edges), output_interval_us=None)
