@@ -158,6 +158,57 @@ class WallDeposition:
                              f"{wall.shape[0]} x {wall.shape[2]} face grid")
 
 
+def sphere_deposition(wall: WallGrid, diameter_cm: float, speed_cm_us: float, density_g_cm3: float,
+                      t0_us: float = 0.0, centre_xz: tuple[float, float] = (0.0, 0.0),
+                      samples: int = 8) -> WallDeposition:
+    """The momentum of a compact sphere striking the front face normally, as records on ``wall``'s face grid.
+
+    A sphere of diameter d, density ρ and speed V along +y, its front touching the wall at
+    ``t0_us`` over ``centre_xz``: the column over the face point at distance r from the centre
+    has length L = 2 √(R² − r²) and arrives from t0 + (R − L/2)/V to t0 + (R + L/2)/V, carrying
+    the momentum ρ L V per unit area at the constant rate ρ V² (a rod stopped at the wall).
+    Each face cell takes the columns of ``samples`` × ``samples`` points in it, in time bins
+    of h_min / V (h_min the smallest face cell).  Only the part of the sphere over the grid is
+    deposited: on a half model (symmetry plane x = ``wall.x[0]`` = 0) with the centre on it,
+    half the sphere.  The records' impulses sum to the sphere's (or the half's) momentum
+    ρ π d³ V / 6 (/ 2) up to the sampling of its disc: to 0.2 % at four cells across d, 0.02 % at
+    eight (the default 8 × 8 samples a cell).
+
+    Returns records ``element`` (n,), ``time`` (n,) µs, ``impulse`` (n, 3) g·cm/µs.
+    """
+    for name, value in (("diameter_cm", diameter_cm), ("speed_cm_us", speed_cm_us),
+                        ("density_g_cm3", density_g_cm3)):
+        if not (np.isfinite(value) and value > 0):
+            raise InputError(f"sphere_deposition: {name} must be > 0, got {value!r}")
+    if not (isinstance(samples, int) and samples >= 1):
+        raise InputError(f"sphere_deposition: samples must be an integer >= 1, got {samples!r}")
+    radius = 0.5 * diameter_cm
+    nx = wall.x.size - 1
+    hx, hz = np.diff(wall.x), np.diff(wall.z)
+    s = (np.arange(samples) + 0.5) / samples
+    px = (wall.x[:-1, None] + hx[:, None] * s).ravel()
+    pz = (wall.z[:-1, None] + hz[:, None] * s).ravel()
+    X, Z = np.meshgrid(px - centre_xz[0], pz - centre_xz[1], indexing="ij")
+    i = np.repeat(np.arange(nx), samples)[:, None] + np.zeros_like(Z, dtype=np.int64)
+    k = np.repeat(np.arange(hz.size), samples)[None, :] + np.zeros_like(X, dtype=np.int64)
+    inside = X**2 + Z**2 < radius**2
+    i, k = i[inside], k[inside]
+    length = 2.0 * np.sqrt(radius**2 - X[inside] ** 2 - Z[inside] ** 2)
+    momentum = density_g_cm3 * length * (hx[i] * hz[k] / samples**2) * speed_cm_us
+    t_first = t0_us + (radius - 0.5 * length) / speed_cm_us
+    t_last = t0_us + (radius + 0.5 * length) / speed_cm_us
+    bin_width = float(min(hx.min(), hz.min())) / speed_cm_us
+    edges = t0_us + bin_width * np.arange(int(np.ceil(diameter_cm / speed_cm_us / bin_width)) + 2)
+    overlap = np.clip(np.minimum(t_last[:, None], edges[None, 1:]) - np.maximum(t_first[:, None], edges[None, :-1]),
+                      0.0, None) / (t_last - t_first)[:, None]
+    table = np.zeros((wall.n_face_elements, edges.size - 1))
+    np.add.at(table, i + nx * k, overlap * momentum[:, None])
+    e, b = np.nonzero(table)
+    impulse = np.zeros((e.size, 3))
+    impulse[:, 1] = table[e, b]
+    return WallDeposition(element=e.astype(np.int64), time=0.5 * (edges[b] + edges[b + 1]), impulse=impulse)
+
+
 def _in_number_order(a: np.ndarray) -> np.ndarray:
     """(ni, nj, nk, ...) array -> (ni·nj·nk, ...) in DYNGEN order (i fastest, then k, then j)."""
     return a.transpose(1, 2, 0, *range(3, a.ndim)).reshape(-1, *a.shape[3:])

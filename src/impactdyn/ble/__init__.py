@@ -30,6 +30,7 @@ from impactdyn.ble._registry import DEFAULT_EQUATION, EQUATIONS, get_equation
 from impactdyn.ble._shield import ALUMINIUM_DENSITY_G_CM3, WhippleShield
 from impactdyn.ble._single_wall import (
     AL6061_T6_BRINELL,
+    BRINELL_HARDNESS,
     AL_SOUND_SPEED_KM_S,
     FailureMode,
     SingleWall,
@@ -52,7 +53,7 @@ from impactdyn.ble._whipple import (
 )
 
 __all__ = [
-    "AL6061_T6_BRINELL", "AL_SOUND_SPEED_KM_S", "ALUMINIUM_DENSITY_G_CM3", "DATABASE_PATH", "DEFAULT_EQUATION",
+    "AL6061_T6_BRINELL", "AL_SOUND_SPEED_KM_S", "ALUMINIUM_DENSITY_G_CM3", "BRINELL_HARDNESS", "DATABASE_PATH", "DEFAULT_EQUATION",
     "DEFAULT_VELOCITIES_KM_S", "EQUATIONS", "MAX_OBLIQUITY_DEG", "OBLIQUITY_BANDS", "V_HYPERVELOCITY_MIN_KM_S",
     "BallisticLimit", "BallisticLimitCurve", "FailureMode", "Regime", "Scores", "ShotDatabase", "SingleWall",
     "Validation", "WhippleEquation", "WhippleShield", "ballistic_limit", "ballistic_limit_curve", "check_obliquity",

@@ -43,6 +43,9 @@ from impactdyn.ble._shield import ALUMINIUM_DENSITY_G_CM3, WhippleShield
 #: Brinell hardness of Al 6061-T6 (ASM handbook value, as tabulated with the NASA
 #: ballistic-limit program's material data).
 AL6061_T6_BRINELL = 95.0
+#: Brinell hardness with (S1) of the material library's aluminium walls (:mod:`impactdyn.materials`
+#: names; ASM handbook values: 6061-T6 95, 2024-T3 and -T4 120).
+BRINELL_HARDNESS = {"al6061-t6": AL6061_T6_BRINELL, "al2024-t4": 120.0}
 #: Speed of sound of aluminium used with (S1), ≈ (E/ρ)^{1/2} = (68.9 GPa / 2.7 g/cm³)^{1/2}
 #: = 5.05 km/s, rounded as usually quoted.
 AL_SOUND_SPEED_KM_S = 5.1

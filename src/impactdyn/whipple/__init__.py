@@ -10,7 +10,7 @@ ballistic-limit verdict beside the simulated deposition::
     summary = run_whipple(load_whipple_case("examples/whipple/table2_7a.toml"), "runs/7a")
 """
 
-from impactdyn.whipple._case import WhippleCase, load_whipple_case
+from impactdyn.whipple._case import WhippleCase, load_whipple_case, shield_problem
 from impactdyn.whipple._campaign import run_campaign
 from impactdyn.whipple._cloud import cloud_figures
 from impactdyn.whipple._limit import run_limit
@@ -19,4 +19,4 @@ from impactdyn.whipple._stages import STAGES, read_stage
 from impactdyn.whipple._report import ble_verdict, wall_ending, wall_permanent_bulge
 
 __all__ = ["STAGES", "WhippleCase", "ble_verdict", "cloud_figures", "load_whipple_case", "read_stage", "run_campaign",
-           "run_limit", "run_whipple", "wall_ending", "wall_permanent_bulge"]
+           "run_limit", "run_whipple", "shield_problem", "wall_ending", "wall_permanent_bulge"]

@@ -79,7 +79,8 @@ def wall_caution(d: float, v: float) -> str | None:
     notes = []
     if d < d_lo:
         notes.append(f"d = {d:g} cm is below the projectiles the wall stage was validated on ({d_lo:g}-{d_hi:g} cm); "
-                     "on the test database it called 10 of 13 perforations by 0.318-cm projectiles safe")
+                     "on the test database it called 10 of 13 perforations by 0.318-cm projectiles safe (the debris "
+                     "stage carries no solid fragments, whose craters can perforate a wall its diffuse load only bulges)")
     elif d > d_hi:
         notes.append(f"d = {d:g} cm is above the projectiles the wall stage was validated on ({d_lo:g}-{d_hi:g} cm)")
     if not v_lo <= v <= v_hi:
