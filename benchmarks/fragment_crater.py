@@ -19,7 +19,7 @@ non-positive-volume error).  Run to ``end`` µs after the last arrival.
 
     python benchmarks/fragment_crater.py [--diameter 0.06] [--velocity 6.0] [--cell 0.01]
         [--thickness 0.16 0.6] [--material al2024-t4] [--half-width 0.4] [--end 6]
-        [--depth-per-diameter 1] [--bisect LO HI [--tolerance 0.0025]]
+        [--depth-per-diameter 1] [--bisect LO HI [--tolerance 0.0025]] [--sph SPACING]
 
 Prints, per wall thickness: (S1)'s p_∞ and its verdict for that thickness, the wall stage's
 verdict, crater depth (its damage depth: the damaged material connected to the front face,
@@ -27,8 +27,11 @@ cm and / p_∞), eroded mass, rear bulge, the energy the load brought against th
 energy, the impulse against the sphere's momentum, the failed mass by criterion and the wall
 time.  A thickness of several p_∞ stands for the semi-infinite target of (S1).  With
 ``--bisect`` it prints instead, per thickness, the diameters between which the verdict turns to
-perforation, beside (S1)'s critical diameter.  A check of the load model, not a product option:
-nothing in the wall stage changes.
+perforation, beside (S1)'s critical diameter.  ``--sph SPACING`` asks an independent solver the
+same question instead: the shield stage's SPH strikes a plate of the wall's material and thickness
+(radius ``half_width``) with the sphere itself (:func:`sph_run`), so the wall's response comes from
+the full impact rather than from the deposited momentum.  A check of the load model, not a
+product option: nothing in the wall stage changes.
 """
 
 from __future__ import annotations
@@ -37,13 +40,20 @@ import argparse
 import time
 
 import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
 
-from impactdyn import ble, wall
+from impactdyn import ble, shield, wall
 from impactdyn.materials import get_material
 from impactdyn.wallgrid import WallGrid, sphere_deposition
 from _machine import describe_machine
 
 PROJECTILE_DENSITY = 2.7
+#: The sphere's material in the SPH cross-check (ρ₀ 2.703).
+SPH_PROJECTILE = "al6061-t6"
+#: Outward speed (km/s) of plate material beyond its rear face counted as ejected in the SPH.
+SPH_EJECTA_SPEED = 0.2
 
 
 def crater_run(thickness: float, diameter: float, args: argparse.Namespace) -> dict:
@@ -74,6 +84,36 @@ def crater_run(thickness: float, diameter: float, args: argparse.Namespace) -> d
     }
 
 
+def sph_run(thickness: float, diameter: float, args: argparse.Namespace) -> dict:
+    """The same sphere striking the same plate in the shield stage's SPH: the projectile's material, not
+    its momentum (Johnson–Cook flow stress, the materials' spall and plastic-strain failure), run
+    ``args.end`` µs past the contact.  Perforated when failed plate particles link (within 1.5
+    spacings) a particle of the plate's first layer to one of its last, or plate material beyond
+    the rear face moves outward faster than :data:`SPH_EJECTA_SPEED`."""
+    dx = args.sph
+    problem = shield.sphere_on_plate(SPH_PROJECTILE, args.material, diameter_cm=diameter,
+                                     velocity_km_s=args.velocity, obliquity_deg=0.0, plate_thickness_cm=thickness,
+                                     spacing_cm=dx, plate_radius_cm=args.half_width)
+    start = problem.particles
+    n_p = int(np.count_nonzero(np.any(start.velocity != 0.0, axis=1)))      # the projectile's come first
+    tick = time.perf_counter()
+    end = shield.run(problem, diameter / (args.velocity * 0.1) + args.end,
+                     options=shield.SPHOptions(flow_stress="johnson_cook")).state
+    elapsed = time.perf_counter() - tick
+    plate = np.arange(start.mass.size) >= n_p
+    y0, y, vy = start.position[:, 1], end.position[:, 1], end.velocity[:, 1]
+    ejected = plate & (y > thickness + 2.0 * dx) & (vy * 10.0 > SPH_EJECTA_SPEED)
+    failed = np.flatnonzero(plate & end.failed)
+    pairs = cKDTree(end.position[failed]).query_pairs(1.5 * dx, output_type="ndarray")
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(failed.size, failed.size))
+    _, label = connected_components(graph, directed=False)
+    front = set(label[y0[failed] < dx])
+    through = bool(front & set(label[y0[failed] > thickness - dx]))
+    rear = plate & (y0 > thickness - dx) & (np.hypot(start.position[:, 0], start.position[:, 2]) < diameter)
+    return {"perforated": through or bool(ejected.any()), "through": through, "ejected_g": float(end.mass[ejected].sum()),
+            "rear_displacement": float((y - y0)[rear].max()), "particles": start.mass.size, "seconds": elapsed}
+
+
 def single_wall(thickness: float, args: argparse.Namespace) -> ble.SingleWall:
     """The wall as (S1) sees it: its material's density and Brinell hardness."""
     return ble.SingleWall(thickness, get_material(args.material).rho0, ble.BRINELL_HARDNESS[args.material])
@@ -94,12 +134,19 @@ def main() -> int:
                          "perforation, to --tolerance, per thickness")
     ap.add_argument("--tolerance", type=float, default=0.0025, help="bisection tolerance, cm")
     ap.add_argument("--end", type=float, default=6.0, help="run time after the last arrival, µs")
+    ap.add_argument("--sph", type=float, metavar="SPACING",
+                    help="run the shield stage's SPH on the same sphere and plate instead, at this particle spacing (cm)")
     args = ap.parse_args()
     print(describe_machine())
-    print(f"{args.material}, {args.velocity} km/s, cell {args.cell} cm, load depth {args.depth_per_diameter} d, "
-          f"clamped at ±{args.half_width} cm, {args.end} µs after the last arrival")
+    if args.sph:
+        print(f"{args.material} plate of radius {args.half_width} cm, {SPH_PROJECTILE} sphere at {args.velocity} km/s, "
+              f"SPH spacing {args.sph} cm, {args.end} µs after the sphere's transit")
+    else:
+        print(f"{args.material}, {args.velocity} km/s, cell {args.cell} cm, load depth {args.depth_per_diameter} d, "
+              f"clamped at ±{args.half_width} cm, {args.end} µs after the last arrival")
     if args.bisect:
-        print("t_w (cm) | (S1) d_c, perforation (cm) | wall stage: largest d intact, smallest d perforated (cm) | "
+        print("t_w (cm) | (S1) d_c, perforation (cm) | " + ("SPH" if args.sph else "wall stage")
+              + ": largest d intact, smallest d perforated (cm) | "
               "ratio to (S1) | runs")
         for t in args.thickness:
             d_c = float(ble.single_wall_critical_diameter(single_wall(t, args), args.velocity, 0.0,
@@ -108,14 +155,23 @@ def main() -> int:
             runs = 0
             while hi - lo > args.tolerance:
                 mid = 0.5 * (lo + hi)
-                r = crater_run(t, mid, args)
+                perforated = (sph_run(t, mid, args)["perforated"] if args.sph
+                              else crater_run(t, mid, args)["verdict"] == wall.PERFORATION)
                 runs += 1
-                lo, hi = (lo, mid) if r["verdict"] == wall.PERFORATION else (mid, hi)
+                lo, hi = (lo, mid) if perforated else (mid, hi)
             print(f"{t:.3f} | {d_c:.4f} | {lo:.4f}, {hi:.4f} | {0.5 * (lo + hi) / d_c:.2f} | {runs}", flush=True)
         return 0
     mass = PROJECTILE_DENSITY * np.pi * args.diameter**3 / 12.0       # the half model's
     kinetic = 0.5 * mass * (args.velocity * 0.1) ** 2
     momentum = mass * args.velocity * 0.1
+    if args.sph:
+        print("t_w (cm) | SPH spacing (cm) | particles | perforated | through-thickness failed path | "
+              "ejected (g) | rear-face displacement (cm) | SPH (s)")
+        for t in args.thickness:
+            r = sph_run(t, args.diameter, args)
+            print(f"{t:.3f} | {args.sph} | {r['particles']} | {r['perforated']} | {r['through']} | {r['ejected_g']:.3e} | "
+                  f"{r['rear_displacement']:.4f} | {r['seconds']:.0f}", flush=True)
+        return 0
     print(f"sphere d {args.diameter} cm; half-model momentum {momentum:.4e} g·cm/µs, "
           f"kinetic energy {kinetic:.4e} g·cm²/µs²")
     print("t_w (cm) | layers | elements | p_inf (S1) | (S1) | wall stage | crater (cm) | crater/p_inf | "
