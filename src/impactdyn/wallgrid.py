@@ -186,11 +186,9 @@ def sphere_deposition(wall: WallGrid, diameter_cm: float, speed_cm_us: float, de
     nx = wall.x.size - 1
     hx, hz = np.diff(wall.x), np.diff(wall.z)
     s = (np.arange(samples) + 0.5) / samples
-    px = (wall.x[:-1, None] + hx[:, None] * s).ravel()
-    pz = (wall.z[:-1, None] + hz[:, None] * s).ravel()
-    X, Z = np.meshgrid(px - centre_xz[0], pz - centre_xz[1], indexing="ij")
-    i = np.repeat(np.arange(nx), samples)[:, None] + np.zeros_like(Z, dtype=np.int64)
-    k = np.repeat(np.arange(hz.size), samples)[None, :] + np.zeros_like(X, dtype=np.int64)
+    X, Z = np.meshgrid((wall.x[:-1, None] + hx[:, None] * s).ravel() - centre_xz[0],
+                       (wall.z[:-1, None] + hz[:, None] * s).ravel() - centre_xz[1], indexing="ij")
+    i, k = np.meshgrid(np.repeat(np.arange(nx), samples), np.repeat(np.arange(hz.size), samples), indexing="ij")
     inside = X**2 + Z**2 < radius**2
     i, k = i[inside], k[inside]
     length = 2.0 * np.sqrt(radius**2 - X[inside] ** 2 - Z[inside] ** 2)

@@ -15,6 +15,7 @@ import pytest
 
 from impactdyn import ble, wall
 from impactdyn._errors import InputError
+from impactdyn.materials import get_material
 from impactdyn.wallgrid import WallGrid, sphere_deposition
 
 RHO_P = 2.7
@@ -65,7 +66,7 @@ def test_a_compact_fragment_perforates_near_the_single_wall_limit_and_not_far_be
     0.77 d_c at this mesh, 0.67–0.82 d_c at 0.01–0.04 cm; BENCHMARKS.md)."""
     grid = half_model(0.02)
     v_km_s = 6.0
-    single = ble.SingleWall(0.16, 2.785, ble.BRINELL_HARDNESS["al2024-t4"])
+    single = ble.SingleWall(0.16, get_material("al2024-t4").rho0, ble.BRINELL_HARDNESS["al2024-t4"])
     d_c = float(ble.single_wall_critical_diameter(single, v_km_s, 0.0, RHO_P))
     verdicts = {}
     for factor in (0.5, 1.2):

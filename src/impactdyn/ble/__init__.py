@@ -30,8 +30,8 @@ from impactdyn.ble._registry import DEFAULT_EQUATION, EQUATIONS, get_equation
 from impactdyn.ble._shield import ALUMINIUM_DENSITY_G_CM3, WhippleShield
 from impactdyn.ble._single_wall import (
     AL6061_T6_BRINELL,
-    BRINELL_HARDNESS,
     AL_SOUND_SPEED_KM_S,
+    BRINELL_HARDNESS,
     FailureMode,
     SingleWall,
     penetration_depth,
