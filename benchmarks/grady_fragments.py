@@ -44,7 +44,6 @@ import math
 from pathlib import Path
 
 import numpy as np
-
 from scipy.spatial import cKDTree
 
 from impactdyn import ble
