@@ -40,14 +40,12 @@ import argparse
 import time
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
-from scipy.spatial import cKDTree
 
 from impactdyn import ble, shield, wall
 from impactdyn.materials import get_material
 from impactdyn.wallgrid import WallGrid, sphere_deposition
 from _machine import describe_machine
+from _particles import linked_clusters, projectile_count
 
 PROJECTILE_DENSITY = 2.7
 #: The sphere's material in the SPH cross-check (ρ₀ 2.703).
@@ -95,7 +93,7 @@ def sph_run(thickness: float, diameter: float, args: argparse.Namespace) -> dict
                                      velocity_km_s=args.velocity, obliquity_deg=0.0, plate_thickness_cm=thickness,
                                      spacing_cm=dx, plate_radius_cm=args.half_width)
     start = problem.particles
-    n_p = int(np.count_nonzero(np.any(start.velocity != 0.0, axis=1)))      # the projectile's come first
+    n_p = projectile_count(problem)
     tick = time.perf_counter()
     end = shield.run(problem, diameter / (args.velocity * 0.1) + args.end,
                      options=shield.SPHOptions(flow_stress="johnson_cook")).state
@@ -104,9 +102,7 @@ def sph_run(thickness: float, diameter: float, args: argparse.Namespace) -> dict
     y0, y, vy = start.position[:, 1], end.position[:, 1], end.velocity[:, 1]
     ejected = plate & (y > thickness + 2.0 * dx) & (vy * 10.0 > SPH_EJECTA_SPEED)
     failed = np.flatnonzero(plate & end.failed)
-    pairs = cKDTree(end.position[failed]).query_pairs(1.5 * dx, output_type="ndarray")
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(failed.size, failed.size))
-    _, label = connected_components(graph, directed=False)
+    _, label = linked_clusters(end.position[failed], 1.5 * dx)
     front = set(label[y0[failed] < dx])
     through = bool(front & set(label[y0[failed] > thickness - dx]))
     rear = plate & (y0 > thickness - dx) & (np.hypot(start.position[:, 0], start.position[:, 2]) < diameter)

@@ -51,6 +51,7 @@ from impactdyn.materials import get_material
 from impactdyn.shield import read_particles
 from impactdyn.units import KM_S_PER_CM_US
 from impactdyn.whipple import load_whipple_case, shield_problem
+from _particles import projectile_count
 
 #: Plane-strain fracture toughness, MPa·√m (typical handbook values; module docstring).
 K_IC_MPA_SQRT_M = {"al2024-t4": 34.0, "al6061-t6": 29.0, "al7075-t6": 27.0}
@@ -88,8 +89,9 @@ def largest_fragment(mass: np.ndarray, size: np.ndarray, density: float) -> floa
 def estimate(run: Path, local: bool) -> dict:
     case = load_whipple_case(run / "case.toml")
     particles, _ = read_particles(run / "shield" / "particles.h5")
-    initial = shield_problem(case)[0].particles
-    n_p = int(np.count_nonzero(np.any(initial.velocity != 0.0, axis=1)))       # the projectile's come first
+    problem = shield_problem(case)[0]
+    initial = problem.particles
+    n_p = projectile_count(problem)
     if particles.mass.size != initial.mass.size or not np.array_equal(particles.mass[:n_p], initial.mass[:n_p]):
         raise SystemExit(f"{run}: the hand-off particles are not the shield problem's in its order")
     m, v = particles.mass[:n_p], particles.velocity[:n_p]

@@ -16,14 +16,12 @@ import argparse
 from pathlib import Path
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
-from scipy.spatial import cKDTree
 
 from impactdyn.materials import get_material
 from impactdyn.shield import read_particles
 from impactdyn.units import KM_S_PER_CM_US
 from impactdyn.whipple import load_whipple_case
+from _particles import linked_clusters
 
 
 def clusters(run: Path, link: float, min_speed_km_s: float) -> tuple[int, np.ndarray, np.ndarray, np.ndarray,
@@ -35,10 +33,7 @@ def clusters(run: Path, link: float, min_speed_km_s: float) -> tuple[int, np.nda
     particles, _ = read_particles(run / "shield" / "particles.h5")
     behind = np.flatnonzero((particles.position[:, 1] >= case.bumper.thickness_cm)
                             & (particles.velocity[:, 1] * KM_S_PER_CM_US > min_speed_km_s))
-    pairs = cKDTree(particles.position[behind]).query_pairs(link * case.shield.spacing_cm, output_type="ndarray")
-    n = behind.size
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
-    count, label = connected_components(graph, directed=False)
+    count, label = linked_clusters(particles.position[behind], link * case.shield.spacing_cm)
     mass = np.bincount(label, weights=particles.mass[behind])
     top = np.argsort(mass)[::-1][:3]
     rho0 = get_material(case.projectile.material).rho0
