@@ -40,7 +40,8 @@ import numpy as np
 from numba import carray, njit, types
 from numba.extending import intrinsic
 
-from impactdyn.beam._model import IN_CONTACT, contact_force_kernel, event_kernel, jacobian_kernel, rhs_into
+from impactdyn.beam._model import (
+    IN_CONTACT, CoupledTerms, contact_force_kernel, event_kernel, jacobian_kernel, rhs_into)
 
 # Shampine (1982) parameters
 _GAM = 0.5
@@ -147,20 +148,20 @@ def first_crossing(vals, dirs, armed):
 
 
 @njit(cache=True)
-def record_outputs(ta, ya, fa, tb, yb, fb, t_hi, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw, law_id, lawp,
+def record_outputs(ta, ya, fa, tb, yb, fb, t_hi, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp,
                    out_t, out_y, out_f, k_out):
     """Fill output rows with times in (ta, t_hi] from the step's interpolant; returns the next row."""
     while k_out < out_t.shape[0] and out_t[k_out] <= t_hi + 1e-13 * abs(t_hi):
         if out_t[k_out] > ta or k_out == 0:
             y = hermite_into(ta, ya, fa, tb, yb, fb, min(out_t[k_out], tb), out_y[k_out])
-            f_c = contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw, law_id, lawp)
+            f_c = contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp)
             out_f[k_out] = f_c
         k_out += 1
     return k_out
 
 
 @njit(cache=True)
-def track_peak(ta, ya, fa, tb, yb, fb, t_hi, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw, law_id, lawp, peak):
+def track_peak(ta, ya, fa, tb, yb, fb, t_hi, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp, peak):
     """Raise ``peak`` (2,) = (F_max, t at F_max) with the contact force over [ta, t_hi].
 
     Samples the interpolant and refines the largest sample by a parabola through it
@@ -173,7 +174,7 @@ def track_peak(ta, ya, fa, tb, yb, fb, t_hi, sc, m0, kd, cd, G, h, b, phi_p, C, 
     for j in range(k + 1):
         ts[j] = ta + (t_hi - ta) * j / k
         f_c = contact_force_kernel(hermite_into(ta, ya, fa, tb, yb, fb, ts[j], yt), sc, m0, kd, cd, G, h, b,
-                                         phi_p, C, E, F, D, work, fw, law_id, lawp)
+                                         phi_p, work, coupled, law_id, lawp)
         fs[j] = f_c
     j = np.argmax(fs)
     f_best, t_best = fs[j], ts[j]
@@ -183,7 +184,7 @@ def track_peak(ta, ya, fa, tb, yb, fb, t_hi, sc, m0, kd, cd, G, h, b, phi_p, C, 
             off = 0.5 * (fs[j - 1] - fs[j + 1]) / denom
             t_try = ts[j] + off * (ts[1] - ts[0])
             f_try = contact_force_kernel(hermite_into(ta, ya, fa, tb, yb, fb, t_try, yt), sc, m0, kd, cd, G, h, b,
-                                               phi_p, C, E, F, D, work, fw, law_id, lawp)
+                                               phi_p, work, coupled, law_id, lawp)
             if f_try > f_best:
                 f_best, t_best = f_try, t_try
     if f_best > peak[0]:
@@ -192,7 +193,7 @@ def track_peak(ta, ya, fa, tb, yb, fb, t_hi, sc, m0, kd, cd, G, h, b, phi_p, C, 
 
 
 @njit(cache=True)
-def process_step(ta, ya, fa, tb, yb, fb, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw, law_id, lawp, dirs,
+def process_step(ta, ya, fa, tb, yb, fb, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp, dirs,
                  armed, vals, yt, out_t, out_y, out_f, k_out, peak):
     """Scan an accepted step for events; without one, write its outputs and force peak.
 
@@ -203,13 +204,13 @@ def process_step(ta, ya, fa, tb, yb, fb, sc, m0, kd, cd, G, h, b, phi_p, C, E, F
     for j in range(k + 1):
         t = ta + (tb - ta) * j / k
         vals[j, 0], vals[j, 1] = event_kernel(hermite_into(ta, ya, fa, tb, yb, fb, t, yt), sc, m0, kd, cd, G, h, b,
-                                              phi_p, C, E, F, D, work, fw, law_id, lawp)
+                                              phi_p, work, coupled, law_id, lawp)
     j, e = first_crossing(vals, dirs, armed)
     if j < 0:
-        k_out = record_outputs(ta, ya, fa, tb, yb, fb, tb, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw,
+        k_out = record_outputs(ta, ya, fa, tb, yb, fb, tb, sc, m0, kd, cd, G, h, b, phi_p, work, coupled,
                                law_id, lawp, out_t, out_y, out_f, k_out)
         if sc[IN_CONTACT] == 1.0:
-            track_peak(ta, ya, fa, tb, yb, fb, tb, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw, law_id, lawp,
+            track_peak(ta, ya, fa, tb, yb, fb, tb, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp,
                        peak)
     return j, e, k_out
 
@@ -260,7 +261,7 @@ def _borrow(a):
 
 @njit(cache=True)
 def rosenbrock_segment(t, y0, t_end, h_try, rtol, atol, n_dyn, max_steps,
-                       sc, m0, kd, cd, G, hmat, b, phi_p, C, E, F, D, work, fw, law_id, lawp, dirs, armed,
+                       sc, m0, kd, cd, G, hmat, b, phi_p, work, coupled, law_id, lawp, dirs, armed,
                        out_t, out_y, out_f, k_out, peak, stats):
     """Integrate from t toward ``t_end`` until an event (Rosenbrock 4(3), module docstring).
 
@@ -279,14 +280,14 @@ def rosenbrock_segment(t, y0, t_end, h_try, rtol, atol, n_dyn, max_steps,
     vals = np.empty((SAMPLES_PER_STEP + 1, 2))
     status, k_out, h, j, e, ta, tb = _rosenbrock_steps(
         t, t_end, h_try, rtol, atol, n_dyn, max_steps, ends, scratch, jac, lu, piv, vals,
-        sc, m0, kd, cd, G, hmat, b, phi_p, C, E, F, D, work, fw, law_id, lawp, dirs, armed, out_t, out_y, out_f, k_out,
+        sc, m0, kd, cd, G, hmat, b, phi_p, work, coupled, law_id, lawp, dirs, armed, out_t, out_y, out_f, k_out,
         peak, stats)
     return status, k_out, h, j, e, ta, ends[0], ends[1], tb, ends[2], ends[3]
 
 
 @njit(cache=True)
 def _rosenbrock_steps(t, t_end, h, rtol, atol, n_dyn, max_steps, ends, scratch, jac, lu, piv, vals,
-                      sc, m0, kd, cd, G, hmat, b, phi_p, C, E, F, D, work, fw, law_id, lawp, dirs, armed,
+                      sc, m0, kd, cd, G, hmat, b, phi_p, work, coupled, law_id, lawp, dirs, armed,
                       out_t, out_y, out_f, k_out, peak, stats):
     """The step loop of :func:`rosenbrock_segment`, on borrowed views of its arrays,
     which the caller keeps alive. The state starts in ``ends[2]``; the last step's
@@ -300,11 +301,14 @@ def _rosenbrock_steps(t, t_end, h, rtol, atol, n_dyn, max_steps, ends, scratch, 
     jac, lu, piv, vals = _borrow(jac), _borrow(lu), _borrow(piv), _borrow(vals)
     sc, m0, kd, cd, G, hmat, b, phi_p = (_borrow(sc), _borrow(m0), _borrow(kd), _borrow(cd), _borrow(G),
                                          _borrow(hmat), _borrow(b), _borrow(phi_p))
-    C, E, F, D, work, fw = _borrow(C), _borrow(E), _borrow(F), _borrow(D), _borrow(work), _borrow(fw)
+    work = _borrow(work)
+    if coupled is not None:
+        coupled = CoupledTerms(_borrow(coupled.C), _borrow(coupled.E), _borrow(coupled.F), _borrow(coupled.D),
+                               _borrow(coupled.fw))
     lawp, dirs, armed = _borrow(lawp), _borrow(dirs), _borrow(armed)
     out_t, out_y, out_f, peak, stats = _borrow(out_t), _borrow(out_y), _borrow(out_f), _borrow(peak), _borrow(stats)
 
-    rhs_into(t, y, f0, sc, m0, kd, cd, G, hmat, b, phi_p, C, E, F, D, work, fw, law_id, lawp)
+    rhs_into(t, y, f0, sc, m0, kd, cd, G, hmat, b, phi_p, work, coupled, law_id, lawp)
     ya[:] = y
     fa[:] = f0
     stats[2] += 1
@@ -316,7 +320,7 @@ def _rosenbrock_steps(t, t_end, h, rtol, atol, n_dyn, max_steps, ends, scratch, 
         last = t + h >= t_end
         if last:
             h = t_end - t
-        jacobian_kernel(t, y, sc, m0, kd, cd, G, hmat, b, phi_p, C, E, F, D, work, fw, law_id, lawp, jac)
+        jacobian_kernel(t, y, sc, m0, kd, cd, G, hmat, b, phi_p, work, coupled, law_id, lawp, jac)
         stats[3] += 1
         gh = _GAM * h
         for r in range(m):
@@ -328,13 +332,13 @@ def _rosenbrock_steps(t, t_end, h, rtol, atol, n_dyn, max_steps, ends, scratch, 
         _stage_solve(lu, piv, jac, gh, m, g1, gv)
         for i in range(n):
             yt[i] = y[i] + _A21 * g1[i]
-        rhs_into(t + h, yt, f, sc, m0, kd, cd, G, hmat, b, phi_p, C, E, F, D, work, fw, law_id, lawp)
+        rhs_into(t + h, yt, f, sc, m0, kd, cd, G, hmat, b, phi_p, work, coupled, law_id, lawp)
         for i in range(n):
             g2[i] = f[i] + _C21 * g1[i] / h
         _stage_solve(lu, piv, jac, gh, m, g2, gv)
         for i in range(n):
             yt[i] = y[i] + _A31 * g1[i] + _A32 * g2[i]
-        rhs_into(t + h, yt, f, sc, m0, kd, cd, G, hmat, b, phi_p, C, E, F, D, work, fw, law_id, lawp)
+        rhs_into(t + h, yt, f, sc, m0, kd, cd, G, hmat, b, phi_p, work, coupled, law_id, lawp)
         for i in range(n):
             g3[i] = f[i] + (_C31 * g1[i] + _C32 * g2[i]) / h
         _stage_solve(lu, piv, jac, gh, m, g3, gv)
@@ -354,11 +358,11 @@ def _rosenbrock_steps(t, t_end, h, rtol, atol, n_dyn, max_steps, ends, scratch, 
             err = 1e10
         if err <= 1.0:
             t_new = t_end if last else t + h
-            rhs_into(t_new, y_new, f_new, sc, m0, kd, cd, G, hmat, b, phi_p, C, E, F, D, work, fw, law_id, lawp)
+            rhs_into(t_new, y_new, f_new, sc, m0, kd, cd, G, hmat, b, phi_p, work, coupled, law_id, lawp)
             stats[0] += 1
             stats[2] += 1
-            j, e, k_out = process_step(t, y, f0, t_new, y_new, f_new, sc, m0, kd, cd, G, hmat, b, phi_p, C, E, F, D,
-                                       work, fw, law_id, lawp, dirs, armed, vals, yt, out_t, out_y, out_f, k_out, peak)
+            j, e, k_out = process_step(t, y, f0, t_new, y_new, f_new, sc, m0, kd, cd, G, hmat, b, phi_p, work,
+                                       coupled, law_id, lawp, dirs, armed, vals, yt, out_t, out_y, out_f, k_out, peak)
             ta = t
             ya[:] = y
             fa[:] = f0

@@ -91,6 +91,7 @@ residual of a run shows. The coupled mass matrix is factorised by Cholesky,
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -101,14 +102,32 @@ from impactdyn.beam._modes import large_deflection_integrals, modal_integrals, s
 
 # slots of the packed scalar parameter array ``sc``
 RHO_L, J0, C_JOINT, TORQUE, GRAV_THETA, GRAV_MODAL, RHO_G, LENGTH, MOMENT_ARM, GAP_ARM, \
-    STOP_OFFSET, COUPLED, IN_CONTACT, V0 = range(14)
-N_SCALARS = 14
+    STOP_OFFSET, IN_CONTACT, V0 = range(13)
+N_SCALARS = 13
 # slots of the coupled model's workspace ``fw`` (N_FW + 3n, n + 1, n + 1): the mass matrix
 # (Cholesky factor after assembly), n × n matrices of the module docstring and of the
 # Jacobian (:func:`_coupled_jacobian`), vectors (rows of VECTORS), then from N_FW the
 # partial contractions E·q, F·q and D·q, n slots each (:func:`_contract_last`)
 MASS, LAMBDA, GAMMA, PSI, XI, PHI, DELTA, PI, OMEGA, B_DOT, PHI_CROSS, E_ACC, VECTORS = range(13)
 N_FW = 13
+
+
+class CoupledTerms(NamedTuple):
+    """The coupled model's arrays, one argument ``coupled`` of every kernel: C (n, n, n),
+    E, F, D (n, n, n, n) (:class:`BeamModel`) and the workspace fw (N_FW + 3n, n + 1, n + 1).
+
+    The linearised model passes None instead. numba compiles each kernel once per
+    argument type and drops the ``coupled is not None`` branches from the None version,
+    so the default path neither runs nor passes anything of the coupled model: passing
+    its five arrays through every kernel call and testing a flag at run time made the
+    linearised IMPACTB sample 1.5x slower (benchmarks/BENCHMARKS.md, beam section).
+    """
+
+    C: np.ndarray
+    E: np.ndarray
+    F: np.ndarray
+    D: np.ndarray
+    fw: np.ndarray
 
 
 @njit(cache=True, inline="always")
@@ -186,11 +205,11 @@ def _cholesky_solve(lf, work, r):
 
 
 @njit(cache=True, inline="always")
-def _solve(sc, m0, fw, work, r):
+def _solve(sc, m0, work, coupled, r):
     """work[r] ← M⁻¹ work[r]: the linearised model's arrow matrix, or the coupled
     model's M(q), factorised in fw[MASS] by :func:`accelerations_kernel`."""
-    if sc[COUPLED] > 0.0:
-        _cholesky_solve(fw[MASS], work, r)
+    if coupled is not None:
+        _cholesky_solve(coupled.fw[MASS], work, r)
     else:
         _mass_solve(sc[J0], sc[RHO_L], m0, work, r)
 
@@ -299,13 +318,13 @@ def _coupled_forces(y, sc, m0, G, h, b, C, E, F, D, work, fw):
 
 
 @njit(cache=True, inline="always")
-def accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw):
+def accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled):
     """Free accelerations a₀ = M⁻¹Q (no contact) and the unit-force response u = M⁻¹J_F.
 
     J_F = [moment arm, φ₁(x_p/L), …] is the generalized direction of the contact
     force, so the accelerations under a contact force F are a₀ + F u. Both (n + 1,),
     written to rows 0 and 1 of ``work`` (2n + 4, n + 1); the coupled model leaves its
-    terms in ``fw`` (N_FW + 3n, n + 1, n + 1).
+    terms in ``coupled.fw``.
     """
     n = m0.shape[0]
     thd = y[n + 1]
@@ -316,10 +335,10 @@ def accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw
         pq_i = _p_times(y, sc, G, i, 1)
         work[0, 1 + i] = -kd[i] * y[1 + i] + thd * thd * pq_i - cd[i] * y[n + 2 + i] - sc[GRAV_MODAL] * b[i] * cth
         work[1, 1 + i] = phi_p[i]
-    if sc[COUPLED] > 0.0:
-        _coupled_forces(y, sc, m0, G, h, b, C, E, F, D, work, fw)
-    _solve(sc, m0, fw, work, 0)
-    _solve(sc, m0, fw, work, 1)
+    if coupled is not None:
+        _coupled_forces(y, sc, m0, G, h, b, coupled.C, coupled.E, coupled.F, coupled.D, work, coupled.fw)
+    _solve(sc, m0, work, coupled, 0)
+    _solve(sc, m0, work, coupled, 1)
 
 
 @njit(cache=True, inline="always")
@@ -345,27 +364,26 @@ def _mode_force(y, sc, phi_p, work, law_id, lawp):
 
 
 @njit(cache=True, inline="always")
-def contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw, law_id, lawp):
+def contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp):
     """F_c in the segment's mode (:func:`_mode_force`); leaves a₀ and u in ``work``."""
-    accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw)
+    accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled)
     return _mode_force(y, sc, phi_p, work, law_id, lawp)
 
 
 @njit(cache=True)
-def rhs_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw, law_id, lawp):
+def rhs_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp):
     """dy/dt of the state (module docstring), allocated; see :func:`rhs_into`."""
     dy = np.empty_like(y)
-    rhs_into(t, y, dy, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw, law_id, lawp)
+    rhs_into(t, y, dy, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp)
     return dy
 
 
 @njit(cache=True)
-def rhs_into(t, y, dy, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw, law_id, lawp):
+def rhs_into(t, y, dy, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp):
     """dy/dt of the state into ``dy``; shapes: y, dy (2n+7,), m0/kd/cd/b/phi_p (n,),
-    G/h (n,n), C (n,n,n), E/F/D (n,n,n,n) (size 0 for the linearised model),
-    work (2n+4, n+1), fw (N_FW + 3n, n+1, n+1)."""
+    G/h (n,n), work (2n+4, n+1), coupled a :class:`CoupledTerms` or None."""
     n = m0.shape[0]
-    f_c = contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw, law_id, lawp)
+    f_c = contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp)
     thd = y[n + 1]
     dy[0] = thd
     dy[n + 1] = work[0, 0] + f_c * work[1, 0]
@@ -485,7 +503,7 @@ def _coupled_jacobian(y, sc, G, h, b, C, E, F, D, work, fw, hub_acc, f_c):
 
 
 @njit(cache=True)
-def jacobian_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw, law_id, lawp, jac):
+def jacobian_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp, jac):
     """∂f/∂y of :func:`rhs_into` into ``jac`` (2n + 7, 2n + 7), analytically.
 
     The right-hand side is autonomous within a segment (the torque is constant
@@ -513,7 +531,7 @@ def jacobian_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw, 
     rho_l = sc[RHO_L]
     thd = y[n + 1]
     sth = np.sin(y[0])
-    accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw)
+    accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled)
     f_c = _mode_force(y, sc, phi_p, work, law_id, lawp)
     # ∂Q/∂xₖ into work[2 + k]: θ, q_j, θ̇, q̇_j columns
     for k in range(nd):
@@ -528,10 +546,11 @@ def jacobian_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw, 
         for j in range(n):
             work[3 + j, 1 + i] = -thd * thd * G[i, j]
         work[3 + i, 1 + i] += thd * thd * rho_l - kd[i]
-    if sc[COUPLED] > 0.0:
-        _coupled_jacobian(y, sc, G, h, b, C, E, F, D, work, fw, work[0, 0] + f_c * work[1, 0], f_c)
+    if coupled is not None:
+        _coupled_jacobian(y, sc, G, h, b, coupled.C, coupled.E, coupled.F, coupled.D, work, coupled.fw,
+                          work[0, 0] + f_c * work[1, 0], f_c)
     for k in range(nd):
-        _solve(sc, m0, fw, work, 2 + k)
+        _solve(sc, m0, work, coupled, 2 + k)
     ns = nd + 5
     for r in range(ns):
         for k in range(ns):
@@ -598,12 +617,12 @@ def coupled_energy_kernel(states, sc, m0, G, C, E, F, D, fw):
 
 
 @njit(cache=True)
-def event_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw, law_id, lawp):
+def event_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp):
     """The two event functions of the current mode: free: (g, 0); contact:
     (g, release indicator); resting: (λ, 0)."""
     mode = sc[IN_CONTACT]
     if mode == 2.0:
-        return contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, C, E, F, D, work, fw, law_id, lawp), 0.0
+        return contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp), 0.0
     g = gap_kernel(y, sc, phi_p)
     if mode == 1.0:
         return g, release_kernel(law_id, -g, -gap_rate_kernel(y, sc, phi_p), sc[V0], lawp)
@@ -617,12 +636,13 @@ class BeamModel:
     Attributes
     ----------
     n : number of modes.
-    sc : (14,) packed scalars (slots ``RHO_L`` … ``V0``); a template, copied per segment.
+    sc : (13,) packed scalars (slots ``RHO_L`` … ``V0``); a template, copied per segment.
     m0 : (n,) coupling M₀ᵢ.      kd : (n,) modal stiffness Kᵢ.
     cd : (n,) modal damping coefficients.      G : (n, n) centrifugal matrix ρL k + ρA h.
     h : (n, n) the integral h (for the coupled gravity terms).      b : (n,) ∫φᵢ.
     phi_p : (n,) φᵢ(x_p/L), the gap Jacobian's modal part.
     phi_r, phi2_r : (n,) φᵢ and φᵢ'' at the response point (for deflection and strain).
+    coupled : the large-deflection model (``model.coupled``) instead of the linearised one.
     C : (n, n, n) ρc,  E, F, D : (n, n, n, n) (ρ/L)e, (2EI/L⁵)f, (ρg/2L²)d: the coupled
         model's large-deflection coefficients (``_modes``); size 0 for the linearised model.
     impact_j00 : M₀₀ used by the momentum balance (differs only under the legacy option).
@@ -639,6 +659,7 @@ class BeamModel:
     phi_p: np.ndarray
     phi_r: np.ndarray
     phi2_r: np.ndarray
+    coupled: bool
     C: np.ndarray
     E: np.ndarray
     F: np.ndarray
@@ -679,7 +700,6 @@ class BeamModel:
         sc[MOMENT_ARM] = arm
         sc[GAP_ARM] = A + case.stop.x_m
         sc[STOP_OFFSET] = case.stop.y_m
-        sc[COUPLED] = 1.0 if case.model.coupled else 0.0
         sc[V0] = 1.0
         xr = case.output.response_point_m / L
         impact_j00 = rho_l * (A * A + L * L / 3.0) * (1.0 + bm.inertia_ratio) if lg.impact_inertia_drops_AL else j0
@@ -692,7 +712,8 @@ class BeamModel:
             n=n, sc=sc, m0=m0, kd=kd, cd=cd, G=G, h=np.array(h), b=mi.b.copy(),
             phi_p=shapes(mi.beta, np.float64(case.stop.x_m / L)).reshape(n),
             phi_r=shapes(mi.beta, np.float64(xr)).reshape(n),
-            phi2_r=(shapes(mi.beta, np.float64(xr), 2) / L**2).reshape(n), C=C, E=E, F=F, D=D,
+            phi2_r=(shapes(mi.beta, np.float64(xr), 2) / L**2).reshape(n),
+            coupled=case.model.coupled, C=C, E=E, F=F, D=D,
             impact_j00=impact_j00, length=L, strain_radius=bm.strain_radius_m,
         )
 
@@ -729,7 +750,7 @@ class BeamModel:
         """M of the model at the state ``y`` (module docstring), shape (n + 1, n + 1);
         ``j00`` replaces the linearised model's M₀₀ (the legacy impact inertia)."""
         n = self.n
-        if self.sc[COUPLED] > 0:
+        if self.coupled:
             fw = self._workspace()
             mass_matrix_kernel(np.ascontiguousarray(y, dtype=float), self.sc, self.m0, self.G, self.C, self.E,
                                self.F, self.D, fw)
@@ -752,7 +773,7 @@ class BeamModel:
         qhq = np.einsum("...i,ij,...j->...", q, self.h, q)
         V = (sc[GRAV_THETA] * np.sin(th) + sc[GRAV_MODAL] * np.cos(th) * (q @ self.b)
              - 0.5 * sc[RHO_G] * np.sin(th) * qhq + 0.5 * np.sum(self.kd * q**2, axis=-1))
-        if sc[COUPLED] > 0:
+        if self.coupled:
             states = np.ascontiguousarray(y, dtype=float).reshape(-1, self.n_state)
             kinetic_and_quartic = coupled_energy_kernel(states, sc, self.m0, self.G, self.C, self.E, self.F,
                                                         self.D, self._workspace())
@@ -781,7 +802,7 @@ class BeamModel:
         Returns the new state and the impulse P (N·s).
         """
         n = self.n
-        M = self.mass_matrix(y, j00=self.impact_j00 if self.sc[COUPLED] == 0 else None)
+        M = self.mass_matrix(y, j00=None if self.coupled else self.impact_j00)
         J = self.jacobian_row()
         v = y[n + 1 : 2 * n + 2]
         minv_j = np.linalg.solve(M, J)
@@ -801,10 +822,11 @@ class BeamModel:
         return np.empty((N_FW + 3 * self.n, self.n + 1, self.n + 1))
 
     def kernel_args(self, sc: np.ndarray) -> tuple:
-        """The model arrays after ``sc``, in the order every kernel takes them, with
-        fresh workspaces ``work`` and ``fw``."""
-        return (sc, self.m0, self.kd, self.cd, self.G, self.h, self.b, self.phi_p, self.C, self.E, self.F, self.D,
-                np.empty((2 * self.n + 4, self.n + 1)), self._workspace())
+        """The model arrays after ``sc``, in the order every kernel takes them, with a
+        fresh workspace ``work`` and the :class:`CoupledTerms` (with a fresh ``fw``) or None."""
+        coupled = CoupledTerms(self.C, self.E, self.F, self.D, self._workspace()) if self.coupled else None
+        return (sc, self.m0, self.kd, self.cd, self.G, self.h, self.b, self.phi_p,
+                np.empty((2 * self.n + 4, self.n + 1)), coupled)
 
     def jacobian(self, y: np.ndarray, sc: np.ndarray, law_id: int = 0, lawp=None) -> np.ndarray:
         """∂f/∂y of the right-hand side in the segment mode of ``sc``, shape (2n + 7, 2n + 7)."""
