@@ -12,6 +12,7 @@ chain", ``python benchmarks/bench_beam_chain.py``).
 import numpy as np
 import pytest
 
+from impactdyn import SimulationError
 from impactdyn.beam import RigidLinkChain, eigenvalues, simulate
 
 
@@ -42,6 +43,14 @@ def test_chain_conserves_energy(make_case):
     y0[3:7] += 0.2  # bend the beam: large motion of every link
     e = chain.energy(chain.integrate(y0, t, rtol=1e-10, atol=1e-12))
     assert np.max(np.abs(e - e[0])) < 1e-8 * abs(e[0])
+
+
+
+def test_chain_integration_failure_is_a_simulation_error(make_case):
+    """A torque the solver cannot carry (infinite) ends in the package's SimulationError, naming the time."""
+    chain = RigidLinkChain.from_case(make_case("impactc_sample.toml"), 4)
+    with pytest.raises(SimulationError, match="chain integration failed at t = 0 s"):
+        chain.integrate(chain.initial_state(0.0, 0.0), np.linspace(0.0, 0.01, 3), torques=(np.inf,))
 
 
 @pytest.fixture(scope="module")

@@ -3,7 +3,9 @@
 import numpy as np
 import pytest
 
+from impactdyn import InputError, SimulationError
 from impactdyn.beam import BeamModel, eigenvalues, modal_integrals, shapes
+from impactdyn.beam._modes import MAX_MODES, _newton_root
 
 
 BETA = [1.875104068712, 4.694091132974, 7.854757438238, 10.99554073488, 14.13716839105, 17.27875953209]
@@ -21,6 +23,18 @@ def test_eigenvalues_match_table_and_equation():
     # every root satisfies cos β cosh β + 1 = 0 in its scaled form, and lies near (2i−1)π/2
     assert np.max(np.abs(np.cos(beta) + 1 / np.cosh(beta))) < 1e-14
     np.testing.assert_allclose(beta[6:], (2 * np.arange(7, 21) - 1) * np.pi / 2, atol=1e-6)
+
+
+def test_newton_failure_is_a_simulation_error():
+    with pytest.raises(SimulationError, match="near 1.875: Newton's method did not converge in 2 iterations"):
+        _newton_root(1.875, maxiter=2)
+
+
+@pytest.mark.parametrize(("call", "names"), [(lambda: eigenvalues(MAX_MODES + 1), f"n = {MAX_MODES + 1}"),
+                                             (lambda: shapes(eigenvalues(2), np.float64(0.5), 4), "derivative = 4")])
+def test_arguments_out_of_range_are_input_errors(call, names):
+    with pytest.raises(InputError, match=names):
+        call()
 
 
 def test_sigma_and_analytic_integrals():

@@ -52,6 +52,7 @@ from numba import njit
 from scipy.integrate import solve_ivp
 from scipy.linalg import eigh
 
+from impactdyn._errors import SimulationError
 from impactdyn.beam._case import BeamCase
 from impactdyn.beam._simulate import torque_schedule
 
@@ -189,7 +190,7 @@ class RigidLinkChain:
             sol = solve_ivp(self.rhs, (a, b), state, method=method, rtol=rtol, atol=atol,
                             dense_output=True, args=(tau,))
             if not sol.success:
-                raise RuntimeError(f"chain integration failed at t = {sol.t[-1]:.6g} s: {sol.message}")
+                raise SimulationError(f"chain integration failed at t = {sol.t[-1]:.6g} s: {sol.message}")
             inside = (t_eval >= a) & (t_eval <= b)
             out[inside] = sol.sol(t_eval[inside]).T
             state = sol.y[:, -1]

@@ -54,6 +54,8 @@ from functools import lru_cache
 
 import numpy as np
 
+from impactdyn._errors import InputError, SimulationError
+
 MAX_MODES = 50
 _LISTING_SEEDS = (1.875, 4.693, 7.855, 10.996, 14.137)
 
@@ -69,7 +71,8 @@ def _newton_root(beta0: float, tol: float = 1e-15, maxiter: int = 60) -> float:
         b -= step
         if abs(step) <= tol * max(1.0, abs(b)):
             return float(b)
-    raise RuntimeError(f"cantilever eigenvalue near {beta0} did not converge")
+    raise SimulationError(f"cantilever eigenvalue near {beta0}: Newton's method did not converge in "
+                          f"{maxiter} iterations")
 
 
 @lru_cache(maxsize=None)
@@ -81,7 +84,7 @@ def _eigenvalues_cached(n: int) -> tuple[float, ...]:
 def eigenvalues(n: int) -> np.ndarray:
     """The first ``n`` clamped–free eigenvalues βᵢ, shape ``(n,)``."""
     if not 0 <= n <= MAX_MODES:
-        raise ValueError(f"number of modes must be in 0..{MAX_MODES}, got {n}")
+        raise InputError(f"number of modes n = {n}: must be in 0..{MAX_MODES}")
     return np.array(_eigenvalues_cached(n), dtype=float)
 
 
@@ -114,7 +117,7 @@ def shapes(beta: np.ndarray, xi: np.ndarray, derivative: int = 0) -> np.ndarray:
         return beta**2 * ((e_plus + e_minus) + c - s * sn)
     if derivative == 3:
         return beta**3 * ((e_plus - e_minus) - sn - s * c)
-    raise ValueError("derivative must be 0, 1, 2 or 3")
+    raise InputError(f"derivative = {derivative}: must be 0, 1, 2 or 3")
 
 
 def _gauss_legendre(n_panels: int, order: int) -> tuple[np.ndarray, np.ndarray]:
