@@ -9,8 +9,10 @@
   ``simulation failed: …`` and exits with 1, and no run folder is left behind.
 
 An ``OSError`` while writing results (an unwritable output folder, a full disk) is
-reported by the CLI with the path it concerns and exit code 2.  Any other exception
-is a bug and keeps its traceback.
+reported by the CLI with the path it concerns and exit code 2.  An interrupt (Ctrl-C, or
+SIGTERM, which the CLI turns into one) ends a command with exit code 130 and one line
+saying what was kept: :class:`Interrupted` carries that line where something was.  Any
+other exception is a bug and keeps its traceback.
 """
 
 from __future__ import annotations
@@ -29,6 +31,13 @@ class InputError(ValueError):
 
 class SimulationError(RuntimeError):
     """A run that cannot continue: the message says where and why (time, step, quantity)."""
+
+
+class Interrupted(BaseException):
+    """Raised in place of the ``KeyboardInterrupt`` by a command that tidied up after it and kept
+    something (a family of runs keeps its finished runs and their table, :mod:`impactdyn._family`);
+    the message says what.  Not a ``KeyboardInterrupt``: typer turns those into a bare exit code and
+    the message would be lost; catch both where a script must go on after an interrupt."""
 
 
 @contextmanager

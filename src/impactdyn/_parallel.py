@@ -3,6 +3,12 @@
 Beam sweeps, DC3D particle chunks and ballistic-limit campaigns are lists of
 independent tasks.  :func:`run_tasks` runs them and yields ``(index, result)`` as
 they finish, so callers can draw progress and keep results in order.
+
+When the caller stops early (Ctrl-C, SIGTERM, a task's exception, or the caller leaving the
+loop) the queued tasks are cancelled and the running ones stopped before the exception
+goes on: the local pool's workers are terminated (a pool left to shut down normally would
+first run every queued task), a Dask cluster's tasks are cancelled and a LocalCluster closed.
+No worker process outlives the call (:mod:`impactdyn._interrupt`).
 """
 
 from __future__ import annotations
@@ -12,6 +18,8 @@ import os
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from typing import Any, Literal
+
+from impactdyn._interrupt import ignore_interrupts, shielded
 
 Scheduler = Literal["serial", "processes", "dask"]
 
@@ -30,16 +38,48 @@ def run_tasks(fn: Callable[[Any], Any], tasks: Sequence[Any], *, scheduler: Sche
         for i, task in enumerate(tasks):
             yield i, fn(task)
     elif scheduler == "processes":
-        # spawn, not fork: a process that has run numba's OpenMP kernels cannot fork safely
-        with ProcessPoolExecutor(max_workers=workers or os.cpu_count(),
-                                 mp_context=multiprocessing.get_context("spawn")) as pool:
-            futures = {pool.submit(fn, t): i for i, t in enumerate(tasks)}
-            for fut in as_completed(futures):
-                yield futures[fut], fut.result()
+        yield from _on_processes(fn, tasks, workers)
     elif scheduler == "dask":
         yield from _on_dask(fn, tasks, workers, address)
     else:
         raise ValueError(f"unknown scheduler {scheduler!r}")
+
+
+#: Seconds a terminated worker is given to end before it is killed.
+STOP_GRACE_S = 5.0
+
+
+def _on_processes(fn, tasks, workers) -> Iterator[tuple[int, Any]]:
+    # spawn, not fork: a process that has run numba's OpenMP kernels cannot fork safely
+    pool = ProcessPoolExecutor(max_workers=workers or os.cpu_count(), initializer=ignore_interrupts,
+                               mp_context=multiprocessing.get_context("spawn"))
+    finished = False
+    try:
+        futures = {pool.submit(fn, t): i for i, t in enumerate(tasks)}
+        for fut in as_completed(futures):
+            yield futures[fut], fut.result()
+        finished = True
+    finally:
+        if finished:
+            pool.shutdown(wait=True)
+        else:
+            with shielded():
+                _stop_pool(pool)
+
+
+def _stop_pool(pool: ProcessPoolExecutor) -> None:
+    """Cancel the queued tasks and end the workers now.  The executor has no public way to end
+    running tasks before Python 3.14 (``terminate_workers``), so its ``_processes`` are ended here."""
+    processes = list((pool._processes or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        if process.is_alive():
+            process.terminate()
+    for process in processes:
+        process.join(STOP_GRACE_S)
+        if process.is_alive():
+            process.kill()
+            process.join()
 
 
 def _on_dask(fn, tasks, workers, address) -> Iterator[tuple[int, Any]]:
@@ -53,8 +93,15 @@ def _on_dask(fn, tasks, workers, address) -> Iterator[tuple[int, Any]]:
     try:
         with Client(cluster if cluster is not None else address) as client:
             futures = {client.submit(fn, t, pure=False): i for i, t in enumerate(tasks)}
-            for fut in dask_completed(futures):
-                yield futures[fut], fut.result()
+            try:
+                for fut in dask_completed(futures):
+                    yield futures[fut], fut.result()
+            except BaseException:
+                # on a cluster that is not ours, cancelling is all we may do to its workers
+                with shielded():
+                    client.cancel(list(futures), force=True)
+                raise
     finally:
         if cluster is not None:
-            cluster.close()
+            with shielded():
+                cluster.close()

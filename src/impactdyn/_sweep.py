@@ -8,6 +8,7 @@ value stops the sweep with a message naming it; :func:`run_all` runs the tasks t
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
+from contextlib import closing
 from typing import Any
 
 from impactdyn._config import set_dotted, validate
@@ -30,10 +31,14 @@ def run_all(fn: Callable[[Any], Any], tasks: Sequence[Any], *, scheduler: Schedu
             workers: int | None = None, address: str | None = None,
             on_result: Callable[[int, Any], None] | None = None) -> list:
     """``[fn(t) for t in tasks]``, run as :func:`run_tasks` schedules them; ``on_result(i, result)``
-    is called as each finishes (write its files, advance a progress bar)."""
+    is called as each finishes (write its files, advance a progress bar).  An exception, here or
+    in ``on_result``, stops the tasks still running before it goes on."""
     results: list = [None] * len(tasks)
-    for i, result in run_tasks(fn, tasks, scheduler=scheduler, workers=workers, address=address):
-        results[i] = result
-        if on_result is not None:
-            on_result(i, result)
+    if not tasks:  # a resumed family with nothing left: start no pool or cluster
+        return results
+    with closing(run_tasks(fn, tasks, scheduler=scheduler, workers=workers, address=address)) as finished:
+        for i, result in finished:
+            results[i] = result
+            if on_result is not None:
+                on_result(i, result)
     return results

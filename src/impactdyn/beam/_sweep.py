@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
+
 import numpy as np
 
 from impactdyn._config import load_toml, parse_range
 from impactdyn._errors import InputError
-from impactdyn._runfolder import RunFolder
+from impactdyn._family import FamilyFolder
 from impactdyn._sweep import case_variants, run_all
 
 SWEEP_HEADER = ["index", "value", "n_impacts", "first_impact_t_s", "v_approach_m_s", "v_separation_m_s",
@@ -45,26 +47,40 @@ def _row(index: int, value: float, s: dict) -> list:
             s["wall_time_s"]]
 
 
-def run_sweep(case_path, vary: str, outdir, force=False, workers: int | None = None,
+def run_sweep(case_path, vary: str, outdir, force=False, resume: bool = False, workers: int | None = None,
               dask_address: str | None = None, progress=None) -> Path:
     """Run the sweep and write ``sweep.csv``, ``sweep.png`` and ``cases/NNN/summary.json``.
 
     ``dask_address``: ``"local"`` starts a LocalCluster, any other value connects to
-    an existing scheduler; ``None`` uses a local process pool.
+    an existing scheduler; ``None`` uses a local process pool.  The folder is a family folder
+    (:mod:`impactdyn._family`): ``sweep.csv`` is rewritten after each case, so an interrupted
+    sweep leaves it with the cases it finished, and ``resume`` runs only the cases it lacks.
     """
     key, values = parse_vary(vary)
     cases = sweep_cases(case_path, key, values)
-    with RunFolder(outdir, force=force) as rf:
-        def done(i: int, summary: dict) -> None:
-            rf.write_json(f"cases/{i:03d}/summary.json", summary)
+    settings = {"case": cases[0].model_dump(mode="json"), "vary": key, "values": [float(v) for v in values]}
+    rows: list = [None] * len(cases)
+    with FamilyFolder(outdir, "beam sweep", settings, table="sweep.csv", member="case", force=force,
+                      resume=resume) as family:
+        def record(i: int, summary: dict, write: bool = True) -> None:
+            if write:
+                family.write_json(f"cases/{i:03d}/summary.json", summary)
+            rows[i] = _row(i, float(values[i]), summary)
+            family.finished += 1
+            family.write_csv("sweep.csv", SWEEP_HEADER, [r for r in rows if r is not None])
             if progress:
                 progress()
 
-        summaries = run_all(_run_one, cases, scheduler="dask" if dask_address else "processes", workers=workers,
-                            address=dask_address, on_result=done)
-        rows = [_row(i, float(v), s) for i, (v, s) in enumerate(zip(values, summaries))]
-        rf.write_csv("sweep.csv", SWEEP_HEADER, rows)
-        _plot(rows, key, rf.path / "sweep.png")
+        to_run = []
+        for i in range(len(cases)):
+            done = family.member_done("cases", f"{i:03d}", "summary.json")
+            if done is not None:
+                record(i, json.loads(done.read_text()), write=False)
+            else:
+                to_run.append(i)
+        run_all(_run_one, [cases[i] for i in to_run], scheduler="dask" if dask_address else "processes",
+                workers=workers, address=dask_address, on_result=lambda k, summary: record(to_run[k], summary))
+        _plot(rows, key, family.path / "sweep.png")
     return Path(outdir)
 
 

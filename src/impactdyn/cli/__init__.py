@@ -5,7 +5,8 @@ Heavy imports (numba kernels, matplotlib) happen inside the commands, so
 an :class:`~impactdyn.InputError` or a usage error → a message on stderr and exit
 code 2; a :class:`~impactdyn.SimulationError` → "simulation failed: …" and exit 1;
 an ``OSError`` (an output folder that cannot be written) → a message naming the path
-and exit 2.  None of them prints a traceback.
+and exit 2; Ctrl-C or SIGTERM → the work stopped and tidied, one line saying what was kept,
+and exit 130 (:mod:`impactdyn._interrupt`).  None of them prints a traceback.
 """
 
 from __future__ import annotations
@@ -20,7 +21,8 @@ os.environ.setdefault("OMP_WAIT_POLICY", "passive")
 
 import typer  # noqa: E402
 
-from impactdyn._errors import InputError, SimulationError
+from impactdyn._errors import InputError, Interrupted, SimulationError
+from impactdyn._interrupt import terminate_as_interrupt
 from impactdyn.cli import beam, ble, debris, whipple
 
 app = typer.Typer(
@@ -37,9 +39,16 @@ app.add_typer(whipple.app, name="whipple")
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point; returns the exit code (0 ok, 1 simulation failed, 2 bad input or unwritable output)."""
+    """Entry point; returns the exit code (0 ok, 1 simulation failed, 2 bad input or unwritable output,
+    130 interrupted)."""
     try:
-        app(args=argv, standalone_mode=False)
+        with terminate_as_interrupt():
+            code = app(args=argv, standalone_mode=False)
+    except Interrupted as err:
+        print(f"interrupted: {err}", file=sys.stderr)
+        return 130
+    except KeyboardInterrupt:  # raised outside a command (typer takes those raised inside: code 130)
+        code = 130
     except InputError as err:
         print(f"error: {err}", file=sys.stderr)
         return 2
@@ -52,15 +61,17 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     except typer.Exit as e:  # pragma: no cover - click passes exit codes this way
         return e.exit_code
-    except typer.Abort:
-        print("aborted", file=sys.stderr)
-        return 130
+    except typer.Abort:  # click's word for an interrupt in its own prompts
+        code = 130
     except Exception as err:  # usage errors carry their own exit code
         if _is_usage_error(err):
             err.show()
             return err.exit_code
         raise
-    return 0
+    if code == 130:
+        # every writer stages its files and removes them when stopped (impactdyn._runfolder)
+        print("interrupted: nothing was written", file=sys.stderr)
+    return code if isinstance(code, int) else 0
 
 
 def _is_usage_error(err: Exception) -> bool:

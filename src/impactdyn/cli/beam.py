@@ -74,6 +74,9 @@ def sweep(
     vary: str = typer.Option(..., "--vary", help="KEY=START:STOP:N, e.g. torque.amplitude_N_m=-0.3:-0.1:5"),
     out: Path = typer.Option(..., "-o", "--out", help="Sweep folder to create."),
     force: bool = typer.Option(False, "--force", help="Overwrite an existing folder."),
+    resume: bool = typer.Option(False, "--resume", help="Go on in the folder an interrupted sweep left: its "
+                                                        "finished cases are kept, the others run (same case "
+                                                        "and --vary)."),
     workers: Optional[int] = typer.Option(None, "--workers", help="Parallel workers (default: all cores)."),
     dask: Optional[str] = typer.Option(None, "--dask", help="'local' for a LocalCluster, or a scheduler address."),
 ):
@@ -83,10 +86,10 @@ def sweep(
     from impactdyn._runfolder import check_target
     from impactdyn.beam import parse_vary, run_sweep
 
-    check_target(out, force)
+    check_target(out, force or resume)
     _, values = parse_vary(vary)
     with Progress(transient=True) as progress:
         task = progress.add_task("cases", total=len(values))
-        run_sweep(case, vary, out, force=force, workers=workers, dask_address=dask,
+        run_sweep(case, vary, out, force=force, resume=resume, workers=workers, dask_address=dask,
                   progress=lambda: progress.advance(task))
     typer.echo(f"{len(values)} cases; table in {out / 'sweep.csv'}")

@@ -13,6 +13,8 @@ app = typer.Typer(help="Whipple shield: SPH shield impact → debris cloud → r
                   no_args_is_help=True)
 
 STAGE_HELP = "shield, binning, debris, wall, decks or report"
+RESUME_HELP = ("Go on in the folder an interrupted run of the same command left: its finished shots are "
+               "read back, not run again (the case and options must be the same).")
 
 
 @app.command()
@@ -58,6 +60,7 @@ def campaign(
     diameter: str = typer.Option(..., "--diameter", help="Sphere diameters START:STOP:N (cm), e.g. 0.3:0.7:5."),
     out: Path = typer.Option(..., "-o", "--out", help="Campaign folder to create."),
     force: bool = typer.Option(False, "--force", help="Overwrite an existing folder."),
+    resume: bool = typer.Option(False, "--resume", help=RESUME_HELP),
     workers: Optional[int] = typer.Option(None, "--workers", help="Shots run at once (default: all cores)."),
     dask: Optional[str] = typer.Option(None, "--dask", help="'local' for a LocalCluster, or a scheduler address."),
     keep_all: bool = typer.Option(False, "--keep-all", help="Keep every file of each shot (default: a lean "
@@ -70,13 +73,13 @@ def campaign(
     from impactdyn._runfolder import check_target
     from impactdyn.whipple import run_campaign
 
-    check_target(out, force)
+    check_target(out, force or resume)
     velocities = parse_range("--velocity", velocity, "5:11:4")
     diameters = parse_range("--diameter", diameter, "0.3:0.7:5")
     raw = load_toml(case)
     with Progress(transient=True) as bar:
         task = bar.add_task("shots", total=len(velocities) * len(diameters))
-        rows = run_campaign(raw, velocities, diameters, out, source=str(case), force=force,
+        rows = run_campaign(raw, velocities, diameters, out, source=str(case), force=force, resume=resume,
                             scheduler="dask" if dask else "processes", workers=workers, address=dask,
                             keep_all=keep_all, progress=lambda: bar.advance(task))
     typer.echo(f"{len(rows)} shots; table in {out / 'campaign.csv'}, plot in {out / 'campaign.png'}")
@@ -87,6 +90,7 @@ def limit(
     case: Path = typer.Argument(..., help="Base Whipple case file (TOML); its diameter is searched."),
     velocity: str = typer.Option(..., "--velocity", help="Impact velocities START:STOP:N (km/s), e.g. 3:11:5."),
     out: Path = typer.Option(..., "-o", "--out", help="Folder to create."),
+    resume: bool = typer.Option(False, "--resume", help=RESUME_HELP),
     tolerance: float = typer.Option(0.02, "--tolerance", help="Bisect until the bracket is this narrow (cm)."),
     bracket_ratio: float = typer.Option(1.25, "--bracket-ratio",
                                         help="First bracket d_JSC/r .. d_JSC*r, moved by r until it holds the "
@@ -107,15 +111,16 @@ def limit(
     from impactdyn._runfolder import check_target
     from impactdyn.whipple import run_limit
 
-    check_target(out, force)
+    check_target(out, force or resume)
     velocities = parse_range("--velocity", velocity, "3:11:5")
     brackets = dict(_parse_bracket(spec) for spec in bracket or [])
     raw = load_toml(case)
     with Progress(transient=True) as bar:
         task = bar.add_task("shots", total=None)
         rows = run_limit(raw, velocities, out, source=str(case), tolerance_cm=tolerance, bracket_ratio=bracket_ratio,
-                         brackets=brackets, force=force, scheduler="dask" if dask else "processes", workers=workers,
-                         address=dask, keep_all=keep_all, progress=lambda n: bar.update(task, completed=n))
+                         brackets=brackets, force=force, resume=resume, scheduler="dask" if dask else "processes",
+                         workers=workers, address=dask, keep_all=keep_all,
+                         progress=lambda n: bar.update(task, completed=n))
     for r in rows:
         d = "–" if r["limit_diameter_cm"] is None else f"{r['limit_diameter_cm']:.4f} ± {r['half_width_cm']:.4f} cm"
         typer.echo(f"V = {r['velocity_km_s']:g} km/s: simulated limit {d} ({r['status']}, {r['n_shots']} shots); "

@@ -1,7 +1,8 @@
 """Ballistic-limit campaigns: a grid of (velocity, diameter) shots of one Whipple case, run in parallel.
 
 Every shot is a full Whipple run (:func:`run_whipple`) in ``runs/V<v>_d<d>/``.
-The campaign folder adds ``campaign.csv`` and ``campaign.json`` (one row per
+The campaign folder (a family folder, :mod:`impactdyn._family`: written as the shots finish,
+resumable) adds ``campaign.csv`` and ``campaign.json`` (one row per
 shot: the JSC critical diameter and verdict beside the wall stage's verdict, its
 caution where the shot lies outside the wall stage's validation, and the simulated
 cloud and wall figures) and ``campaign.png``: the JSC ballistic-limit curve with each
@@ -13,11 +14,12 @@ diameter where the simulated verdict changes, bisected per velocity, see
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
-from impactdyn._errors import InputError
-from impactdyn._runfolder import RunFolder
 from impactdyn._config import validate
+from impactdyn._errors import InputError
+from impactdyn._family import FamilyFolder
 from impactdyn._sweep import case_variants, run_all
 from impactdyn.whipple._case import WhippleCase
 from impactdyn.whipple._shots import Shot, run_shot, shot_name, shot_variant, shot_workers, threads_per_shot
@@ -50,7 +52,7 @@ def _row(v: float, d: float, s: dict) -> list:
 
 
 def run_campaign(raw: dict, velocities: list[float], diameters: list[float], outdir: str | Path, *,
-                 source: str = "<case>", force: bool = False, scheduler: str = "processes",
+                 source: str = "<case>", force: bool = False, resume: bool = False, scheduler: str = "processes",
                  workers: int | None = None, address: str | None = None, keep_all: bool = False,
                  progress=None) -> list[list]:
     """Run the campaign into ``outdir`` (module docstring); returns the table rows.
@@ -59,22 +61,48 @@ def run_campaign(raw: dict, velocities: list[float], diameters: list[float], out
     velocity and diameter); ``scheduler``: ``processes`` (``workers`` local
     processes, the cores shared among them), ``dask`` (``address``, or a
     LocalCluster) or ``serial``; ``keep_all`` keeps every file of each shot (default: a lean
-    folder, :mod:`._shots`); ``progress()`` is called after each shot.
+    folder, :mod:`._shots`).  The table is rewritten after each shot, so an interrupted campaign
+    leaves it with the shots it finished; ``resume`` goes on in that folder and runs only the
+    shots it lacks.  ``progress()`` is called after each shot.
     """
     if not velocities or not diameters:
         raise InputError("campaign: needs at least one velocity and one diameter")
     grid = campaign_shots(raw, velocities, diameters, source)
-    n_workers = shot_workers(scheduler, workers, len(grid))
-    with RunFolder(outdir, force=force) as rf:
-        tasks = [Shot(case, rf.path / "runs" / shot_name(v, d), threads_per_shot(n_workers), keep_all)
-                 for v, d, case in grid]
-        summaries = run_all(run_shot, tasks, scheduler=scheduler, workers=n_workers, address=address,
-                            on_result=lambda i, s: progress and progress())
-        rows = [_row(v, d, s) for (v, d, _), s in zip(grid, summaries)]
-        rf.write_csv("campaign.csv", CAMPAIGN_HEADER, rows)
-        rf.write_json("campaign.json", [dict(zip(CAMPAIGN_HEADER, r)) for r in rows])
-        _plot(rf.path / "campaign.png", grid[0][2], rows)
+    settings = {"case": validate(WhippleCase, raw, source).model_dump(mode="json"),
+                "velocities_km_s": [float(v) for v in velocities], "diameters_cm": [float(d) for d in diameters],
+                "keep_all": keep_all}
+    rows: list = [None] * len(grid)
+    with FamilyFolder(outdir, "whipple campaign", settings, table="campaign.csv", member="shot", force=force,
+                      resume=resume) as family:
+        def record(k: int, summary: dict) -> None:
+            v, d, _ = grid[k]
+            rows[k] = _row(v, d, summary)
+            family.finished += 1
+            _write_tables(family, [r for r in rows if r is not None])
+            if progress:
+                progress()
+
+        to_run = []
+        for k, (v, d, _) in enumerate(grid):
+            done = family.member_done("runs", shot_name(v, d), "summary.json")
+            if done is not None:
+                record(k, json.loads(done.read_text()))
+            else:
+                to_run.append(k)
+        n_workers = shot_workers(scheduler, workers, len(to_run))
+        tasks = [Shot(grid[k][2], family.path / "runs" / shot_name(*grid[k][:2]), threads_per_shot(n_workers),
+                      keep_all) for k in to_run]
+        run_all(run_shot, tasks, scheduler=scheduler, workers=n_workers, address=address,
+                on_result=lambda i, summary: record(to_run[i], summary))
+        _write_tables(family, rows)
+        _plot(family.path / "campaign.png", grid[0][2], rows)
     return rows
+
+
+def _write_tables(folder: FamilyFolder, rows: list[list]) -> None:
+    """``campaign.csv`` and ``campaign.json``: the finished shots, in grid order."""
+    folder.write_csv("campaign.csv", CAMPAIGN_HEADER, rows)
+    folder.write_json("campaign.json", [dict(zip(CAMPAIGN_HEADER, r)) for r in rows])
 
 
 def _plot(path: Path, case: WhippleCase, rows: list) -> None:

@@ -24,22 +24,25 @@ every shot is kept in ``shots.csv``, so a non-monotone result is there to see.  
 round runs the pending shot of every velocity at once (in parallel), so a search of
 n velocities takes about as many rounds as one.
 
-Folder: ``limit.csv`` / ``limit.json`` (one row per velocity), ``shots.csv`` (every shot),
-``limit.png`` (the simulated limit with its brackets over the JSC curve, and the test
-database's shots near the configuration) and ``runs/V<v>_d<d>/`` (lean run folders,
+Folder (a family folder, :mod:`impactdyn._family`: written as the search goes, resumable):
+``limit.csv`` / ``limit.json`` (one row per velocity; ``status`` is ``searching`` while a
+velocity's search is under way), ``shots.csv`` (every shot), ``limit.png`` (the simulated
+limit with its brackets over the JSC curve, and the test database's shots near the
+configuration; drawn when the search ends) and ``runs/V<v>_d<d>/`` (lean run folders,
 :mod:`._shots`).
 """
 
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from impactdyn._errors import InputError
-from impactdyn._runfolder import RunFolder
 from impactdyn._config import validate
+from impactdyn._errors import InputError
+from impactdyn._family import FamilyFolder
 from impactdyn._sweep import case_variants, run_all
 from impactdyn.whipple._case import WhippleCase
 from impactdyn.whipple._report import ble_verdict, wall_caution
@@ -105,14 +108,16 @@ def limit_velocities(raw: dict, velocities: list[float], source: str) -> list[Wh
 
 def run_limit(raw: dict, velocities: list[float], outdir: str | Path, *, source: str = "<case>",
               tolerance_cm: float = 0.02, bracket_ratio: float = 1.25, max_expansions: int = 4,
-              brackets: dict[float, tuple[float, float]] | None = None, force: bool = False,
+              brackets: dict[float, tuple[float, float]] | None = None, force: bool = False, resume: bool = False,
               scheduler: str = "processes", workers: int | None = None, address: str | None = None,
               keep_all: bool = False, progress=None) -> list[dict]:
     """Search the simulated limit at each velocity (module docstring); returns the ``limit.csv`` rows.
 
     ``brackets`` maps a velocity (km/s, one of ``velocities``) to the diameters (low, high) (cm)
-    its search starts from instead of the JSC bracket.  ``progress(shots_done)`` is called after
-    each shot.
+    its search starts from instead of the JSC bracket.  The tables are rewritten after each
+    shot, so an interrupted search leaves them with the shots it finished; ``resume`` goes on
+    in that folder, reading those shots back instead of running them again (the search asks
+    for the same diameters in the same order).  ``progress(shots_done)`` is called after each shot.
     """
     if not velocities:
         raise InputError("limit: needs at least one velocity")
@@ -128,36 +133,54 @@ def run_limit(raw: dict, velocities: list[float], outdir: str | Path, *, source:
         jsc = ble_verdict(case)["threshold_cm"]
         start = brackets.get(float(v), (jsc / bracket_ratio, jsc * bracket_ratio))
         searches.append(_Search(velocity=float(v), jsc=jsc, ratio=bracket_ratio, start=start))
-    done = 0
-    with RunFolder(outdir, force=force) as rf:
+    settings = {"case": base.model_dump(mode="json"), "velocities_km_s": [s.velocity for s in searches],
+                "tolerance_cm": tolerance_cm, "bracket_ratio": bracket_ratio, "max_expansions": max_expansions,
+                "start_brackets_cm": {f"{s.velocity:g}": list(s.start) for s in searches}, "keep_all": keep_all}
+    with FamilyFolder(outdir, "whipple limit", settings, table="limit.csv", member="shot", force=force,
+                      resume=resume) as family:
+        def record(search: _Search, d: float, case: WhippleCase, summary: dict) -> None:
+            verdict = summary["wall"]["verdict"]
+            failed = verdict in FAILED_VERDICTS
+            search.shots.append((d, verdict, failed, ble_verdict(case)["verdict"],
+                                 f"runs/{shot_name(search.velocity, d)}"))
+            search.record(d, failed)
+            family.finished += 1
+            _write_tables(family, searches, tolerance_cm, bracket_ratio)
+            if progress:
+                progress(family.finished)
+
+        _write_tables(family, searches, tolerance_cm, bracket_ratio)
         while batch := [(s, d) for s in searches for d in s.pending()]:
-            n_workers = shot_workers(scheduler, workers, len(batch))
             cases = case_variants(WhippleCase, raw, [shot_variant(base, s.velocity, d) for s, d in batch], source)
-            tasks = [Shot(case, rf.path / "runs" / shot_name(s.velocity, d), threads_per_shot(n_workers), keep_all)
-                     for (s, d), case in zip(batch, cases)]
-
-            def tick(i: int, summary: dict) -> None:
-                nonlocal done
-                done += 1
-                if progress:
-                    progress(done)
-
-            summaries = run_all(run_shot, tasks, scheduler=scheduler, workers=n_workers,
-                                address=address, on_result=tick)
-            for (s, d), case, summary in zip(batch, cases, summaries):
-                verdict = summary["wall"]["verdict"]
-                failed = verdict in FAILED_VERDICTS
-                s.shots.append((d, verdict, failed, ble_verdict(case)["verdict"], f"runs/{shot_name(s.velocity, d)}"))
-                s.record(d, failed)
+            to_run = []
+            for (s, d), case in zip(batch, cases):
+                done = family.member_done("runs", shot_name(s.velocity, d), "summary.json")
+                if done is not None:
+                    record(s, d, case, json.loads(done.read_text()))
+                else:
+                    to_run.append((s, d, case))
+            if to_run:
+                n_workers = shot_workers(scheduler, workers, len(to_run))
+                tasks = [Shot(case, family.path / "runs" / shot_name(s.velocity, d), threads_per_shot(n_workers),
+                              keep_all) for s, d, case in to_run]
+                run_all(run_shot, tasks, scheduler=scheduler, workers=n_workers, address=address,
+                        on_result=lambda i, summary: record(*to_run[i], summary))
             for s in searches:
                 s.settle(tolerance_cm, max_expansions)
-        rows = [_limit_row(s) for s in searches]
-        rf.write_csv("limit.csv", LIMIT_HEADER, [[r[k] for k in LIMIT_HEADER] for r in rows])
-        rf.write_json("limit.json", {"tolerance_cm": tolerance_cm, "bracket_ratio": bracket_ratio,
+            rows = _write_tables(family, searches, tolerance_cm, bracket_ratio)
+        _plot(family.path / "limit.png", bases[0], searches, rows, tolerance_cm)
+    return rows
+
+
+def _write_tables(folder: FamilyFolder, searches: list[_Search], tolerance_cm: float, bracket_ratio: float
+                  ) -> list[dict]:
+    """``limit.csv``, ``limit.json`` and ``shots.csv`` as the searches stand; returns the rows."""
+    rows = [_limit_row(s) for s in searches]
+    folder.write_csv("limit.csv", LIMIT_HEADER, [[r[k] for k in LIMIT_HEADER] for r in rows])
+    folder.write_json("limit.json", {"tolerance_cm": tolerance_cm, "bracket_ratio": bracket_ratio,
                                      "start_brackets_cm": {f"{s.velocity:g}": list(s.start) for s in searches},
                                      "rows": rows})
-        rf.write_csv("shots.csv", SHOTS_HEADER, [[s.velocity, *shot] for s in searches for shot in s.shots])
-        _plot(rf.path / "limit.png", bases[0], searches, rows, tolerance_cm)
+    folder.write_csv("shots.csv", SHOTS_HEADER, [[s.velocity, *shot] for s in searches for shot in s.shots])
     return rows
 
 

@@ -1,0 +1,90 @@
+"""Ctrl-C and SIGTERM stop the commands that run work in a pool (the Whipple ones: tests/whipple):
+exit 130 within seconds, no process of ours left, no staging folder, a family's finished runs and
+table kept, and ``--resume`` runs only what is missing."""
+
+import csv
+import multiprocessing
+import signal
+import time
+from pathlib import Path
+
+import pytest
+
+from impactdyn._errors import InputError, Interrupted
+from impactdyn._family import FamilyFolder
+from impactdyn._parallel import run_tasks
+
+EXAMPLES = Path(__file__).parents[1] / "examples"
+#: Seconds the contract allows from the interrupt to the exit.
+EXIT_WITHIN_S = 10.0
+
+
+def _sweep_args(out: Path) -> list[str]:
+    # each case simulates 12-14 s of the IMPACTB sample (a few seconds of work): 8 cases on two workers
+    return ["beam", "sweep", str(EXAMPLES / "beam" / "impactb_sample.toml"), "--vary", "time.end_s=12:14:8",
+            "--workers", "2", "-o", str(out)]
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["ctrl-c", "sigterm"])
+def test_beam_sweep_stops_keeps_its_finished_cases_and_resumes(tmp_path, sig, cli):
+    out = tmp_path / "sweep"
+    command = cli.start(_sweep_args(out), tmp_path)
+    finished = lambda: sorted(out.glob("cases/*/summary.json"))  # noqa: E731
+    command.wait_for(lambda: len(finished()) >= 2, timeout=300, what="two finished cases")
+    took, err = command.interrupt(sig)
+
+    assert command.returncode == 130, err
+    assert took < EXIT_WITHIN_S, f"exit {took:.1f} s after {signal.Signals(sig).name}"
+    assert "Traceback" not in err and "interrupted:" in err, err
+    assert command.group_is_empty(), "a process of the command outlived it"
+    assert cli.hidden(tmp_path) == []
+    kept = finished()
+    assert 2 <= len(kept) < 8, "the interrupt came after the sweep had finished: make its cases longer"
+    rows = list(csv.DictReader((out / "sweep.csv").open()))
+    assert sorted(int(r["index"]) for r in rows) == sorted(int(p.parent.name) for p in kept)
+    stamps = [p.stat().st_mtime_ns for p in kept]
+
+    resumed = cli.run(_sweep_args(out) + ["--resume"], tmp_path)
+    assert resumed.returncode == 0, resumed.stderr
+    assert [p.stat().st_mtime_ns for p in kept] == stamps, "a kept case was run again"
+    assert [int(r["index"]) for r in csv.DictReader((out / "sweep.csv").open())] == list(range(8))
+    assert (out / "sweep.png").is_file()
+
+
+def test_leaving_the_loop_ends_the_pool_workers_at_once():
+    """Leaving the loop early (as an interrupt or a failed task does) cancels the queue and ends the
+    running tasks: three 60-s tasks do not hold the caller."""
+    start = time.monotonic()
+    finished = run_tasks(time.sleep, [0.0, 60.0, 60.0, 60.0], scheduler="processes", workers=2)
+    assert next(finished) == (0, None)
+    finished.close()
+    assert time.monotonic() - start < 30.0
+    assert multiprocessing.active_children() == []
+
+
+def test_resume_refuses_other_settings_and_names_them(tmp_path):
+    settings = {"case": {"projectile": {"diameter_cm": 0.5}}, "velocities_km_s": [7.0]}
+    with FamilyFolder(tmp_path / "f", "whipple limit", settings, table="limit.csv"):
+        pass
+    other = {"case": {"projectile": {"diameter_cm": 0.6}}, "velocities_km_s": [7.0]}
+    with pytest.raises(InputError, match=r"other settings \(case\.projectile\.diameter_cm\)"):
+        FamilyFolder(tmp_path / "f", "whipple limit", other, table="limit.csv", resume=True)
+    with pytest.raises(InputError, match="a folder of `whipple limit`, not of `beam sweep`"):
+        FamilyFolder(tmp_path / "f", "beam sweep", settings, table="sweep.csv", resume=True)
+    with pytest.raises(InputError, match="--force and --resume"):
+        FamilyFolder(tmp_path / "f", "whipple limit", settings, table="limit.csv", resume=True, force=True)
+    with pytest.raises(InputError, match="run folder exists; pass --force"):
+        FamilyFolder(tmp_path / "f", "whipple limit", settings, table="limit.csv")
+
+
+def test_an_interrupt_in_a_family_removes_staging_and_says_what_was_kept(tmp_path, cli):
+    with pytest.raises(Interrupted, match=r"2 finished shots and limit\.csv kept in .*--resume"):
+        with FamilyFolder(tmp_path / "f", "whipple limit", {}, table="limit.csv") as family:
+            (family.path / "runs" / ".V7_d0.5.abc123").mkdir(parents=True)
+            (family.path / "runs" / "V7_d0.4").mkdir()
+            (family.path / ".limit.1234.tmp.csv").write_text("half")
+            family.finished = 2
+            raise KeyboardInterrupt
+    assert cli.hidden(tmp_path) == []
+    with FamilyFolder(tmp_path / "f", "whipple limit", {}, table="limit.csv", resume=True) as family:
+        assert family.member_done("runs", "V7_d0.4") is not None
