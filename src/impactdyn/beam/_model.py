@@ -120,7 +120,7 @@ class CoupledTerms(NamedTuple):
     argument type and drops the ``coupled is not None`` branches from the None version,
     so the default path neither runs nor passes anything of the coupled model: passing
     its five arrays through every kernel call and testing a flag at run time made the
-    linearised IMPACTB sample 1.5x slower (benchmarks/BENCHMARKS.md, beam section).
+    linearised IMPACTB sample 1.64x slower (benchmarks/BENCHMARKS.md, beam section).
     """
 
     C: np.ndarray
