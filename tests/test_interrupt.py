@@ -19,23 +19,24 @@ EXAMPLES = Path(__file__).parents[1] / "examples"
 EXIT_WITHIN_S = 10.0
 
 
-def _sweep_args(out: Path) -> list[str]:
+def _sweep_args(out: Path, pool: list[str]) -> list[str]:
     # each case simulates 12-14 s of the IMPACTB sample (a few seconds of work): 8 cases on two workers
     return ["beam", "sweep", str(EXAMPLES / "beam" / "impactb_sample.toml"), "--vary", "time.end_s=12:14:8",
-            "--workers", "2", "-o", str(out)]
+            "--workers", "2", "-o", str(out), *pool]
 
 
-@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["ctrl-c", "sigterm"])
-def test_beam_sweep_stops_keeps_its_finished_cases_and_resumes(tmp_path, sig, cli):
+@pytest.mark.parametrize("sig, pool", [(signal.SIGINT, []), (signal.SIGTERM, []), (signal.SIGINT, ["--dask", "local"])],
+                         ids=["ctrl-c", "sigterm", "ctrl-c-dask"])
+def test_beam_sweep_stops_keeps_its_finished_cases_and_resumes(tmp_path, sig, pool, cli):
     out = tmp_path / "sweep"
-    command = cli.start(_sweep_args(out), tmp_path)
+    command = cli.start(_sweep_args(out, pool), tmp_path)
     finished = lambda: sorted(out.glob("cases/*/summary.json"))  # noqa: E731
     command.wait_for(lambda: len(finished()) >= 2, timeout=300, what="two finished cases")
     took, err = command.interrupt(sig)
 
     assert command.returncode == 130, err
     assert took < EXIT_WITHIN_S, f"exit {took:.1f} s after {signal.Signals(sig).name}"
-    assert "Traceback" not in err and "interrupted:" in err, err
+    assert "Traceback" not in err and "interrupted:" in err and "--resume" in err, err
     assert command.group_is_empty(), "a process of the command outlived it"
     assert cli.hidden(tmp_path) == []
     kept = finished()
@@ -44,7 +45,7 @@ def test_beam_sweep_stops_keeps_its_finished_cases_and_resumes(tmp_path, sig, cl
     assert sorted(int(r["index"]) for r in rows) == sorted(int(p.parent.name) for p in kept)
     stamps = [p.stat().st_mtime_ns for p in kept]
 
-    resumed = cli.run(_sweep_args(out) + ["--resume"], tmp_path)
+    resumed = cli.run(_sweep_args(out, pool) + ["--resume"], tmp_path)
     assert resumed.returncode == 0, resumed.stderr
     assert [p.stat().st_mtime_ns for p in kept] == stamps, "a kept case was run again"
     assert [int(r["index"]) for r in csv.DictReader((out / "sweep.csv").open())] == list(range(8))
@@ -79,7 +80,7 @@ def test_resume_refuses_other_settings_and_names_them(tmp_path):
 
 def test_an_interrupt_in_a_family_removes_staging_and_says_what_was_kept(tmp_path, cli):
     with pytest.raises(Interrupted, match=r"2 finished shots and limit\.csv kept in .*--resume"):
-        with FamilyFolder(tmp_path / "f", "whipple limit", {}, table="limit.csv") as family:
+        with FamilyFolder(tmp_path / "f", "whipple limit", {}, table="limit.csv", member="shot") as family:
             (family.path / "runs" / ".V7_d0.5.abc123").mkdir(parents=True)
             (family.path / "runs" / "V7_d0.4").mkdir()
             (family.path / ".limit.1234.tmp.csv").write_text("half")

@@ -13,6 +13,7 @@ No worker process outlives the call (:mod:`impactdyn._interrupt`).
 
 from __future__ import annotations
 
+import logging
 import multiprocessing
 import os
 from collections.abc import Callable, Iterator, Sequence
@@ -88,10 +89,13 @@ def _on_dask(fn, tasks, workers, address) -> Iterator[tuple[int, Any]]:
 
     cluster = None
     if address in (None, "local"):
+        # its workers' warnings (a task cancelled on an interrupt) are not the user's business
         cluster = LocalCluster(n_workers=workers or os.cpu_count(), threads_per_worker=1, processes=True,
-                               dashboard_address=None)
+                               dashboard_address=None, silence_logs=logging.ERROR)
     try:
         with Client(cluster if cluster is not None else address) as client:
+            if cluster is not None:  # our workers leave Ctrl-C to us, as the local pool's do
+                client.run(ignore_interrupts)
             futures = {client.submit(fn, t, pure=False): i for i, t in enumerate(tasks)}
             try:
                 for fut in dask_completed(futures):
