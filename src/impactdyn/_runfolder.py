@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from impactdyn._errors import InputError
+from impactdyn._interrupt import shielded
 
 
 @contextmanager
@@ -115,18 +116,19 @@ class RunFolder(FolderWriter):
         return self
 
     def __exit__(self, exc_type, exc, tb) -> None:
-        if exc_type is not None:
-            shutil.rmtree(self.path, ignore_errors=True)
-            return
-        if self.target.exists():
-            old = self.target.with_name(f".{self.target.name}.old")
-            shutil.rmtree(old, ignore_errors=True)
-            self.target.rename(old)
-            self.path.rename(self.target)
-            shutil.rmtree(old, ignore_errors=True)
-        else:
-            self.path.rename(self.target)
-        self.path = self.target
+        with shielded():  # an interrupt now would leave the staging folder, or no run folder at all
+            if exc_type is not None:
+                shutil.rmtree(self.path, ignore_errors=True)
+                return
+            if self.target.exists():
+                old = self.target.with_name(f".{self.target.name}.old")
+                shutil.rmtree(old, ignore_errors=True)
+                self.target.rename(old)
+                self.path.rename(self.target)
+                shutil.rmtree(old, ignore_errors=True)
+            else:
+                self.path.rename(self.target)
+            self.path = self.target
 
 
 def _json_default(obj: Any) -> Any:
