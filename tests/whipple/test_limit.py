@@ -10,6 +10,7 @@ import json
 import pytest
 
 from impactdyn._config import load_toml
+from impactdyn._errors import InputError
 from impactdyn.whipple import _limit
 
 
@@ -95,8 +96,6 @@ def test_a_given_start_bracket_replaces_the_jsc_one(tmp_path, make_case, monkeyp
     (dict(brackets={7.0: (1.1, 0.9)}), "--bracket 7:1.1:0.9: needs 0 < LOW < HIGH"),
 ])
 def test_bad_search_settings(tmp_path, make_case, kwargs, message):
-    from impactdyn import InputError
-
     raw = load_toml(make_case(tmp_path))
     with pytest.raises(InputError, match=message.replace("+", r"\+")):
         _limit.run_limit(raw, [7.0], tmp_path / "limit", scheduler="serial", **kwargs)
@@ -135,3 +134,39 @@ def test_family_shots_keep_the_base_cases_resolution_and_timing(make_case, tmp_p
     assert fast["filter.t_cut_us"] == base.filter.t_cut_us and fast["shield.handoff_us"] == base.shield.handoff_us
     assert fast["shield.spacing_cm"] == base.shield.spacing_cm
     assert (fast["projectile.velocity_km_s"], fast["projectile.diameter_cm"]) == (2 * v0, 2 * d0)
+
+
+def test_an_interrupted_search_keeps_its_table_and_resumes_without_repeating_a_shot(tmp_path, make_case,
+                                                                                     monkeypatch):
+    from impactdyn._errors import Interrupted
+
+    critical = lambda v: 0.30 + 0.03 * v  # noqa: E731
+    raw = load_toml(make_case(tmp_path))
+    whole = _fake_shots(monkeypatch, critical)
+    expected = _limit.run_limit(raw, [4.0, 7.0], tmp_path / "whole", tolerance_cm=0.01, scheduler="serial")
+
+    taken = []
+
+    def run_shot(shot, stop_at=5):
+        if len(taken) == stop_at:
+            raise KeyboardInterrupt
+        p = shot.case.projectile
+        taken.append((p.velocity_km_s, p.diameter_cm))
+        shot.folder.mkdir(parents=True)
+        verdict = "perforation" if p.diameter_cm > critical(p.velocity_km_s) else "no perforation"
+        (shot.folder / "summary.json").write_text(json.dumps({"wall": {"verdict": verdict}}))
+        return {"wall": {"verdict": verdict}}
+
+    monkeypatch.setattr(_limit, "run_shot", run_shot)
+    out = tmp_path / "limit"
+    with pytest.raises(Interrupted, match="5 finished shots and limit.csv kept"):
+        _limit.run_limit(raw, [4.0, 7.0], out, tolerance_cm=0.01, scheduler="serial")
+    assert len(list(csv.DictReader((out / "shots.csv").open()))) == 5
+    assert {r["status"] for r in csv.DictReader((out / "limit.csv").open())} == {"searching"}
+
+    monkeypatch.setattr(_limit, "run_shot", lambda shot: run_shot(shot, stop_at=-1))
+    rows = _limit.run_limit(raw, [4.0, 7.0], out, tolerance_cm=0.01, scheduler="serial", resume=True)
+    assert rows == expected
+    assert sorted(taken) == sorted(whole) and len(set(taken)) == len(taken), "a kept shot was run again"
+    with pytest.raises(InputError, match=r"other settings \(tolerance_cm\)"):
+        _limit.run_limit(raw, [4.0, 7.0], out, tolerance_cm=0.02, scheduler="serial", resume=True)
