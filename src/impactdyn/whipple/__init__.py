@@ -16,7 +16,9 @@ from impactdyn.whipple._cloud import cloud_figures
 from impactdyn.whipple._limit import run_limit
 from impactdyn.whipple._pipeline import run_whipple
 from impactdyn.whipple._stages import STAGES, read_stage
+from impactdyn.whipple._test_shot import ALLOYS, DatabaseShot, database_shot, database_shot_case
 from impactdyn.whipple._report import ble_verdict, wall_ending, wall_permanent_bulge
 
-__all__ = ["STAGES", "WhippleCase", "ble_verdict", "cloud_figures", "load_whipple_case", "read_stage", "run_campaign",
-           "run_limit", "run_whipple", "shield_problem", "wall_ending", "wall_permanent_bulge"]
+__all__ = ["ALLOYS", "STAGES", "DatabaseShot", "WhippleCase", "ble_verdict", "cloud_figures", "database_shot",
+           "database_shot_case", "load_whipple_case", "read_stage", "run_campaign", "run_limit", "run_whipple",
+           "shield_problem", "wall_ending", "wall_permanent_bulge"]
