@@ -149,3 +149,56 @@ def test_nearby_shots_obliquity_band():
         nearby_shots(shield, band=0.0)
     with pytest.raises(InputError, match="obliquity_deg"):
         nearby_shots(shield, 90.0)
+
+
+# ------------------------------------------------------------------ twins: one firing reported twice
+
+
+def test_twin_groups_and_conflicts_in_the_packaged_file():
+    db = read_database()
+    labels, size = np.unique(db.twin_group, return_counts=True)
+    twins = labels[size > 1]
+    assert len(twins) == 17 and size.max() == 2  # 15 AFML pairs, Piekutowski 4-2011, JSC A151
+    afml = {frozenset(db.source[db.twin_group == g]) for g in twins}
+    assert afml == {frozenset({"AFML-TR-67-324", "AFML-TR-68-257"}), frozenset({"Piekutowski_2011", "Piekutowski_2013"}),
+                    frozenset({"ELC_87-163", "TP-2003-210788"})}
+    for g in twins:
+        assert len(set(db.shot_id[db.twin_group == g])) == 1
+    # one conflicting pair: shot 2225, held in AFML-TR-67-324 (line 301), perforated in AFML-TR-68-257 (line 452)
+    assert sorted(db.line[db.twin_conflict]) == [301, 452]
+    assert set(db.shot_id[db.twin_conflict]) == {"2225"}
+    # lines 180 and 181: shot 2046 in both AFML reports, one group, same outcome
+    at = {line: i for i, line in enumerate(db.line)}
+    assert db.twin_group[at[180]] == db.twin_group[at[181]] and not db.twin_conflict[at[180]]
+    # ID 1 is shot 1 of Kinslow 1971 (line 41) and of AFML-TR-70-135 (line 1113): two firings, d 0.153 and 0.318 cm
+    assert db.twin_group[at[41]] != db.twin_group[at[1113]] and db.shot_id[at[41]] == db.shot_id[at[1113]] == "1"
+
+
+def test_materials_are_read():
+    db = read_database()
+    assert db.projectile_material[0] == "AA2017-T4" and db.wall_material[1] == "AA2219-T87"
+    assert set(db.bumper_material) >= {"AA6061-T6", "Alclad 7075-T6"}
+
+
+def test_with_twins_never_splits_a_group():
+    db = read_database()
+    rng = np.random.default_rng(7)
+    for fraction in (0.02, 0.3, 0.7):
+        mask = rng.random(len(db)) < fraction
+        grown = db.with_twins(mask)
+        assert np.all(grown[mask])  # only grows
+        for g in np.unique(db.twin_group):
+            inside = grown[db.twin_group == g]
+            assert inside.all() or not inside.any()
+        # it grows by the twins of the chosen shots and nothing else
+        assert set(db.twin_group[grown]) == set(db.twin_group[mask])
+    at = {line: i for i, line in enumerate(db.line)}
+    one = np.zeros(len(db), dtype=bool)
+    one[at[301]] = True
+    assert sorted(db.line[db.with_twins(one)]) == [301, 452]
+
+
+def test_subset_keeps_twin_labels():
+    db = read_database()
+    sub = db.subset(db.source == "AFML-TR-68-257")
+    assert np.all(np.isin(sub.twin_group, db.twin_group)) and sub.twin_conflict.sum() == 1

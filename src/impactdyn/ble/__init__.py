@@ -16,6 +16,17 @@ the packaged test database of 1135 shots (:func:`read_database`).
 from impactdyn.ble import _jsc, _jsc2011  # noqa: F401  (each registers its equation)
 from impactdyn.ble._curve import DEFAULT_VELOCITIES_KM_S, BallisticLimitCurve
 from impactdyn.ble._database import DATABASE_PATH, ShotDatabase, nearby_shots, read_database
+from impactdyn.ble._scoring import (
+    DISTANCE_BANDS,
+    BandScore,
+    McNemar,
+    Proportion,
+    VerdictScore,
+    mcnemar,
+    mcnemar_exact,
+    score_by_distance,
+    wilson_interval,
+)
 from impactdyn.ble._equation import (
     MAX_OBLIQUITY_DEG,
     V_HYPERVELOCITY_MIN_KM_S,
@@ -58,6 +69,8 @@ __all__ = [
     "BallisticLimit", "BallisticLimitCurve", "FailureMode", "Regime", "Scores", "ShotDatabase", "SingleWall",
     "Validation", "WhippleEquation", "WhippleShield", "ballistic_limit", "ballistic_limit_curve", "check_obliquity",
     "check_plot_path", "check_positive",
+    "DISTANCE_BANDS", "BandScore", "McNemar", "Proportion", "VerdictScore", "mcnemar", "mcnemar_exact",
+    "score_by_distance", "wilson_interval",
     "critical_diameter", "get_equation", "jsc_verdict", "nearby_shots", "normal_velocity", "penetration_depth",
     "perforates", "plot_ballistic_limit", "plot_validation", "read_database", "rear_wall", "regime",
     "regime_boundaries", "single_wall_ballistic_limit_curve", "single_wall_critical_diameter",

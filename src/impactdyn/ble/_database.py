@@ -6,6 +6,25 @@ beside this module).  Layout: a header row, a units row, then one shot per row. 
 needs the columns of :data:`COLUMNS` with exactly those units (others may be present and
 are ignored) and refuses anything malformed with an :class:`~impactdyn.InputError` that
 names the file and line.
+
+Twins: one firing reported twice
+--------------------------------
+Some shots are in the file twice, from two reports of one test programme (AFML-TR-67-324
+and AFML-TR-68-257 share 15 shot IDs; Piekutowski 2011 and 2013 one; ELC 87-163 and
+NASA/TP-2003-210788 one), sometimes with different transcriptions of the target.  Records
+are *twins* when they have the same shot ID and agree on what the gun fired:
+
+    |d₁/d₂ − 1| ≤ 10 %,   |V₁/V₂ − 1| ≤ 10 %,   |θ₁ − θ₂| ≤ 5°
+
+(:data:`TWIN_TOLERANCE`, :data:`TWIN_OBLIQUITY_DEG`).  The target (t_b, t_w, S) is not
+compared: it is where the reports of one firing disagree (shot 2067: bumper 1.575 cm in
+one, 0.16 cm in the other).  The bounds sit in a wide gap of the packaged file: records of
+one firing differ by at most 7 % in d (0.2593 and 0.2779 cm) and 5.4 % in V, while records
+that merely share an ID (different laboratories numbering from 1) differ by a factor of 2
+or more in d.  Twins must stay on one side of any split of the shots into fitting and
+checking sets (:meth:`ShotDatabase.with_twins`); twins with opposite outcomes are
+*conflicting* (the file cannot say what the shot did).  The same firing filed under two
+different IDs is not detected.
 """
 
 from __future__ import annotations
@@ -38,12 +57,19 @@ COLUMNS = {
     "wall_density": ("g/cm3", "wall_density_g_cm3"),
     "wall_yield": ("ksi", "wall_yield_ksi"),
     "wall_thick": ("cm", "wall_thickness_cm"),
+    "proj_mat": ("-", "projectile_material"),
+    "bumper_mat": ("-", "bumper_material"),
+    "wall_mat": ("-", "wall_material"),
     "result": ("-", "perforated"),
     "perforated_class": ("-", "perforated"),
 }
-_TEXT = ("source", "shotID")
+_TEXT = ("source", "shotID", "proj_mat", "bumper_mat", "wall_mat")
 _NUMERIC = tuple(c for c in COLUMNS if c not in (*_TEXT, "result", "perforated_class"))
 _OUTCOMES = {"P": ("1", True), "NP": ("0", False)}
+#: Twins agree on projectile diameter and speed within this relative bound (module docstring).
+TWIN_TOLERANCE = 0.10
+#: ... and on obliquity within this many degrees.
+TWIN_OBLIQUITY_DEG = 5.0
 
 
 @dataclass(frozen=True)
@@ -53,7 +79,11 @@ class ShotDatabase:
     The five shield attributes have the names of :class:`~impactdyn.ble.WhippleShield`'s,
     so the Whipple equations evaluate every shot with its own bumper, wall, stand-off,
     yield stress and densities.  ``perforated``: the rear wall was perforated or spalled
-    (result P); ``line``: the shot's line in ``path``.
+    (result P); ``line``: the shot's line in ``path``; ``*_material``: the alloy names as
+    written in the file.  ``twin_group``: a label per shot, shared by twins (module
+    docstring) and unique otherwise (the index of the group's first shot in the file as
+    read); ``twin_conflict``: the shot's twin group holds both outcomes.  A subset keeps the
+    labels of the file it came from.
     """
 
     path: str
@@ -71,6 +101,11 @@ class ShotDatabase:
     wall_yield_ksi: np.ndarray
     wall_thickness_cm: np.ndarray
     perforated: np.ndarray
+    projectile_material: np.ndarray
+    bumper_material: np.ndarray
+    wall_material: np.ndarray
+    twin_group: np.ndarray
+    twin_conflict: np.ndarray
 
     def __len__(self) -> int:
         return len(self.line)
@@ -78,6 +113,43 @@ class ShotDatabase:
     def subset(self, mask) -> ShotDatabase:
         """The shots where ``mask`` (a boolean array, one element per shot) is true."""
         return replace(self, **{f.name: getattr(self, f.name)[mask] for f in fields(self) if f.name != "path"})
+
+    def with_twins(self, mask) -> np.ndarray:
+        """``mask`` grown so that a shot's twins are selected whenever it is.
+
+        Every twin group is then wholly in or wholly out, so no firing is both fitted and
+        checked against.  ``mask``: boolean, one element per shot.
+        """
+        mask = np.asarray(mask, dtype=bool)
+        return np.isin(self.twin_group, self.twin_group[mask])
+
+
+def twin_groups(shot_id, diameter_cm, velocity_km_s, obliquity_deg) -> np.ndarray:
+    """The twin-group label of each shot (module docstring): the index of its group's first shot.
+
+    Records with one ID that pairwise agree join one group, and groups are closed under
+    agreement (a shot agreeing with any member joins).
+    """
+    label = np.arange(len(shot_id))
+    by_id: dict[str, list[int]] = {}
+    for i, sid in enumerate(shot_id):
+        by_id.setdefault(sid, []).append(i)
+    for members in by_id.values():
+        for k, i in enumerate(members):
+            for j in members[:k]:
+                if (abs(diameter_cm[i] / diameter_cm[j] - 1.0) <= TWIN_TOLERANCE
+                        and abs(velocity_km_s[i] / velocity_km_s[j] - 1.0) <= TWIN_TOLERANCE
+                        and abs(obliquity_deg[i] - obliquity_deg[j]) <= TWIN_OBLIQUITY_DEG):
+                    old, new = max(label[i], label[j]), min(label[i], label[j])
+                    label[label == old] = new
+    return label
+
+
+def conflicting(twin_group: np.ndarray, perforated: np.ndarray) -> np.ndarray:
+    """Per shot: its twin group holds a perforation and a non-perforation."""
+    groups = np.unique(twin_group)
+    both = [g for g in groups if perforated[twin_group == g].any() and not perforated[twin_group == g].all()]
+    return np.isin(twin_group, both)
 
 
 def _number(path, line: int, column: str, cell: str) -> float:
@@ -156,7 +228,10 @@ def read_database(path: str | Path | None = None) -> ShotDatabase:
     if not lines:
         raise InputError(f"{path}:{reader.line_num + 1}: no shots after the header and units rows")
     arrays = {COLUMNS[c][1]: np.array(values[c], dtype=object if c in _TEXT else float) for c in values}
-    return ShotDatabase(path=str(path), line=np.array(lines), perforated=np.array(perforated), **arrays)
+    twins = twin_groups(arrays["shot_id"], arrays["diameter_cm"], arrays["velocity_km_s"], arrays["obliquity_deg"])
+    perforated = np.array(perforated)
+    return ShotDatabase(path=str(path), line=np.array(lines), perforated=perforated, twin_group=twins,
+                        twin_conflict=conflicting(twins, perforated), **arrays)
 
 
 def nearby_shots(shield, obliquity_deg: float | None = None, database: ShotDatabase | None = None,
