@@ -1,21 +1,13 @@
 """Run the wall stage's validation shots (issue 11) and score the simulated verdicts against the tests.
 
 The shots are those :mod:`select_validation_shots` picks by its rule, fixed before any was
-run.  Each is the ``table2_7a`` example case with the shot's projectile (material, diameter,
-speed, obliquity), bumper (material, thickness) and wall (material, thickness, yield stress,
-stand-off) put in (the run folder's ``case.toml`` is the case run); nothing else is changed except two things the geometry forces, set by
-rules written here before the runs:
-
-* the wall grid's in-plane extent scales with the stand-off S (``x_cm``, ``z_cm`` × S/10.16,
-  so the debris cloud's footprint covers the same share of it), at the example's element
-  size (the node counts scale with the extent): the wall mesh stays the report's
-  0.16-cm elements;
-* the SPH spacing scales with the projectile diameter below the example's 0.575 cm (as
-  ``whipple limit`` does), so every projectile has at least the example's particles across;
-* the debris arrival window ``filter.t_cut_us`` scales with the stand-off where it is longer
-  than the example's (× max(1, S/10.16)), so the cloud has time to reach the wall.  (Added
-  after the first run: with the example's 25 µs the 20.32-cm shot B31 deposited nothing —
-  its cloud arrives after ~28 µs — and its wall saw no load; a set-up error, not a choice.)
+run.  Each one's case is :func:`impactdyn.whipple.database_shot_case` of the shot on the
+``table2_7a`` example (the run folder's ``case.toml`` is the case run): the shot's projectile,
+bumper and wall put in, and nothing else changed but what the geometry forces, by the rules in
+that function's module (wall extent with the stand-off, SPH spacing with the diameter, arrival
+window with the stand-off), written before the runs.  (The window's rule was added after the
+first run: with the example's 25 µs the 20.32-cm shot B31 deposited nothing — a set-up error,
+not a choice.)
 
 Each shot runs the full pipeline into ``OUT/<line>_<shot>`` (every file kept, so that
 ``--from-wall`` can rerun only the wall stage after a wall-solver change); the table, the
@@ -48,7 +40,6 @@ import argparse
 import json
 import sys
 import time
-import tomllib
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -57,31 +48,10 @@ sys.path.insert(0, str(HERE))
 from select_validation_shots import select  # noqa: E402
 from wall_convergence import key_value_option, rerun_wall  # noqa: E402
 
-from impactdyn.whipple import WhippleCase, run_whipple  # noqa: E402
+from impactdyn.ble import read_database  # noqa: E402
+from impactdyn.whipple import WhippleCase, database_shot, database_shot_case, run_whipple  # noqa: E402
 
-BASE = HERE.parent / "examples" / "whipple" / "table2_7a.toml"
 FAILED_VERDICTS = ("perforation", "detached spall")
-
-
-def shot_case(base: dict, shot: dict) -> dict:
-    """The example case with the shot's configuration (module docstring)."""
-    raw = json.loads(json.dumps(base))
-    scale = shot["spacing_cm"] / base["wall"]["spacing_cm"]
-    nx, ny, nz = base["wall"]["nodes"]
-    p, b, w = raw["projectile"], raw["bumper"], raw["wall"]
-    p.update(material=shot["projectile"], diameter_cm=shot["diameter_cm"], velocity_km_s=shot["velocity_km_s"],
-             obliquity_deg=shot["obliquity_deg"])
-    b.update(material=shot["bumper"], thickness_cm=shot["bumper_thickness_cm"])
-    w.update(material=shot["wall"], thickness_cm=shot["wall_thickness_cm"], spacing_cm=shot["spacing_cm"],
-             x_cm=[c * scale for c in base["wall"]["x_cm"]], z_cm=[c * scale for c in base["wall"]["z_cm"]],
-             nodes=[round((nx - 1) * scale) + 1, ny, round((nz - 1) * scale) + 1])
-    if shot["wall_yield_ksi"] == shot["wall_yield_ksi"]:  # not NaN
-        w["yield_stress_ksi"] = shot["wall_yield_ksi"]
-    raw["shield"]["spacing_cm"] = base["shield"]["spacing_cm"] * min(1.0, shot["diameter_cm"]
-                                                                     / base["projectile"]["diameter_cm"])
-    raw["filter"]["t_cut_us"] = base["filter"]["t_cut_us"] * max(1.0, scale)
-    raw["title"] = f"validation shot {shot['source']} {shot['shot_id']} (pyBLOSSUM line {shot['line']})"
-    return raw
 
 
 def scores(rows: list[dict], key: str) -> dict:
@@ -111,8 +81,7 @@ def main() -> int:
     ap.add_argument("--wall-refinement", type=int, default=1, help="with --wall-model: refine the rerun wall R times")
     ap.add_argument("--thickness-only", action="store_true", help="with --wall-refinement: refine the thickness alone")
     args = ap.parse_args()
-    with open(BASE, "rb") as fh:
-        base = tomllib.load(fh)
+    db = read_database()
     shots = select(args.set)
     args.out.mkdir(parents=True, exist_ok=True)
     # the wall stage rerun on the finished shots under these changes, or the shots' own results
@@ -125,7 +94,7 @@ def main() -> int:
         folder = args.out / f"{shot['line']}_{shot['shot_id']}"
         run = not (args.score_only or rerun) and (args.only is None or shot["line"] in args.only)
         if run:
-            case = WhippleCase.model_validate(shot_case(base, shot))
+            case = WhippleCase.model_validate(database_shot_case(database_shot(shot["line"], db)))
             tick = time.perf_counter()
             run_whipple(case, folder, start="wall" if args.from_wall else "shield", force=True)
             print(f"line {shot['line']} {shot['shot_id']}: {time.perf_counter() - tick:.0f} s", flush=True)

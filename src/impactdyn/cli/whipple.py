@@ -26,12 +26,61 @@ def run(
     force: bool = typer.Option(False, "--force", help="Overwrite an existing run folder."),
 ):
     """Run a shot end to end: shield impact, binning, debris flight and deposition, wall decks, report."""
-    from impactdyn.whipple import load_whipple_case, run_whipple, wall_ending, wall_permanent_bulge
+    from impactdyn.whipple import load_whipple_case
 
-    c = load_whipple_case(case)
+    _echo_summary(_run_with_progress(load_whipple_case(case), out, start, force), out)
+
+
+@app.command()
+def shot(
+    database: str = typer.Option(..., "--database", metavar="LINE|ID",
+                                 help="The test shot: its line in the test database file, or its shot ID "
+                                      "(line:N or id:X where a number is both)."),
+    out: Optional[Path] = typer.Option(None, "-o", "--out", help="Run folder to create."),
+    from_case: Optional[Path] = typer.Option(None, "--from-case",
+                                             help="Base case whose numerics the shot takes (default: the "
+                                                  "Table 2 7a example, examples/whipple/table2_7a.toml)."),
+    write_case: Optional[Path] = typer.Option(None, "--write-case",
+                                              help="Write the shot's case file (TOML) here and run nothing."),
+    force: bool = typer.Option(False, "--force", help="Overwrite an existing run folder or case file."),
+):
+    """Run a shot of the test database (or write its case) and print the test's outcome beside the verdicts."""
+    import tomli_w
+
+    from impactdyn._errors import InputError
+    from impactdyn._runfolder import atomic_output
+    from impactdyn.whipple import WhippleCase, database_shot, database_shot_case
+
+    if (out is None) == (write_case is None):
+        raise InputError("give -o OUT to run the shot, or --write-case FILE to write its case and run nothing")
+    test = database_shot(database)
+    raw = database_shot_case(test, from_case)
+    if write_case is not None:
+        if write_case.exists() and not force:
+            raise InputError(f"{write_case}: exists; pass --force to overwrite it")
+        with atomic_output(write_case) as tmp:
+            tmp.write_text(f"# {raw['title']}, on {from_case or 'the Table 2 7a example'} "
+                           "(impactdyn whipple shot)\n\n" + tomli_w.dumps(raw))
+        typer.echo(f"case of {test.name} in {write_case}")
+        return
+    s = _run_with_progress(WhippleCase.model_validate(raw), out, "shield", force)
+    _echo_summary(s, out)
+    typer.echo(f"test {test.name}: {test.outcome}; simulated: {s['wall']['verdict']}; JSC: {s['ble']['verdict']}")
+
+
+def _run_with_progress(case, out: Path, start: str, force: bool) -> dict:
+    """Run the pipeline under the progress bars; returns its summary."""
+    from impactdyn.whipple import run_whipple
+
     bar, update = progress_bars(counts=False)
     with bar:
-        s = run_whipple(c, out, start=start, force=force, progress=update)
+        return run_whipple(case, out, start=start, force=force, progress=update)
+
+
+def _echo_summary(s: dict, out: Path) -> None:
+    """The lines a finished run prints: the equation's verdict, the cloud, the load and the wall's response."""
+    from impactdyn.whipple import wall_ending, wall_permanent_bulge
+
     ble, cloud, dep = s["ble"], s["cloud"], s["deposition"]
     typer.echo(f"ballistic limit ({ble['equation']}): perforation above d = {ble['threshold_cm']:.4f} cm "
                f"({ble['regime']} regime) → {ble['verdict']}")
