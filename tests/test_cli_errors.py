@@ -185,6 +185,11 @@ BAD_INPUT: dict[str, dict[str, Builder]] = {
         "N beyond memory": lambda d, out: (["whipple", "campaign", str(whipple_case(d)), "--velocity", f"6:7:{HUGE}",
                                             "--diameter", "0.4:0.5:2", "-o", str(out)], "--velocity '6:7:"),
     },
+    "whipple shot": {
+        "unknown line": lambda d, out: (["whipple", "shot", "--database", "line:99999", "-o", str(out)], "line 99999"),
+        "missing base": lambda d, out: (["whipple", "shot", "--database", "B31", "--from-case", str(d / "nowhere.toml"),
+                                         "-o", str(out)], "nowhere.toml: no such file"),
+    },
     "whipple limit": {
         "missing file": _missing("whipple", "limit", tail=("--velocity", "6:7:2")),
         "unknown key": lambda d, out: (["whipple", "limit", str(whipple_case(d, **{"wall.bogus": 1})),
@@ -212,6 +217,7 @@ OUTPUT: dict[str, Callable[[Path, Path], list[str]]] = {
     "whipple campaign": lambda d, out: ["whipple", "campaign", str(whipple_case(d)), "--velocity", "6:7:2",
                                         "--diameter", "0.4:0.5:2", "-o", str(out)],
     "whipple limit": lambda d, out: ["whipple", "limit", str(whipple_case(d)), "--velocity", "6:7:2", "-o", str(out)],
+    "whipple shot": lambda d, out: ["whipple", "shot", "--database", "B31", "--write-case", str(out)],
 }
 
 
