@@ -35,6 +35,13 @@ def test_campaign_runs_every_shot_and_tabulates_it(tmp_path, make_case):
         assert wall_files and not any(f.endswith((".vtu", ".pvd")) for f in wall_files)
     assert (out / "campaign.png").stat().st_size > 10_000
     assert len(json.loads((out / "campaign.json").read_text())) == 2
+    # resumed with every shot finished: the shots are read back, none is run again, the table is the same
+    table = (out / "campaign.csv").read_text()
+    stamps = sorted(p.stat().st_mtime_ns for p in out.glob("runs/*/summary.json"))
+    assert main(["whipple", "campaign", str(case), "--velocity", "6:7:2", "--diameter", "0.45:0.45:1",
+                 "-o", str(out), "--resume"]) == 0
+    assert (out / "campaign.csv").read_text() == table
+    assert sorted(p.stat().st_mtime_ns for p in out.glob("runs/*/summary.json")) == stamps
 
 
 @pytest.mark.parametrize("args, message", [
