@@ -38,6 +38,20 @@ from impactdyn.ble._plot import check_plot_path, plot_ballistic_limit, plot_vali
 from impactdyn.ble._check import positive as check_positive
 from impactdyn.ble._check import scalar_obliquity as check_obliquity
 from impactdyn.ble._registry import DEFAULT_EQUATION, EQUATIONS, get_equation
+from impactdyn.ble._test_limit import (
+    CONFIGURATION_OBLIQUITY_DEG,
+    CONFIGURATION_TOLERANCE,
+    MIN_EACH,
+    MIN_SHOTS,
+    VELOCITY_BAND_KM_S,
+    Configuration,
+    DerivedLimit,
+    LimitFit,
+    configurations,
+    derived_limits,
+    fit_limit,
+    one_record_per_firing,
+)
 from impactdyn.ble._shield import ALUMINIUM_DENSITY_G_CM3, WhippleShield
 from impactdyn.ble._single_wall import (
     AL6061_T6_BRINELL,
@@ -71,6 +85,9 @@ __all__ = [
     "check_plot_path", "check_positive",
     "DISTANCE_BANDS", "BandScore", "McNemar", "Proportion", "VerdictScore", "mcnemar", "mcnemar_exact",
     "score_by_distance", "wilson_interval",
+    "CONFIGURATION_OBLIQUITY_DEG", "CONFIGURATION_TOLERANCE", "MIN_EACH", "MIN_SHOTS", "VELOCITY_BAND_KM_S",
+    "Configuration", "DerivedLimit", "LimitFit", "configurations", "derived_limits", "fit_limit",
+    "one_record_per_firing",
     "critical_diameter", "get_equation", "jsc_verdict", "nearby_shots", "normal_velocity", "penetration_depth",
     "perforates", "plot_ballistic_limit", "plot_validation", "read_database", "rear_wall", "regime",
     "regime_boundaries", "single_wall_ballistic_limit_curve", "single_wall_critical_diameter",
