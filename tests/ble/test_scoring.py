@@ -122,3 +122,13 @@ def test_jsc2011_scored_by_distance_from_its_own_limit():
     assert sum(b.shots for b in s.bands) == len(v.database) and s.unbanded == 0
     accuracies = [b.accuracy.rate for b in s.bands]
     assert accuracies == sorted(accuracies)  # easier further from the limit
+
+
+def test_jsc2011_against_jsc1993_on_the_same_shots():
+    """The 2011 form calls 61 shots right that the 1993 equations call wrong, and the 1993 ones 27 the
+    other way: the exact McNemar test says the difference is not chance (p = 3.7e-4)."""
+    new, old = validate("jsc2011"), validate("jsc1993")
+    t = mcnemar(new.database.perforated, new.called, old.called)
+    assert (t.b, t.c) == (61, 27)
+    assert t.b - t.c == new.overall.correct - old.overall.correct
+    assert t.p_mid < t.p_exact < 1e-3
