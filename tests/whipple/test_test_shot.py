@@ -163,3 +163,30 @@ def test_the_command_needs_exactly_one_of_out_and_write_case(tmp_path, capsys):
                  "--write-case", str(tmp_path / "case.toml")]) == 2
     assert capsys.readouterr().err.count("--write-case") == 2
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_run_prints_the_tests_outcome_beside_the_verdicts(tmp_path, capsys, monkeypatch):
+    """The run path, with the pipeline replaced by a stand-in (a real run is tests/whipple/test_whipple_pipeline.py's):
+    the shot's case goes to the pipeline, the run's summary is echoed as `whipple run` echoes it, then the verdicts."""
+    import impactdyn.whipple
+
+    ran = {}
+
+    def pipeline(case, out, start, force, progress):
+        ran.update(case=case, out=out, start=start)
+        return {"ble": {"equation": "jsc2011", "threshold_cm": 0.6, "regime": "shatter", "verdict": "perforation"},
+                "cloud": {},
+                "deposition": {"peak_areal_momentum_N_s_cm2": 0.1, "impulse_on_wall_normal_N_s_full_model": 0.3},
+                "wall_time_s": 1.0, "wall": {"verdict": "detached spall", "criterion": "spall"}}
+
+    monkeypatch.setattr(impactdyn.whipple, "run_whipple", pipeline)
+    out = tmp_path / "run"
+    assert main(["whipple", "shot", "--database", "B31", "-o", str(out)]) == 0
+    assert ran == {"case": WhippleCase.model_validate(database_shot_case(database_shot("B31"))), "out": out,
+                   "start": "shield"}
+    printed = [line for line in capsys.readouterr().out.splitlines() if line.strip()]  # the bars leave blank lines
+    assert printed[0].startswith("ballistic limit (jsc2011)")
+    assert printed[-2].startswith("wall response: detached spall")
+    outcome = "perforated or spalled (P)" if database_shot("B31").perforated else "not perforated (NP)"
+    assert printed[-1] == (f"test TP-2003-210788 B31 (line 292 of database_whipple_pyBLOSSUM.csv): {outcome}; "
+                           "simulated: detached spall; JSC: perforation")
