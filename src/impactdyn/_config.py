@@ -13,7 +13,7 @@ the dataclasses they replaced did) and a bad value raises the same
 be less than or equal to 1``.  Where a case table spells a setting differently from
 the option it feeds, :func:`field_of` declares it with the option's default and
 bounds.  The validators the debris and Whipple cases share are here
-(:data:`Range`, :data:`NodeCount`, :func:`check_ordered`).
+(:data:`Range`, :data:`NodeCount`, :func:`check_ranges`).
 
 Each default and bound is written once, where the library takes the value: a
 field of a :class:`Section` (``debris.ParticleMaterial``, ``debris.ShellCloud``), or
@@ -49,7 +49,7 @@ Positive = Annotated[float, Field(gt=0)]
 NonNegative = Annotated[float, Field(ge=0)]
 # TOML arrays are lists; strict validation does not turn them into tuples.
 Range = Annotated[list[float], Field(min_length=2, max_length=2)]
-"""[lower, upper] of a coordinate, cm (the upper bound checked by :func:`check_ordered`)."""
+"""[lower, upper] of a coordinate, cm (the upper bound checked by :func:`check_ranges`)."""
 NodeCount = Annotated[int, Field(ge=2)]
 """Nodes along one axis of a grid."""
 
@@ -179,11 +179,23 @@ def rule(check: Callable[..., None], *keys: str) -> Any:
     return model_validator(mode="after")(run)
 
 
-def check_ordered(ranges: list[tuple[str, list[float]]]) -> None:
-    """Each ``(name, [lower, upper])`` has upper > lower (a model validator's ValueError otherwise)."""
-    for name, (lo, hi) in ranges:
+MAX_REACH = 2**26
+"""How far from the origin a grid may reach, in its own node spacings.  Its nodes' coordinates then
+carry a spacing to 26 bits (1.5e-8), which the geometry built on them needs (edge vectors, volumes,
+inertia tensors); much further out, neighbouring nodes round to the same number."""
+
+
+def check_ranges(ranges: list[tuple[str, list[float], int]], nodes_key: str) -> None:
+    """Each ``(name, [lower, upper], nodes)`` has upper > lower, and ``nodes`` equally spaced nodes over it
+    (set by ``nodes_key``) are distinct numbers: no more than :data:`MAX_REACH` spacings from the origin
+    (a model validator's ValueError otherwise)."""
+    for name, (lo, hi), nodes in ranges:
         if not hi > lo:
             raise ValueError(f"{name} = [{lo}, {hi}]: the upper bound must exceed the lower")
+        spacing = (hi - lo) / (nodes - 1)
+        if not max(abs(lo), abs(hi)) <= MAX_REACH * spacing < math.inf:
+            raise ValueError(f"{name} = [{lo}, {hi}] with {nodes} nodes ({nodes_key}): their spacing {spacing:.4g} "
+                             f"is not resolved that far from the origin (at most {MAX_REACH} spacings out)")
 
 
 def _key_path(loc: tuple, data: Any) -> str:
@@ -198,7 +210,8 @@ def _key_path(loc: tuple, data: Any) -> str:
     return ".".join(parts).replace(".[", "[")
 
 
-def _format_error(source: str, err: ValidationError, data: Any) -> str:
+def _format_error(source: str, err: ValidationError, data: Any,
+                  line_of: Callable[[str], int | None] | None = None) -> str:
     lines = []
     for e in err.errors():
         key = _key_path(e["loc"], data)
@@ -208,16 +221,23 @@ def _format_error(source: str, err: ValidationError, data: Any) -> str:
         elif e["type"] == "missing":
             msg = "missing key"
         msg = msg.replace("Input should be", "must be").replace("Value error, ", "")
-        lines.append(f"{source}: {key}: {msg}" if key else f"{source}: {msg}")
+        line = line_of(key) if line_of else None
+        where = source if line is None else f"{source}:{line}"
+        lines.append(f"{where}: {key}: {msg}" if key else f"{where}: {msg}")
     return "\n".join(lines)
 
 
-def validate(model: type[M], data: dict[str, Any], source: str = "<case>") -> M:
-    """Build ``model`` from a plain dict, raising :class:`InputError` on failure."""
+def validate(model: type[M], data: dict[str, Any], source: str = "<case>",
+             line_of: Callable[[str], int | None] | None = None) -> M:
+    """Build ``model`` from a plain dict, raising :class:`InputError` on failure.
+
+    ``line_of``: where the values come from the records of another file (``source``, e.g. a
+    dc3din), the line of ``source`` that holds a dotted key's value; the message names it.
+    """
     try:
         return model.model_validate(data)
     except ValidationError as err:
-        raise InputError(_format_error(source, err, data)) from None
+        raise InputError(_format_error(source, err, data, line_of)) from None
 
 
 def load_toml(path: str | Path) -> dict[str, Any]:

@@ -21,7 +21,9 @@ wall node               96         :func:`impactdyn.wallgrid.check_nodes`: ``wal
                                    (debris, Whipple), ``wall.remap.nodes``, dc3din record
                                    idmax…kdmaxn, :meth:`WallGrid.uniform`
 debris particle         584        :func:`impactdyn.debris.seed_particles`: 5 per cell passing
-                                   the seed filters (``debris._seed.PARTICLE_BYTES``)
+                                   the seed filters (``debris._seed.PARTICLE_BYTES``); a case's
+                                   ``grid.shell.cell_size_cm`` or ``grid.file`` (``debris.build``),
+                                   dc3din records i1..k2 (``debris legacy``), before seeding
 SPH particle            1024       :data:`SPH_PARTICLE_BYTES`: the Whipple case's
                                    ``shield.spacing_cm`` against projectile and bumper
 sweep / campaign case   1024       :data:`CASE_BYTES`: the N of ``--vary``, ``--velocity``,

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import inspect
 import math
+import re
 import time
 import tomllib
 import tracemalloc
@@ -20,13 +21,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import tomli_w
 
 from impactdyn import _limits, units
 from impactdyn._config import set_dotted, validate
 from impactdyn._errors import InputError
 from impactdyn.cli import main
 from impactdyn.debris import (ArrivalWindow, DebrisCase, OutputSection, ParticleMaterial, SeedOptions, ShellCloud,
-                              seed_particles, shell_cloud_grid)
+                              build, load_debris_case, seed_particles, shell_cloud_grid)
 from impactdyn.debris import _seed
 from impactdyn.debris._tets import initial_state
 from impactdyn.hydrogrid import DC3D_CELL_CM, HydroGrid
@@ -74,7 +76,7 @@ def test_debris_case_names_the_key_of_a_library_bound(key, value, words):
     ("debris.mu_Mbar", -0.1, "debris.mu_Mbar: must be greater than 0"),
     ("debris.eta_Mbar_us", 0.0, "debris.eta_Mbar_us: must be greater than 0"),
     ("debris.zeta_Mbar_us", -1.0, "debris.zeta_Mbar_us: must be greater than or equal to 0"),
-    ("debris.lambda_Mbar", -1.0, "debris: lambda_Mbar + 2/3 mu_Mbar must be > 0"),
+    ("debris.lambda_Mbar", -1.0, "debris.lambda_Mbar + 2/3 debris.mu_Mbar must be > 0"),
     ("binning.cell_size_cm", 0.0, "binning.cell_size_cm: must be greater than 0"),
     ("output.pulse_width_us", -0.05, "output.pulse_width_us: must be greater than 0"),
 ])
@@ -178,5 +180,57 @@ def test_seeding_count_through_the_cli_exits_2_and_writes_nothing(tmp_path, monk
     monkeypatch.setattr(_seed, "PARTICLE_BYTES", 2**60)  # every particle as large as a machine
     assert main(["debris", "run", str(case), "-o", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err
+    assert f"{case}: grid.shell.cell_size_cm = 0.25 for the 1 cm shell" in err
     assert "pass the seed filters, 5 particles each" in err and "debris particles need at least" in err
     assert "Traceback" not in err and not (tmp_path / "out").exists()
+
+
+def test_a_case_that_seeds_more_particles_than_memory_names_its_key_before_seeding(tmp_path, monkeypatch):
+    """The shell at 0.03-cm cells: its grid (12 MiB) passes the cell check, but the 34 128 cells with debris
+    make 170 640 particles (95 MiB): refused on a 64-MiB machine, naming the cell size, before any particle
+    is made."""
+    case = tmp_path / "case.toml"
+    case.write_text((EXAMPLES / "debris" / "shell_cloud.toml").read_text().replace(
+        "cell_size_cm = 0.1", "cell_size_cm = 0.03"))
+    monkeypatch.setattr(_limits, "physical_memory", lambda: 64 * 2**20)
+
+    def never(*args, **kwargs):
+        raise AssertionError("particles were seeded")
+
+    monkeypatch.setattr(_seed, "initial_state", never)
+    start = time.perf_counter()
+    with pytest.raises(InputError) as err:
+        build(load_debris_case(case), str(case))
+    assert time.perf_counter() - start < 10.0
+    message = str(err.value)
+    assert message.startswith(f"{case}: grid.shell.cell_size_cm = 0.03 for the 1 cm shell, seed filters of "
+                              "[filter]: the hand-off grid: "), message
+    assert message.endswith("34128 of its 34x67x67 cells pass the seed filters, 5 particles each: 1.706e+05 debris "
+                            "particles need at least 95.04 MiB, more than this machine's 64 MiB of memory"), message
+    monkeypatch.setattr(_limits, "physical_memory", lambda: 256 * 2**20)  # where they fit, the case builds
+    assert build(load_debris_case(case), str(case))["grid"].shape == (34, 67, 67)
+
+
+def test_a_wall_inside_the_cloud_is_refused_with_its_key(tmp_path):
+    data = set_dotted(DEBRIS, "wall.y_cm", [-8.0, -7.7])  # the shell reaches y = -7.5 cm
+    case = tmp_path / "case.toml"
+    case.write_text(tomli_w.dumps(data))
+    with pytest.raises(InputError, match=rf"^{re.escape(str(case))}: wall.y_cm\[0\] = -8: the wall's front face lies "
+                                         r"behind or inside the debris of grid.shell \(centre_cm = \[0.0, -8.5, 0.0\], "
+                                         r"radius_cm = 1\), which reaches y = -7.5 cm"):
+        build(load_debris_case(case), str(case))
+
+
+@pytest.mark.parametrize("key, value, words", [
+    ("debris.lambda_Mbar", -0.6, "debris.lambda_Mbar + 2/3 debris.mu_Mbar (default: from projectile.material = "
+                                 "'al6061-t6') must be > 0"),
+    ("debris.mu_Mbar", 1e4, "(debris.lambda_Mbar (default: from projectile.material = 'al6061-t6') + 2 "
+                            "debris.mu_Mbar) / the density of projectile.material = 'al6061-t6' gives a "
+                            "longitudinal wave speed of"),
+    ("wall.material", "al7075-t6", "wall.material = 'al7075-t6' with wall_solver.material_model = 'johnson_cook': "
+                                   "johnson_cook: material 'al7075-t6' has no Johnson-Cook constants"),
+])
+def test_whipple_rules_with_the_projectiles_defaults_name_the_keys(key, value, words):
+    """What the stages would derive from the case (the debris material with μ and λ from the projectile, the
+    wall model) is checked when it loads."""
+    _refused(WhippleCase, WHIPPLE, key, value, words)

@@ -8,16 +8,23 @@ from __future__ import annotations
 
 from typing import Annotated, Literal, Union
 
+import numpy as np
 from pydantic import Field, model_validator
 
 from impactdyn._config import NonNegative, Positive, Section
 from impactdyn._limits import check_fits
+from impactdyn.beam._modes import eigenvalues, shapes
+
+
+MAX_LENGTH_M = 1e61
+"""Beyond the longest beam the model can take: it divides by L⁵ (the coupled model's EI/L⁵), which
+is a floating-point number only below 1.6e61 m."""
 
 
 class BeamSection(Section):
     mass_per_length_kg_m: Positive
     EI_N_m2: Positive
-    length_m: Positive
+    length_m: Annotated[float, Field(gt=0, le=MAX_LENGTH_M)]
     hub_radius_m: NonNegative = 0.0
     inertia_ratio: NonNegative = 0.0
     """Hub inertia over the beam's inertia about the hub axis (IR)."""
@@ -159,4 +166,23 @@ class BeamCase(Section):
                 raise ValueError(f"initial.{key} has {len(val)} entries, model.n_modes is {n}")
         if n == 0 and (self.initial.tip_deflection_m or self.initial.tip_velocity_m_s):
             raise ValueError("initial.tip_* needs at least one mode (model.n_modes = 0)")
+        gap = initial_gap(self)
+        if gap < 0:
+            raise ValueError(
+                f"the beam starts inside the stop: initial.theta_rad, initial.q_m and initial.tip_deflection_m put "
+                f"the point stop.x_m = {self.stop.x_m} (beam.hub_radius_m = {self.beam.hub_radius_m}, "
+                f"beam.length_m = {L}) {-gap:.6g} m past the stop surface stop.y_m = {self.stop.y_m}; "
+                "start the beam clear of it")
         return self
+
+
+def initial_gap(case: BeamCase) -> float:
+    """The gap (A + x_p) θ + Σ qᵢ φᵢ(x_p/L) − y_p between the beam and the stop at ``time.start_s`` (m), with
+    IMPACTB's tip deflection put into mode 1; the model's ``gap`` of its initial state, before the model is built."""
+    n, ic, x_p = case.model.n_modes, case.initial, case.stop.x_m
+    beta = eigenvalues(n)
+    q = np.zeros(n) if ic.q_m is None else np.array(ic.q_m, dtype=float)
+    if n:
+        q[0] += ic.tip_deflection_m / float(shapes(beta[:1], np.float64(1.0))[0])
+    phi_p = shapes(beta, np.float64(x_p / case.beam.length_m)).reshape(n)
+    return (case.beam.hub_radius_m + x_p) * ic.theta_rad + q @ phi_p - case.stop.y_m

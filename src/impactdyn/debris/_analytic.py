@@ -26,9 +26,9 @@ from typing import Annotated
 import numpy as np
 from pydantic import Field
 
-from impactdyn._config import NonNegative, Positive, Section, checked, rule
+from impactdyn._config import MAX_REACH, NonNegative, Positive, Section, checked, rule
 from impactdyn._errors import InputError
-from impactdyn.hydrogrid import DC3D_CELL_CM, HydroGrid
+from impactdyn.hydrogrid import DC3D_CELL_CM, HydroGrid, check_cells
 
 # A vector of three components; tuples, lists and arrays alike.
 Vector = Annotated[tuple[float, float, float], Field(strict=False)]
@@ -85,6 +85,30 @@ class ShellCloud(Section):
                 & (cos_angle >= np.cos(np.radians(self.cap_half_angle_deg)) - 1e-15))
 
 
+def grid_box(centre, radius: float, cell_size: float,
+             names: tuple[str, str, str] = ("centre", "radius", "cell_size")) -> tuple[np.ndarray, tuple[int, ...]]:
+    """The lower corner and the cell counts of :func:`shell_cloud_grid`'s grid, if its cells are no
+    wider than the shell, this machine holds them and their nodes resolve them (an
+    :class:`InputError` naming ``names`` otherwise).
+
+    The grid covers the half (x ≥ 0) bounding box of the sphere of ``radius`` about ``centre``.
+    """
+    c = np.asarray(centre, dtype=float)
+    lo = np.array([max(0.0, c[0] - radius), c[1] - radius, c[2] - radius])
+    hi = c + radius
+    if not cell_size <= 2.0 * radius:
+        raise InputError(f"{names[2]} = {cell_size:g} exceeds the shell's diameter 2 {names[1]} = {2.0 * radius:g}: "
+                         "the grid would not resolve the cloud")
+    reach = max(np.abs(lo).max(), np.abs(hi).max()) / cell_size
+    if not reach <= MAX_REACH:
+        raise InputError(f"{names[0]} = {c.tolist()}, {names[1]} = {radius:g}: the grid reaches {reach:.4g} cells "
+                         f"of {names[2]} = {cell_size:g} from the origin, more than {MAX_REACH} (its nodes "
+                         "would not resolve the cells)")
+    n = np.maximum(1, np.ceil((hi - lo) / cell_size - 1e-9).astype(int))
+    check_cells(f"{names[2]} = {cell_size:g} for the {radius:g} cm shell", n)
+    return lo, tuple(int(v) for v in n)
+
+
 @checked
 def shell_cloud_grid(cloud: ShellCloud, cell_size: Positive = DC3D_CELL_CM,
                      subsamples: Annotated[int, Field(ge=1, le=8)] = 3) -> HydroGrid:
@@ -92,15 +116,9 @@ def shell_cloud_grid(cloud: ShellCloud, cell_size: Positive = DC3D_CELL_CM,
 
     cell_size: the cubic cells' edge, cm; subsamples: points per cell edge (module docstring).
     """
-    c, R = np.asarray(cloud.centre, dtype=float), cloud.radius
-    lo = np.array([max(0.0, c[0] - R), c[1] - R, c[2] - R])
-    hi = c + R
-    n = np.maximum(1, np.ceil((hi - lo) / cell_size - 1e-9).astype(int))
-    if np.prod(n) > 50_000_000:
-        raise InputError(f"cell_size = {cell_size} cm gives {int(np.prod(n))} cells; use a coarser grid")
-    x, y, z = (lo[d] + cell_size * np.arange(n[d] + 1) for d in range(3))
+    lo, shape = grid_box(cloud.centre, cloud.radius, cell_size)
+    x, y, z = (lo[d] + cell_size * np.arange(shape[d] + 1) for d in range(3))
     s = (np.arange(subsamples) + 0.5) / subsamples * cell_size  # sub-sample offsets in a cell
-    shape = tuple(int(v) for v in n)
     inside = np.zeros(shape)
     v_sum = np.zeros(shape + (3,))
     # one z-plane of cells at a time keeps the sub-sample arrays small
@@ -114,7 +132,8 @@ def shell_cloud_grid(cloud: ShellCloud, cell_size: Positive = DC3D_CELL_CM,
         inside[:, :, kz] = hit.sum(axis=(1, 3, 4))
         v_sum[:, :, kz] = (cloud.velocity_at(pts) * hit[..., None]).sum(axis=(1, 3, 4))
     frac = inside / subsamples**3
-    volume = cell_size**3
+    with np.errstate(over="ignore"):  # too large a cell for its mass to be a number: HydroGrid refuses it
+        volume = np.float64(cell_size) ** 3
     solid = frac * (1.0 - cloud.void_fraction)
     with np.errstate(invalid="ignore", divide="ignore"):
         velocity = np.where(inside[..., None] > 0, v_sum / inside[..., None], 0.0)

@@ -20,29 +20,37 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated
 
-from pydantic import Field, create_model, model_validator
+import numpy as np
+from pydantic import Field, create_model, field_validator, model_validator
 
 from impactdyn import units
-from impactdyn._config import NodeCount, Range, Section, check_ordered, field_of, load_toml, rule, validate
+from impactdyn._config import NodeCount, Range, Section, check_ranges, field_of, load_toml, rule, validate
 from impactdyn._errors import InputError
-from impactdyn.debris._analytic import ShellCloud, check_shell, shell_cloud_grid
+from impactdyn.debris._analytic import ShellCloud, check_shell, grid_box, shell_cloud_grid
 from impactdyn.debris._integrators import IntegratorOptions
-from impactdyn.debris._particle import ParticleMaterial, check_bulk_modulus
+from impactdyn.debris._particle import LIGHT_SPEED, ParticleMaterial, check_bulk_modulus, check_wave_speed
 from impactdyn.debris._propagate import ArrivalWindow, ComputeOptions, DepositionOptions, check_window
-from impactdyn.debris._seed import SeedFilter, SeedOptions
-from impactdyn.io import write_lsdyna_deck
+from impactdyn.debris._seed import SeedFilter, SeedOptions, check_particle_count, seed_cells
+from impactdyn.io import formats, read_grid, write_lsdyna_deck
 from impactdyn.materials import REPORT_MATERIAL, MaterialName
 
 # TOML arrays are lists; strict validation does not turn them into tuples.
 Vector = Annotated[list[float], Field(min_length=3, max_length=3)]
+
+LIGHT_SPEED_KM_S = units.cm_us_to_km_s(LIGHT_SPEED)
+"""No debris is faster; below it the cloud's velocities, momenta and energies stay finite numbers."""
+
+Speed = Annotated[float, Field(ge=-LIGHT_SPEED_KM_S, le=LIGHT_SPEED_KM_S)]
+"""A velocity component, km/s."""
 
 
 class ShellSection(Section):
     """The analytic debris cloud (:class:`impactdyn.debris.ShellCloud`)."""
 
     centre_cm: Vector
-    velocity_km_s: Vector
-    expansion_velocity_km_s: float = field_of(ShellCloud, "expansion_velocity")
+    velocity_km_s: Annotated[list[Speed], Field(min_length=3, max_length=3)]
+    expansion_velocity_km_s: Annotated[float, Field(le=LIGHT_SPEED_KM_S)] = field_of(ShellCloud,
+                                                                                      "expansion_velocity")
     radius_cm: float = field_of(ShellCloud, "radius")
     thickness_cm: float = field_of(ShellCloud, "thickness")
     cap_half_angle_deg: float = field_of(ShellCloud, "cap_half_angle_deg")
@@ -58,11 +66,7 @@ class ShellSection(Section):
 
     @model_validator(mode="after")
     def _cells(self) -> "ShellSection":
-        from impactdyn.hydrogrid import check_cells  # the grid of debris._analytic, before it is built
-
-        x0, R, h = self.centre_cm[0], self.radius_cm, self.cell_size_cm
-        check_cells(f"cell_size_cm = {h:g} for the {R:g} cm shell",
-                    [max(1.0, (x0 + R - max(0.0, x0 - R)) / h), 2 * R / h, 2 * R / h])
+        grid_box(self.centre_cm, self.radius_cm, self.cell_size_cm, ("centre_cm", "radius_cm", "cell_size_cm"))
         return self
 
 
@@ -72,6 +76,21 @@ class GridSection(Section):
     file: str | None = None
     format: str | None = None
     shell: ShellSection | None = None
+
+    @field_validator("file")
+    @classmethod
+    def _a_path(cls, file: str | None) -> str | None:
+        if file is not None and "\x00" in file:
+            raise ValueError(f"{file!r}: a file name cannot hold a NUL character")
+        return file
+
+    @field_validator("format")
+    @classmethod
+    def _readable(cls, name: str | None) -> str | None:
+        readers = sorted(n for n, f in formats().items() if f.reader is not None)
+        if name is not None and name not in readers:
+            raise ValueError(f"{name!r}: no grid reader of that name; known: {', '.join(readers)}")
+        return name
 
     @model_validator(mode="after")
     def _one_source(self) -> "GridSection":
@@ -91,6 +110,7 @@ class MaterialSection(Section):
     zeta_Mbar_us: float = field_of(ParticleMaterial, "zeta")
 
     _bulk = rule(check_bulk_modulus, "lambda_Mbar", "mu_Mbar")
+    _causal = rule(check_wave_speed, "lambda_Mbar", "mu_Mbar", "rho_ref_g_cm3")
 
 
 class FilterSection(SeedFilter):
@@ -125,14 +145,14 @@ class WallSection(Section):
 
     @model_validator(mode="after")
     def _ranges(self) -> "WallSection":
-        ranges = [("wall.x_cm", self.x_cm), ("wall.y_cm", self.y_cm), ("wall.z_cm", self.z_cm)]
-        if self.remap is not None:
-            ranges += [("wall.remap.x_cm", self.remap.x_cm), ("wall.remap.z_cm", self.remap.z_cm)]
-        check_ordered(ranges)
         from impactdyn.wallgrid import check_nodes  # sizes: InputError before anything is allocated
 
         check_nodes("wall.nodes", self.nodes)
+        check_ranges(list(zip(("wall.x_cm", "wall.y_cm", "wall.z_cm"), (self.x_cm, self.y_cm, self.z_cm),
+                              self.nodes)), "wall.nodes")
         if self.remap is not None:
+            check_ranges(list(zip(("wall.remap.x_cm", "wall.remap.z_cm"), (self.remap.x_cm, self.remap.z_cm),
+                                  self.remap.nodes)), "wall.remap.nodes")
             check_nodes("wall.remap.nodes (x, 2 through the thickness, z)", [self.remap.nodes[0], 2,
                                                                            self.remap.nodes[1]])
         return self
@@ -198,29 +218,64 @@ class DebrisCase(Section):
 def load_debris_case(path: str | Path) -> DebrisCase:
     """Load and validate a case; a relative ``grid.file`` is taken relative to the case file."""
     path = Path(path)
-    data = load_toml(path)
-    grid = data.get("grid")
-    if isinstance(grid, dict) and isinstance(grid.get("file"), str) and not Path(grid["file"]).is_absolute():
-        grid["file"] = str((path.parent / grid["file"]).resolve())
-    return validate(DebrisCase, data, source=str(path))
+    case = validate(DebrisCase, load_toml(path), source=str(path))
+    file = case.grid.file
+    if file is None or Path(file).is_absolute():
+        return case
+    grid = case.grid.model_copy(update={"file": str((path.parent / file).resolve())})
+    return case.model_copy(update={"grid": grid})
 
 
 def hand_off_grid(case: DebrisCase, source: str = "<case>"):
-    """The HydroGrid a case names: its analytic shell cloud, or its file read through the format registry."""
+    """The HydroGrid a case names: its analytic shell cloud, or its file read through the format registry.
+
+    Checked against the case before any particle is seeded: the particles of the cells that pass
+    the seed filters must fit in this machine's memory and lie in front of the wall.
+    """
     g = case.grid
     if g.shell is not None:
         s = g.shell
         kms = units.CM_US_PER_KM_S
-        return shell_cloud_grid(ShellCloud(
-            centre=tuple(s.centre_cm), velocity=tuple(v * kms for v in s.velocity_km_s),
-            expansion_velocity=s.expansion_velocity_km_s * kms, radius=s.radius_cm, thickness=s.thickness_cm,
-            cap_half_angle_deg=s.cap_half_angle_deg, density=s.density_g_cm3, void_fraction=s.void_fraction,
-            sound_speed=s.sound_speed_km_s * kms, time=s.time_us), s.cell_size_cm, s.subsamples)
-    from impactdyn.io import read_grid
+        try:
+            grid = shell_cloud_grid(ShellCloud(
+                centre=tuple(s.centre_cm), velocity=tuple(v * kms for v in s.velocity_km_s),
+                expansion_velocity=s.expansion_velocity_km_s * kms, radius=s.radius_cm, thickness=s.thickness_cm,
+                cap_half_angle_deg=s.cap_half_angle_deg, density=s.density_g_cm3, void_fraction=s.void_fraction,
+                sound_speed=s.sound_speed_km_s * kms, time=s.time_us), s.cell_size_cm, s.subsamples)
+        except InputError as err:  # values the table takes one by one that do not make a grid together
+            raise InputError(f"{source}: grid.shell: {err}") from None
+        size = f"grid.shell.cell_size_cm = {s.cell_size_cm:g} for the {s.radius_cm:g} cm shell"
+        cloud = f"grid.shell (centre_cm = {s.centre_cm}, radius_cm = {s.radius_cm:g})"
+    else:
+        if not Path(g.file).is_file():
+            raise InputError(f"{source}: grid.file: {g.file}: no such file")
+        try:
+            grid = read_grid(g.file, g.format)
+        except InputError as err:
+            raise InputError(f"{source}: grid.file: {err}") from None
+        size = cloud = f"grid.file = {g.file}"
+    check_seeding(case, grid, f"{source}: {size}", f"{source}: wall.y_cm[0]", cloud)
+    return grid
 
-    if not Path(g.file).is_file():
-        raise InputError(f"{source}: grid.file: {g.file}: no such file")
-    return read_grid(g.file, g.format)
+
+def check_seeding(case: DebrisCase, grid, size: str, front: str, cloud: str) -> None:
+    """The particles of ``grid``'s cells that pass the case's seed filters fit in memory and lie in front of
+    the wall (:func:`seed_particles` and :func:`seed_and_select` refuse them too, but name no key).
+
+    The :class:`InputError` begins with ``size`` (what set the grid's size) or ``front`` (what set
+    the wall's front face) and names ``cloud`` (what placed the debris).
+    """
+    keep = seed_cells(grid, case.material.rho_ref_g_cm3, _seed_filter(case))
+    check_particle_count(f"{size}, seed filters of [filter]: the hand-off grid", keep)
+    rows = np.nonzero(keep.any(axis=(0, 2)))[0]
+    y = case.wall.y_cm[0]
+    if len(rows) and grid.y[rows[-1] + 1] > y:
+        raise InputError(f"{front} = {y:g}: the wall's front face lies behind or inside the debris of {cloud}, "
+                         f"which reaches y = {grid.y[rows[-1] + 1]:g} cm; the wall must lie beyond the cloud in +y")
+
+
+def _seed_filter(case: DebrisCase) -> SeedFilter:
+    return SeedFilter(**case.filter.model_dump(include=set(SeedFilter.model_fields)))
 
 
 def build(case: DebrisCase, source: str = "<case>", grid=None) -> dict:
@@ -238,7 +293,7 @@ def build(case: DebrisCase, source: str = "<case>", grid=None) -> dict:
                                 **_legacy(lg, ParticleMaterial))
     return dict(
         grid=grid, wall=wall, material=material,
-        seed_filter=SeedFilter(**f.model_dump(include=set(SeedFilter.model_fields))),
+        seed_filter=_seed_filter(case),
         seed_options=SeedOptions(**_legacy(lg, SeedOptions)),
         window=ArrivalWindow(t_min=f.t_min_us, t_cut=f.t_cut_us, **_legacy(lg, ArrivalWindow)),
         integrator=case.integrator, compute=case.compute,

@@ -149,7 +149,7 @@ class IntegratorOptions(Section):
         """Fill in the method's own steps_per_period, so config.resolved.toml records the step used."""
         if isinstance(data, dict) and data.get("steps_per_period") is None:
             method = data.get("method", cls.model_fields["method"].default)
-            if method in DEFAULT_STEPS_PER_PERIOD:
+            if isinstance(method, str) and method in DEFAULT_STEPS_PER_PERIOD:
                 return {**data, "steps_per_period": DEFAULT_STEPS_PER_PERIOD[method]}
         return data
 

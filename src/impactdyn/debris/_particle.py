@@ -102,16 +102,37 @@ def check_bulk_modulus(lam: float | None, mu: float | None, names: tuple[str, st
         raise ValueError(f"{names[0]} + 2/3 {names[1]} must be > 0 (bulk modulus)")
 
 
+LIGHT_SPEED = 29.9792458
+"""The speed of light, cm/µs (exact)."""
+
+
+def check_wave_speed(lam: float | None, mu: float | None, rho_ref: float | None,
+                     names: tuple[str, str, str] = ("lam", "mu", "rho_ref")) -> None:
+    """The longitudinal wave speed √((λ + 2μ)/ρ_ref) is below the speed of light, where all are given (a
+    validator's ValueError naming ``names`` otherwise).
+
+    No material's moduli come near it; beyond it the stiffness that sets the integrators' step
+    overflows.  :class:`ParticleMaterial`'s rule, called by the debris and Whipple cases' material
+    tables too.  (Mbar over g/cm³ is (cm/µs)², so the speed is in cm/µs.)
+    """
+    if lam is None or mu is None or rho_ref is None:
+        return
+    speed = math.sqrt((lam + 2.0 * mu) / rho_ref) if lam + 2.0 * mu > 0 else 0.0
+    if not speed < LIGHT_SPEED:
+        raise ValueError(f"({names[0]} + 2 {names[1]}) / {names[2]} gives a longitudinal wave speed of "
+                         f"{speed:.4g} cm/µs, faster than light ({LIGHT_SPEED} cm/µs)")
+
+
 class ParticleMaterial(Section):
     """Elastic–viscoplastic debris material of DC3D (listing common /props/).
 
     mu, lam: Lamé constants μ, λ (Mbar), with a positive bulk modulus λ + ⅔μ
-    (:func:`check_bulk_modulus`); rho_ref: reference density ρ_ref (g/cm³); eta:
-    plastic viscosity η (Mbar·µs; ``inf`` switches plasticity off); zeta:
-    artificial bulk viscosity ζ ≥ 0 (Mbar·µs); legacy_eta_per_volume: use the
-    listing's Ėₚ = V₀(2μ/η)(E' − Eₚ).  The one home of these defaults and bounds: a
-    bad value raises :class:`~impactdyn._errors.InputError` naming the field; the
-    case tables declare them with :func:`~impactdyn._config.field_of`.
+    (:func:`check_bulk_modulus`) and waves slower than light (:func:`check_wave_speed`);
+    rho_ref: reference density ρ_ref (g/cm³); eta: plastic viscosity η (Mbar·µs; ``inf``
+    switches plasticity off); zeta: artificial bulk viscosity ζ ≥ 0 (Mbar·µs);
+    legacy_eta_per_volume: use the listing's Ėₚ = V₀(2μ/η)(E' − Eₚ).  The one home of
+    these defaults and bounds: a bad value raises :class:`~impactdyn._errors.InputError`
+    naming the field; the case tables declare them with :func:`~impactdyn._config.field_of`.
     """
 
     mu: Positive
@@ -122,6 +143,7 @@ class ParticleMaterial(Section):
     legacy_eta_per_volume: bool = False
 
     _bulk = rule(check_bulk_modulus, "lam", "mu")
+    _causal = rule(check_wave_speed, "lam", "mu", "rho_ref")
 
     @property
     def bulk_modulus(self) -> float:

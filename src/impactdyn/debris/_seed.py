@@ -118,13 +118,19 @@ def seed_cells(grid: HydroGrid, rho_ref: float, filt: SeedFilter = SeedFilter())
     return keep
 
 
+def check_particle_count(what: str, keep: np.ndarray) -> int:
+    """The number of particles the selected cells ``keep`` (:func:`seed_cells`) make, if this machine's
+    memory holds them; otherwise an :class:`InputError` that begins with ``what`` (the grid's name)."""
+    cells = int(np.count_nonzero(keep))
+    return check_fits(f"{what}: {cells} of its {'x'.join(map(str, keep.shape))} cells pass the seed filters, "
+                      f"{TETS_PER_CELL} particles each", TETS_PER_CELL * cells, PARTICLE_BYTES, "debris particles")
+
+
 def seed_particles(grid: HydroGrid, material: ParticleMaterial, filt: SeedFilter = SeedFilter(),
                    options: SeedOptions = SeedOptions()) -> ParticleCloud:
     """Five tetrahedral particles per selected cell of ``grid`` (DCELEM → NDDATA → JCALC → IVCALC)."""
     keep = seed_cells(grid, material.rho_ref, filt)
-    cells = np.count_nonzero(keep)
-    check_fits(f"hand-off grid: {cells} of its {'x'.join(map(str, keep.shape))} cells pass the seed filters, "
-               f"{TETS_PER_CELL} particles each", TETS_PER_CELL * cells, PARTICLE_BYTES, "debris particles")
+    check_particle_count("hand-off grid", keep)
     # cell order of the listing's loops: k slowest, then j, then i
     k, j, i = np.nonzero(keep.transpose(2, 1, 0))
     cells = np.stack([i, j, k], axis=-1)

@@ -23,16 +23,16 @@ from typing import Annotated, get_type_hints
 from pydantic import Field, field_validator, model_validator
 
 from impactdyn import units
-from impactdyn._config import (NodeCount, Positive, Range, Section, check_ordered, field_of, load_toml, rule,
+from impactdyn._config import (NodeCount, Positive, Range, Section, check_ranges, field_of, load_toml,
                                section_of, validate)
 from impactdyn._errors import InputError
 from impactdyn.debris import (
     ComputeSection, DebrisCase, FilterSection, IntegratorSection, LegacySection, OutputSection, ParticleMaterial,
-    check_bulk_modulus)
+    check_bulk_modulus, check_wave_speed)
 from impactdyn.debris import WallSection as DebrisWallSection
 from impactdyn.materials import REPORT_MATERIAL, Material, MaterialName, get_material
 from impactdyn.shield import BinningMethod, SPHOptions, bin_to_hydrogrid
-from impactdyn.wall import WallOptions
+from impactdyn.wall import WallOptions, wall_model
 
 
 class ProjectileSection(Section):
@@ -74,10 +74,10 @@ class WallSection(Section):
 
     @model_validator(mode="after")
     def _extent(self) -> "WallSection":
-        check_ordered([("x_cm", self.x_cm), ("z_cm", self.z_cm)])
         from impactdyn.wallgrid import check_nodes  # sizes: InputError before anything is allocated
 
         check_nodes("nodes", self.nodes)
+        check_ranges([("x_cm", self.x_cm, self.nodes[0]), ("z_cm", self.z_cm, self.nodes[2])], "nodes")
         return self
 
 
@@ -111,15 +111,14 @@ class DebrisMaterialSection(Section):
     """Constants of the debris particles (dc3din record 13–14).
 
     μ and λ default to the projectile material's G and K − 2G/3 (K = ρ₀c₀²);
-    η and ζ to the report's App. C values; the bounds are :class:`impactdyn.debris.ParticleMaterial`'s.
+    η and ζ to the report's App. C values; the bounds are :class:`impactdyn.debris.ParticleMaterial`'s
+    (the bulk modulus λ + ⅔μ, which may take μ from the projectile, is checked by the case).
     """
 
     mu_Mbar: float | None = field_of(ParticleMaterial, "mu", None)
     lambda_Mbar: float | None = field_of(ParticleMaterial, "lam", None)
     eta_Mbar_us: float | None = field_of(ParticleMaterial, "eta", 0.01)
     zeta_Mbar_us: float = field_of(ParticleMaterial, "zeta", 1.0)
-
-    _bulk = rule(check_bulk_modulus, "lambda_Mbar", "mu_Mbar")
 
 
 class _WallSolverBase(Section):
@@ -181,6 +180,21 @@ class WhippleCase(Section):
         if self.binning.cell_size_cm >= w.spacing_cm:
             raise ValueError(f"binning.cell_size_cm = {self.binning.cell_size_cm} does not fit in the "
                              f"{w.spacing_cm} cm between bumper and wall")
+        y0 = self.wall_front_y  # the debris case's wall.y_cm
+        check_ranges([("the wall's y extent (bumper.thickness_cm + wall.spacing_cm, + wall.thickness_cm)",
+                       [y0, y0 + w.thickness_cm], w.nodes[1])], "wall.nodes")
+        debris = debris_material_constants(self)
+        names = [f"debris.{key}" if getattr(self.debris, key) is not None else
+                 f"debris.{key} (default: from projectile.material = {p.material!r})"
+                 for key in ("lambda_Mbar", "mu_Mbar")]
+        check_bulk_modulus(debris["lambda_Mbar"], debris["mu_Mbar"], names)
+        check_wave_speed(debris["lambda_Mbar"], debris["mu_Mbar"], debris["rho_ref_g_cm3"],
+                         (*names, f"the density of projectile.material = {p.material!r}"))
+        try:
+            wall_model(self.wall_solver.material_model, w.material)
+        except InputError as err:
+            raise ValueError(f"wall.material = {w.material!r} with wall_solver.material_model = "
+                             f"{self.wall_solver.material_model!r}: {err}") from None
         depth = self.wall_solver.deposition_depth_cm
         if depth is not None and depth > w.thickness_cm:
             raise ValueError(f"wall_solver.deposition_depth_cm = {depth} exceeds the wall's thickness "
@@ -239,7 +253,7 @@ def debris_material_constants(case: WhippleCase) -> dict:
     m: Material = get_material(case.projectile.material)
     bulk = m.rho0 * m.c0**2
     mu = case.debris.mu_Mbar if case.debris.mu_Mbar is not None else m.shear_modulus
-    lam = case.debris.lambda_Mbar if case.debris.lambda_Mbar is not None else bulk - 2.0 * mu / 3.0
+    lam = case.debris.lambda_Mbar if case.debris.lambda_Mbar is not None else bulk - mu / 1.5  # 2μ may overflow
     return dict(mu_Mbar=mu, lambda_Mbar=lam, rho_ref_g_cm3=m.rho0, eta_Mbar_us=case.debris.eta_Mbar_us,
                 zeta_Mbar_us=case.debris.zeta_Mbar_us)
 
