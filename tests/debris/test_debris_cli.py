@@ -212,6 +212,26 @@ def test_legacy_deck_only_and_rezone(tmp_path):
     assert main(["debris", "legacy", str(dc3din), "-o", str(tmp_path / "x")]) == 2  # avsout needed
 
 
+@pytest.mark.parametrize("line, text, message", [
+    (30, "            0.0            5.0         1.0e-6", "dc3din:30: integrator.eps: must be less than 1"),
+    (20, "         9         3         9         1         3         5", "dc3din:20: wall.remap.nodes[0]: must be "
+                                                                            "greater than or equal to 2"),
+    (28, "          1.0e4          0.503          2.703         1.0e-2", "dc3din:28: material: (lambda_Mbar + 2 "
+                                                                            "mu_Mbar) / rho_ref_g_cm3 gives"),
+    (14, "            0.0            0.1", "dc3din:24: ydmin = 0: the wall's front face lies behind or inside the "
+                                          "debris of"),  # ylow: the dump's cells moved into the wall
+])
+def test_legacy_values_the_case_refuses_name_the_dc3din_line(tmp_path, capsys, line, text, message):
+    """The dc3din's records become a debris case: its bounds and the seeding's checks name the record's line."""
+    dc3din, avsout = legacy_inputs(tmp_path)
+    lines = dc3din.read_text().splitlines()
+    lines[line - 1] = text
+    dc3din.write_text("\n".join(lines) + "\n")
+    assert main(["debris", "legacy", str(dc3din), str(avsout), "-o", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert f"{tmp_path / message}" in err and "Traceback" not in err, err
+
+
 def test_usage_errors_exit_2(capsys):
     assert main(["debris", "run"]) == 2
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import re
 
 import numpy as np
 import pytest
@@ -158,7 +159,20 @@ def test_bad_records_name_file_and_line(tmp_path, line, bad, message):
 def test_cth_dump_needs_the_layout(tmp_path):
     p = tmp_path / "avsout"
     legacy_dump(p)
-    with pytest.raises(InputError, match="layout from dc3din"):
+    with pytest.raises(InputError, match=rf"{p}:27: the header .* layout from dc3din"):
+        read_avsout(p)
+
+
+@pytest.mark.parametrize("key, value, message", [
+    ("i2", "4.5", r":6: i2 = 4.5 must be an integer"),
+    ("i2", "1", r":5-16: avsout layout: need 1 <= i1 <= i2"),
+    ("dx", "1e-300", r":5-16: avsout layout: the x nodes reach"),
+])
+def test_bad_header_layout_names_its_lines(tmp_path, rng, representable_grid, key, value, message):
+    p = tmp_path / "dump.avsout"
+    write_avsout(p, representable_grid(rng))
+    p.write_text(re.sub(rf"(?m)^{key} = .*$", f"{key} = {value}", p.read_text()))
+    with pytest.raises(InputError, match=rf"^{p}{message}"):
         read_avsout(p)
 
 
@@ -190,12 +204,12 @@ def test_unit_conversions_used_by_the_legacy_formats():
         assert back(there(3.7)) == pytest.approx(3.7, rel=1e-15)
 
 
-def test_invalid_cell_values_name_the_file_and_cell(tmp_path):
+def test_invalid_cell_values_name_the_file_line_and_cell(tmp_path):
     p = tmp_path / "avsout"
     lines = legacy_dump(p)
     lines[27 + 2 * 4 + 1] = "-1.0 0.5 3.0"  # cell 5 in file order = (i, j, k) (1, 1, 0): negative mass
     p.write_text("\n".join(lines) + "\n")
-    with pytest.raises(InputError, match=rf"{p}: HydroGrid.mass: negative value at index \(1, 1, 0\)"):
+    with pytest.raises(InputError, match=rf"{p}:37: HydroGrid.mass: negative value at index \(1, 1, 0\)"):
         read_avsout(p, LAYOUT)
 
 

@@ -20,13 +20,14 @@ and writes CTH rezone packages (``cth_packages.txt``).
 
 from __future__ import annotations
 
+import re
 import time
 from pathlib import Path
 
 import numpy as np
 
 from impactdyn import units
-from impactdyn._config import validate
+from impactdyn._config import set_dotted, validate
 from impactdyn._errors import InputError
 from impactdyn._runfolder import RunFolder, check_target
 from impactdyn.debris._deposit import arrival_points
@@ -37,32 +38,57 @@ from impactdyn.io import RunType, read_avsout, read_dc3din
 REZONE_TIME_US = 0.2
 
 
+FROM_RECORDS: dict[str, tuple[str, ...]] = {
+    "material.mu_Mbar": ("mu",), "material.lambda_Mbar": ("lam",), "material.rho_ref_g_cm3": ("rho_ref",),
+    "material.eta_Mbar_us": ("eta",), "material.zeta_Mbar_us": ("zeta",),
+    "filter.dencut": ("dencut",), "filter.t_min_us": ("tmin",), "filter.t_cut_us": ("tcut",),
+    "wall.x_cm": ("xdmin", "xdmax"), "wall.y_cm": ("ydmin", "ydmax"), "wall.z_cm": ("zdmin", "zdmax"),
+    "wall.nodes": ("idmax", "jdmax", "kdmax"),
+    "integrator.eps": ("eps",), "integrator.ymxref": ("ymxref",),
+}
+"""The keys of the DebrisCase a dc3din becomes, and the dc3din fields that give each (a list where
+there are several)."""
+
+REMAP_FROM_RECORDS: dict[str, tuple[str, ...]] = {
+    "wall.remap.x_cm": ("xdminn", "xdmaxn"), "wall.remap.z_cm": ("zdminn", "zdmaxn"),
+    "wall.remap.nodes": ("idmaxn", "kdmaxn"),
+}
+"""The same for the new wall grid, a 2/1 run's remap face where it differs from the old grid."""
+
+
 def case_from_dc3din(d, listing: bool = False) -> dict:
     """The DebrisCase dict equivalent to a :class:`Dc3dInput` (grid.file = handoff_grid.h5)."""
     case = {
         "title": f"dc3din itype {d.itype} jtype {d.jtype}",
         "grid": {"file": "handoff_grid.h5"},
-        "material": {"mu_Mbar": d.mu, "lambda_Mbar": d.lam, "rho_ref_g_cm3": d.rho_ref, "eta_Mbar_us": d.eta,
-                     "zeta_Mbar_us": d.zeta},
-        "filter": {"dencut": d.dencut, "t_min_us": d.tmin, "t_cut_us": d.tcut},
-        "wall": {"x_cm": [d.xdmin, d.xdmax], "y_cm": [d.ydmin, d.ydmax], "z_cm": [d.zdmin, d.zdmax],
-                 "nodes": [d.idmax, d.jdmax, d.kdmax], "clamped_edges": False},
-        "integrator": {"eps": d.eps, "ymxref": d.ymxref} | ({"method": "legacy"} if listing else {}),
+        "wall": {"clamped_edges": False},
+        "integrator": {"method": "legacy"} if listing else {},
         "legacy": {"eta_per_volume": True} | (
             {k: True for k in ("nddata_swap", "fdot_scaling", "inertia_transform", "abs_arrival",
                                "vertex_scaling")} if listing else {}),
     }
     new = ((d.xdminn, d.xdmaxn), (d.zdminn, d.zdmaxn), (d.idmaxn, d.kdmaxn))
-    if d.run_type is RunType.PROPAGATE_TO_WALL and new != ((d.xdmin, d.xdmax), (d.zdmin, d.zdmax),
-                                                           (d.idmax, d.kdmax)):
-        case["wall"]["remap"] = {"x_cm": list(new[0]), "z_cm": list(new[1]), "nodes": list(new[2])}
+    remap = d.run_type is RunType.PROPAGATE_TO_WALL and new != ((d.xdmin, d.xdmax), (d.zdmin, d.zdmax),
+                                                                (d.idmax, d.kdmax))
+    for key, names in (FROM_RECORDS | (REMAP_FROM_RECORDS if remap else {})).items():
+        values = [getattr(d, name) for name in names]
+        case = set_dotted(case, key, values if len(values) > 1 else values[0])
     return case
+
+
+def _record_line(d, key: str) -> int | None:
+    """The dc3din line that holds the value of the case's ``key`` (of a table's first key, for a rule of
+    the table's); None for a key no record gives."""
+    base = re.sub(r"\[\d+\]$", "", key)
+    table = FROM_RECORDS | REMAP_FROM_RECORDS
+    keys = [k for k in table if k == base or k.startswith(base + ".")]
+    return d.lines.get(table[keys[0]][0]) if keys else None
 
 
 def run_legacy(dc3din: Path, avsout: Path | None, out: Path, *, force: bool = False, listing: bool = False,
                progress_factory=None, echo=print, report=None) -> dict:
     """Run the workflow of ``dc3din``'s run type; returns the summary written."""
-    from impactdyn.debris._case import DebrisCase, build, remap_grid
+    from impactdyn.debris._case import DebrisCase, build, check_seeding, remap_grid
     from impactdyn.debris._propagate import run_debris
     from impactdyn.debris._outputs import write_debris_run
 
@@ -70,12 +96,16 @@ def run_legacy(dc3din: Path, avsout: Path | None, out: Path, *, force: bool = Fa
     start = time.perf_counter()
     d = read_dc3din(dc3din)
     kind = d.run_type
-    case = validate(DebrisCase, case_from_dc3din(d, listing), source=str(dc3din))
+    case = validate(DebrisCase, case_from_dc3din(d, listing), source=str(dc3din),
+                    line_of=lambda key: _record_line(d, key))
     if not kind.propagates:
         return _decks_only(d, case, out, force, echo)
     if avsout is None:
         raise InputError(f"{dc3din}: run type {d.itype}/{d.jtype} propagates the debris: give the avsout file")
     grid = read_avsout(avsout, d.avs_layout)
+    check_seeding(case, grid, f"{dc3din}:{d.lines['i1']}-{d.lines['k1']}: records i1 i2, j1 j2, k1 k2 (the avsout "
+                  "cells)", f"{dc3din}:{d.lines['ydmin']}: ydmin", f"{avsout} (placed by records ylow dy, line "
+                  f"{d.lines['ylow']})")
     args = build(case, str(dc3din), grid=grid)
     bar, update = progress_factory() if progress_factory else (None, None)
     if kind is RunType.CTH_REZONE:

@@ -26,7 +26,7 @@ import numpy as np
 
 from impactdyn._errors import InputError
 from impactdyn._runfolder import atomic_output
-from impactdyn.io._fortran import parse_real, read_lines
+from impactdyn.io._fortran import parse_int, parse_real, read_lines
 
 
 def write_cth_packages(path: str | Path, index: np.ndarray, density: np.ndarray, velocity_cm_s: np.ndarray,
@@ -64,24 +64,45 @@ def write_cth_packages(path: str | Path, index: np.ndarray, density: np.ndarray,
 
 def read_cth_packages(path: str | Path) -> dict[str, np.ndarray]:
     """Read packages written by :func:`write_cth_packages`: index ``(n, 4)``, density ``(n,)``,
-    velocity ``(n, 3)`` (cm/s) and corners ``(n, 4, 3)`` (cm)."""
+    velocity ``(n, 3)`` (cm/s) and corners ``(n, 4, 3)`` (cm).
+
+    Each package needs its four indices (cells from 1, tetrahedron 1…5), one density, the
+    three velocities and four points of three coordinates; an :class:`InputError` names the
+    line of the value that is wrong, or of the package that lacks one.
+    """
     path = Path(path)
-    index, density, velocity, corners = [], [], [], []
+    packages: list[dict] = []
     for no, line in enumerate(read_lines(path), start=1):
         key, _, value = line.strip().partition("=" if "=" in line else " ")
         key = key.strip()
+        if key not in ("package", "density", "xvel", "yvel", "zvel", "point", "vertex"):
+            continue
+        if key != "package" and not packages:
+            raise InputError(f"{path}:{no}: {key} outside a package")
         try:
             if key == "package":
-                index.append([int(t) for t in value.split(",")])
-                velocity.append([])
-                corners.append([])
+                index = [parse_int(t) for t in value.split(",")]  # CTH's Fortran integers: 32 bits
+                if len(index) != 4 or not (all(1 <= i < 2**31 for i in index[:3]) and 1 <= index[3] <= 5):
+                    raise ValueError(f"expected cell indices i, j, k >= 1 and a tetrahedron 1..5, got {value.strip()}")
+                packages.append({"line": no, "index": index, "density": [], "velocity": {}, "corners": []})
             elif key == "density":
-                density.append(parse_real(value))
+                packages[-1]["density"].append(parse_real(value))
             elif key in ("xvel", "yvel", "zvel"):
-                velocity[-1].append(parse_real(value))
-            elif key in ("point", "vertex"):
-                corners[-1].append([parse_real(t) for t in value.split(",")])
-        except (ValueError, IndexError):
-            raise InputError(f"{path}:{no}: cannot read {line.strip()!r}") from None
-    return {"index": np.array(index, dtype=int).reshape(-1, 4), "density": np.array(density),
-            "velocity": np.array(velocity).reshape(-1, 3), "corners": np.array(corners).reshape(-1, 4, 3)}
+                packages[-1]["velocity"][key] = parse_real(value)
+            else:
+                point = [parse_real(t) for t in value.split(",")]
+                if len(point) != 3:
+                    raise ValueError(f"expected x, y, z, got {value.strip()}")
+                packages[-1]["corners"].append(point)
+        except ValueError as err:
+            raise InputError(f"{path}:{no}: cannot read {line.strip()!r}: {err}") from None
+    for p in packages:
+        if len(p["density"]) != 1 or len(p["velocity"]) != 3 or len(p["corners"]) != 4:
+            raise InputError(f"{path}:{p['line']}: the package has {len(p['density'])} densities, "
+                             f"{len(p['velocity'])} of xvel, yvel, zvel and {len(p['corners'])} points and vertices; "
+                             "expected 1, 3 and 4")
+    return {"index": np.array([p["index"] for p in packages], dtype=int).reshape(-1, 4),
+            "density": np.array([p["density"][0] for p in packages]),
+            "velocity": np.array([[p["velocity"][k] for k in ("xvel", "yvel", "zvel")] for p in packages]
+                                 ).reshape(-1, 3),
+            "corners": np.array([p["corners"] for p in packages]).reshape(-1, 4, 3)}

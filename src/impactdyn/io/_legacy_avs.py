@@ -38,11 +38,12 @@ from pathlib import Path
 import numpy as np
 
 from impactdyn import units
+from impactdyn._config import MAX_REACH
 from impactdyn._errors import InputError
 from impactdyn.hydrogrid import HydroGrid, check_cells
 from impactdyn.io._fortran import format_e, parse_real, read_lines, record_fields
 from impactdyn._runfolder import atomic_output
-from impactdyn.io._registry import in_file, register_format
+from impactdyn.io._registry import register_format
 
 HEADER_LINES = 27
 FIELD_WIDTH = 11
@@ -52,6 +53,8 @@ _PER_CELL = len(_RECORD1) + len(_RECORD2)
 _INT_KEYS = ("i1", "i2", "j1", "j2", "k1", "k2")
 _REAL_KEYS = ("xlow", "dx", "ylow", "dy", "zlow", "dz")
 _KEY_LINE = re.compile(r"^\s*([A-Za-z_]\w*)\s*=\s*(\S+)\s*$")
+_RECORD2_FIELDS = ("mass", "void_fraction", "sound_speed")  # the HydroGrid fields of the second record
+_CELL_ERROR = re.compile(r"HydroGrid\.(\w+): .* at index \((\d+), (\d+), (\d+)")
 
 
 @dataclass(frozen=True)
@@ -87,6 +90,10 @@ class AvsLayout:
                 raise InputError(f"avsout layout: {name} = {v} must be finite" + (" and > 0" if name[0] == "d" else ""))
         check_cells(f"avsout layout: {self.i1}..{self.i2} x {self.j1}..{self.j2} x {self.k1}..{self.k2}",
                     self.shape)
+        for axis, nodes, d in zip("xyz", self.nodes(), (self.dx, self.dy, self.dz)):
+            if not np.abs(nodes[[0, -1]]).max() <= MAX_REACH * d:
+                raise InputError(f"avsout layout: the {axis} nodes reach {nodes[0]:g} .. {nodes[-1]:g}, more than "
+                                 f"{MAX_REACH} cells of d{axis} = {d:g} from the origin (they would not be distinct)")
 
     @property
     def shape(self) -> tuple[int, int, int]:
@@ -134,12 +141,12 @@ def read_avsout(path: str | Path, layout: AvsLayout | None = None, time: float |
     if layout is None:
         layout = _layout_from_header(path, header)
     if time is None:
-        time = header.get("time_us", 0.0)
+        time = header.get("time_us", (0.0, 0))[0]
     nx, ny, nz = layout.shape
-    values = _read_values(path, lines, nx * ny * nz, layout)
+    values, records = _read_values(path, lines, nx * ny * nz, layout)
     cells = values.reshape(nz, ny, nx, _PER_CELL).transpose(2, 1, 0, 3)  # k outer, i inner -> (i, j, k)
     x, y, z = layout.nodes()
-    with in_file(path):  # cell (i, j, k) is record pair i + nx (j + ny k) after the header
+    try:
         return HydroGrid(
             x=x, y=y, z=z,
             velocity=units.cm_s_to_cm_us(cells[..., 0:3]),
@@ -153,6 +160,13 @@ def read_avsout(path: str | Path, layout: AvsLayout | None = None, time: float |
             staggered=True,
             time=time,
         )
+    except InputError as err:  # a cell's value out of range: the line of its record
+        m = _CELL_ERROR.match(str(err))
+        if m is None:
+            raise InputError(f"{path}: {err}") from None
+        i, j, k = map(int, m.group(2, 3, 4))
+        record = 2 * (i + nx * (j + ny * k)) + (m.group(1) in _RECORD2_FIELDS)
+        raise InputError(f"{path}:{records[record]}: {err}") from None
 
 
 def write_avsout(path: str | Path, grid: HydroGrid, layout: AvsLayout | None = None) -> None:
@@ -201,32 +215,39 @@ def _header_lines(layout: AvsLayout, time: float) -> list[str]:
     return lines + ["*"] * (HEADER_LINES - len(lines))
 
 
-def _header_values(header: list[str]) -> dict[str, float]:
+def _header_values(header: list[str]) -> dict[str, tuple[float, int]]:
+    """The ``key = number`` lines of the header: each key's value and line."""
     out = {}
-    for line in header:
+    for no, line in enumerate(header, start=1):
         m = _KEY_LINE.match(line)
         if m:
             try:
-                out[m.group(1)] = parse_real(m.group(2))
+                out[m.group(1)] = (parse_real(m.group(2)), no)
             except ValueError:
                 continue  # free text that happens to contain '='
     return out
 
 
-def _layout_from_header(path: Path, header: dict[str, float]) -> AvsLayout:
+def _layout_from_header(path: Path, header: dict[str, tuple[float, int]]) -> AvsLayout:
     keys = _INT_KEYS + _REAL_KEYS
     missing = [k for k in keys if k not in header]
     if missing:
-        raise InputError(f"{path}: the header does not give the grid layout ({', '.join(missing)} missing); "
-                         "a CTH dump needs the layout from dc3din: read_avsout(path, Dc3dInput.avs_layout)")
-    fractional = [k for k in _INT_KEYS if not float(header[k]).is_integer()]
-    if fractional:
-        raise InputError(f"{path}: header: {', '.join(fractional)} must be integers")
-    return AvsLayout(*(int(header[k]) for k in _INT_KEYS), *(header[k] for k in _REAL_KEYS))
+        raise InputError(f"{path}:{HEADER_LINES}: the header (lines 1-{HEADER_LINES}) does not give the grid layout "
+                         f"({', '.join(missing)} missing); a CTH dump needs the layout from dc3din: "
+                         "read_avsout(path, Dc3dInput.avs_layout)")
+    for k in _INT_KEYS:
+        value, no = header[k]
+        if not value.is_integer():
+            raise InputError(f"{path}:{no}: {k} = {value!r} must be an integer")
+    where = sorted(header[k][1] for k in keys)
+    try:
+        return AvsLayout(*(int(header[k][0]) for k in _INT_KEYS), *(header[k][0] for k in _REAL_KEYS))
+    except InputError as err:
+        raise InputError(f"{path}:{where[0]}-{where[-1]}: {err}") from None
 
 
-def _read_values(path: Path, lines: list[str], n_cells: int, layout: AvsLayout) -> np.ndarray:
-    """The 10 values of each cell in file order, shape (n_cells * 10,)."""
+def _read_values(path: Path, lines: list[str], n_cells: int, layout: AvsLayout) -> tuple[np.ndarray, list[int]]:
+    """The 10 values of each cell in file order, shape (n_cells * 10,), and the line of each record."""
     data = [(n, line) for n, line in enumerate(lines[HEADER_LINES:], start=HEADER_LINES + 1) if line.strip()]
     need = 2 * n_cells
     grid = (f"the {layout.i1}..{layout.i2} x {layout.j1}..{layout.j2} x {layout.k1}..{layout.k2} cell block "
@@ -259,7 +280,7 @@ def _read_values(path: Path, lines: list[str], n_cells: int, layout: AvsLayout) 
     if bad.any():
         m = int(np.argmax(bad))
         raise InputError(f"{path}:{_line_of(data, m)}: not a finite number: {tokens[m]!r}")
-    return values
+    return values, [n for n, _ in data]
 
 
 def _line_of(data: list[tuple[int, str]], value_index: int) -> int:

@@ -44,7 +44,7 @@ naming the file and line.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from enum import Enum
 from pathlib import Path
 
@@ -151,6 +151,8 @@ class Dc3dInput:
     eps: float
     ymxref: float
     factor: float
+    lines: dict[str, int] = field(default_factory=dict, compare=False, repr=False)
+    """The line of the file read that holds each field."""
 
     @property
     def run_type(self) -> RunType:
@@ -202,7 +204,7 @@ def read_dc3din(path: str | Path) -> Dc3dInput:
             values[name], line_of[name] = v, pos + 1
         pos += 1
     _check(path, values, line_of)
-    return Dc3dInput(**values)
+    return Dc3dInput(**values, lines=line_of)
 
 
 def _is_comment(line: str) -> bool:
@@ -244,6 +246,10 @@ def _check(path: Path, v: dict, line_of: dict[str, int]) -> None:
     if v["jtype"] == 1:
         check_cells(f"{path}:{line_of['i1']}-{line_of['k1']}: records i1 i2, j1 j2, k1 k2 (the avsout cells)",
                     [v[b] - v[a] + 1 for a, b in (("i1", "i2"), ("j1", "j2"), ("k1", "k2"))])
+        try:  # where its cells lie
+            AvsLayout(*(v[name] for name in AvsLayout.__dataclass_fields__))
+        except InputError as err:
+            raise InputError(f"{path}:{line_of['i1']}-{line_of['dz']}: records i1 i2 to zlow dz: {err}") from None
     at = f"{path}:{line_of['idmax']}"
     check_nodes(f"{at}: idmax jdmax kdmax", [v["idmax"], v["jdmax"], v["kdmax"]])
     if v["jtype"] == 3:
