@@ -5,6 +5,7 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.linalg import eigh, expm
 
+from impactdyn._errors import InputError
 from impactdyn.debris import _particle as P
 from impactdyn.debris import _tets as T
 from impactdyn.debris._integrators import (
@@ -344,16 +345,21 @@ def test_step_budget_is_reported(method):
 
 
 def test_input_validation():
+    """Bad particles are InputErrors naming the array, the first particle that breaks its rule and its value."""
     y0, J, m = deforming_particle(ELASTIC)
     args = (y0[None], J[None], np.array([m]))
-    with pytest.raises(ValueError, match="t_end"):
+    with pytest.raises(InputError, match=r"^propagate: t_end: particle 0 of 1 has -1.0: an end time must be"):
         propagate(*args, -1.0, ELASTIC)
-    with pytest.raises(ValueError, match="positive definite"):
-        propagate(y0[None], -J[None], np.array([m]), 1.0, ELASTIC)
-    with pytest.raises(ValueError, match="phi"):
+    with pytest.raises(InputError, match=r"^propagate: J: particle 1 of 2 has \[-.*must be positive definite"):
+        propagate(np.stack([y0, y0]), np.stack([J, -J]), np.array([m, m]), 1.0, ELASTIC)
+    with pytest.raises(InputError, match=r"^propagate: phi: particle 0 of 1 has 1.0: a void fraction must lie"):
         propagate(*args, 1.0, ELASTIC, phi=1.0)
-    with pytest.raises(ValueError, match="states"):
+    with pytest.raises(InputError, match=r"^propagate: m: particle 0 of 1 has nan"):
+        propagate(y0[None], J[None], np.array([np.nan]), 1.0, ELASTIC)
+    with pytest.raises(InputError, match=r"^propagate: states: shape \(1, 30\)"):
         propagate(y0[None, :30], J[None], np.array([m]), 1.0, ELASTIC)
+    with pytest.raises(InputError, match=r"^propagate: dt = 0.0: must be > 0"):
+        propagate(*args, 1.0, ELASTIC, dt=0.0)
     y, stats = propagate(*args, 0.0, ELASTIC)
     np.testing.assert_array_equal(y, args[0])
     assert stats.code[0] == Failure.OK and stats.steps[0] == 0

@@ -101,6 +101,7 @@ import numpy as np
 from pydantic import Field, field_validator, model_validator
 
 from impactdyn._config import Positive, Section
+from impactdyn._errors import InputError
 # the built-in integrators, registered on import in this order
 from impactdyn.debris import _splitting  # noqa: F401, I001
 from impactdyn.debris import _rk45  # noqa: F401
@@ -174,7 +175,7 @@ def propagate(states, J, m, t_end, material: ParticleMaterial, *, phi=0.0, dt=No
     given = dict(method=method, eps=eps, steps_per_period=steps_per_period, max_steps=max_steps, ymxref=ymxref)
     o = IntegratorOptions(**{k: v for k, v in given.items() if v is not None})
     if dt is not None and not np.all(np.asarray(dt, dtype=float) > 0):
-        raise ValueError("dt must be > 0")
+        raise InputError(f"propagate: dt = {dt}: must be > 0")
     batch = ParticleBatch.of(states, J, m, t_end, material, phi)
     control = StepControl(eps=o.eps, dt=dt, steps_per_period=o.steps_per_period, max_steps=o.max_steps,
                           ymxref=o.ymxref)

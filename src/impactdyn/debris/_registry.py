@@ -17,6 +17,7 @@ from typing import Callable
 
 import numpy as np
 
+from impactdyn._errors import InputError
 from impactdyn.debris._failure import Failure
 from impactdyn.debris._particle import STATE_SIZE, ParticleMaterial, inline_kernel, rates_into
 
@@ -62,29 +63,28 @@ class ParticleBatch:
 
     @classmethod
     def of(cls, states, J, m, t_end, material: ParticleMaterial, phi) -> ParticleBatch:
-        """Check the particles of :func:`impactdyn.debris.propagate` (a ValueError names the array) and pack them."""
-        y0 = np.ascontiguousarray(np.asarray(states, dtype=float))
+        """Check the particles of :func:`impactdyn.debris.propagate` and pack them; an :class:`InputError`
+        names the array, the first particle that breaks its rule and the value there."""
+        y0 = _floats("states", states)
         if y0.ndim != 2 or y0.shape[1] != STATE_SIZE:
-            raise ValueError(f"states must have shape (N, {STATE_SIZE}), got {y0.shape}")
+            raise InputError(f"propagate: states: shape {y0.shape}, expected (N, {STATE_SIZE}) packed states")
         n = len(y0)
-        J = np.ascontiguousarray(np.asarray(J, dtype=float))
+        J = _floats("J", J)
         if J.shape != (n, 3, 3):
-            raise ValueError(f"J must have shape ({n}, 3, 3), got {J.shape}")
-        m = np.ascontiguousarray(np.asarray(m, dtype=float))
-        if m.shape != (n,) or not np.all(np.isfinite(m) & (m > 0)):
-            raise ValueError(f"m must be ({n},) finite and > 0")
-        t_end = np.ascontiguousarray(np.broadcast_to(np.asarray(t_end, dtype=float), (n,)))
-        if not np.all(np.isfinite(t_end) & (t_end >= 0)):
-            raise ValueError("t_end must be finite and >= 0")
-        phi = np.broadcast_to(np.asarray(phi, dtype=float), (n,))
-        if not np.all((phi >= 0) & (phi < 1)):
-            raise ValueError("phi must be in [0, 1)")
-        if not np.all(np.isfinite(J)) or not np.allclose(J, np.swapaxes(J, 1, 2), rtol=1e-12, atol=0):
-            raise ValueError("J must be finite and symmetric")
+            raise InputError(f"propagate: J: shape {J.shape}, expected ({n}, 3, 3) for the {n} states")
+        m = _floats("m", m)
+        if m.shape != (n,):
+            raise InputError(f"propagate: m: shape {m.shape}, expected ({n},) for the {n} states")
+        _each("m", m, np.isfinite(m) & (m > 0), "a mass must be finite and > 0")
+        t_end = _per_particle("t_end", t_end, n)
+        _each("t_end", t_end, np.isfinite(t_end) & (t_end >= 0), "an end time must be finite and >= 0")
+        phi = _per_particle("phi", phi, n)
+        _each("phi", phi, (phi >= 0) & (phi < 1), "a void fraction must lie in [0, 1)")
+        _each("J", J, np.isfinite(J).all(axis=(1, 2)) & np.isclose(J, np.swapaxes(J, 1, 2), rtol=1e-12, atol=0
+                                                                  ).all(axis=(1, 2)),
+              "an inertia tensor must be finite and symmetric")
         eig = np.linalg.eigvalsh(J) if n else np.ones((0, 3))
-        if not np.all(eig[:, 0] > 0):
-            bad = int(np.argmax(~(eig[:, 0] > 0)))
-            raise ValueError(f"J must be positive definite (particle {bad}: eigenvalues {eig[bad]})")
+        _each("J", eig, eig[:, 0] > 0, "an inertia tensor must be positive definite (its eigenvalues are shown)")
         V0 = np.ascontiguousarray(material.reference_volume(m, phi))
         return cls(
             y0=y0, Jinv=np.ascontiguousarray(np.linalg.inv(J)), m=m, V0=V0, t_end=t_end,
@@ -122,6 +122,30 @@ class PropagationStats:
         """Number of particles per failure kind (kinds that occurred only)."""
         return {Failure(c).name: int(n) for c, n in zip(*np.unique(self.code, return_counts=True))
                 if c != Failure.OK}
+
+
+def _floats(name: str, value) -> np.ndarray:
+    """``value`` as a C-contiguous float64 array (an InputError naming ``name`` if it is not one)."""
+    try:
+        return np.ascontiguousarray(np.asarray(value, dtype=float))
+    except (TypeError, ValueError):
+        raise InputError(f"propagate: {name}: not an array of numbers") from None
+
+
+def _per_particle(name: str, value, n: int) -> np.ndarray:
+    """A scalar or ``(n,)`` ``value`` as a contiguous ``(n,)`` float array."""
+    a = _floats(name, value)
+    try:
+        return np.ascontiguousarray(np.broadcast_to(a, (n,)))
+    except ValueError:
+        raise InputError(f"propagate: {name}: shape {a.shape}, expected a number or ({n},)") from None
+
+
+def _each(name: str, values: np.ndarray, ok: np.ndarray, rule: str) -> None:
+    """An InputError naming the first particle where ``ok`` is false and its value of ``name``."""
+    if not ok.all():
+        i = int(np.argmin(ok))
+        raise InputError(f"propagate: {name}: particle {i} of {len(ok)} has {values[i].tolist()}: {rule}")
 
 
 IntegratorFn = Callable[[ParticleBatch, StepControl], tuple[np.ndarray, np.ndarray, np.ndarray]]
