@@ -84,6 +84,16 @@ def whipple_case(d: Path, **changes) -> Path:
     return _toml(d / "whipple.toml", data)
 
 
+def _rule(d: Path, extra: str) -> Path:
+    """Validation set 1's rule, unfixed, with ``extra`` lines at its top."""
+    from impactdyn.whipple._selection import RULES_DIR
+
+    text = (RULES_DIR / "set-1.toml").read_text()
+    p = d / "rule.toml"
+    p.write_text(extra + text[:text.index("[fixed]")])
+    return p
+
+
 def dc3din(d: Path, run_type: str = "2 1", **lines: str) -> Path:
     """The Appendix C dc3din with its run type and whole lines replaced (``l20=...``: 1-based line 20)."""
     text = (EXAMPLES / "debris" / "legacy" / "dc3din").read_text().splitlines()
@@ -190,6 +200,16 @@ BAD_INPUT: dict[str, dict[str, Builder]] = {
         "missing base": lambda d, out: (["whipple", "shot", "--database", "B31", "--from-case", str(d / "nowhere.toml"),
                                          "-o", str(out)], "nowhere.toml: no such file"),
     },
+    "whipple validate": {
+        "unknown line": lambda d, out: (["whipple", "validate", "--lines", "99999", "-o", str(out)], "line 99999"),
+        "unknown rule": lambda d, out: (["whipple", "validate", "--select", "set-9", "-o", str(out)], "set-9"),
+        "missing base": lambda d, out: (["whipple", "validate", "--lines", "375", "--from-case",
+                                         str(d / "nowhere.toml"), "-o", str(out)], "nowhere.toml: no such file"),
+    },
+    "whipple fix-rule": {
+        "missing file": lambda d, out: (["whipple", "fix-rule", str(d / "nowhere.toml")], "nowhere.toml"),
+        "unknown key": lambda d, out: (["whipple", "fix-rule", str(_rule(d, "bogus = 1\n"))], "bogus"),
+    },
     "whipple limit": {
         "missing file": _missing("whipple", "limit", tail=("--velocity", "6:7:2")),
         "unknown key": lambda d, out: (["whipple", "limit", str(whipple_case(d, **{"wall.bogus": 1})),
@@ -201,8 +221,8 @@ BAD_INPUT: dict[str, dict[str, Builder]] = {
     },
 }
 
-#: Commands that write no file.
-NO_OUTPUT = {"beam modes", "ble single-wall"}
+#: Commands that write no file (fix-rule writes into the rule file it is given, which must exist).
+NO_OUTPUT = {"beam modes", "ble single-wall", "whipple fix-rule"}
 
 #: command -> builder(dir, output path) of an invocation that writes to that path.
 OUTPUT: dict[str, Callable[[Path, Path], list[str]]] = {
@@ -218,6 +238,8 @@ OUTPUT: dict[str, Callable[[Path, Path], list[str]]] = {
                                         "--diameter", "0.4:0.5:2", "-o", str(out)],
     "whipple limit": lambda d, out: ["whipple", "limit", str(whipple_case(d)), "--velocity", "6:7:2", "-o", str(out)],
     "whipple shot": lambda d, out: ["whipple", "shot", "--database", "B31", "--write-case", str(out)],
+    "whipple validate": lambda d, out: ["whipple", "validate", "--lines", "375", "--from-case", str(whipple_case(d)),
+                                        "-o", str(out)],
 }
 
 

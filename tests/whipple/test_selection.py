@@ -8,7 +8,7 @@ import pytest
 
 from impactdyn._errors import InputError
 from impactdyn.ble import read_database
-from impactdyn.whipple._selection import RULES_DIR, fix_rule, load_rule, rule_hash, select
+from impactdyn.whipple._selection import RULES_DIR, fix_rule, load_rule, rule_hash, select_shots
 
 #: The file lines of the validation sets as they were selected and run (sets 1-3 scored, set 4 unrun),
 #: by the rule in benchmarks/select_validation_shots.py before it became data.
@@ -28,7 +28,7 @@ def db():
 @pytest.mark.parametrize("name", sorted(SETS_AS_RUN))
 def test_the_shipped_rules_select_the_sets_that_were_run(db, name):
     rule = load_rule(name)
-    chosen = select(rule, db)
+    chosen = select_shots(rule, db)
     assert [int(db.line[i]) for i in chosen] == SETS_AS_RUN[name]
     assert db.perforated[chosen].sum() == 6 and (~db.perforated[chosen]).sum() == 6
     assert (db.obliquity_deg[chosen] > 0).sum() >= 3
@@ -36,7 +36,7 @@ def test_the_shipped_rules_select_the_sets_that_were_run(db, name):
 
 
 def test_the_sets_are_disjoint_and_no_firing_is_in_two_of_them(db):
-    groups = [db.twin_group[select(load_rule(name), db)] for name in sorted(SETS_AS_RUN)]
+    groups = [db.twin_group[select_shots(load_rule(name), db)] for name in sorted(SETS_AS_RUN)]
     every = np.concatenate(groups)
     assert len(np.unique(every)) == len(every) == 48
 

@@ -179,6 +179,75 @@ def limit(
     typer.echo(f"table in {out / 'limit.csv'}, plot in {out / 'limit.png'}")
 
 
+@app.command()
+def validate(
+    out: Path = typer.Option(..., "-o", "--out", help="Validation folder to create."),
+    select: Optional[str] = typer.Option(None, "--select", metavar="RULE",
+                                         help="The shots a selection rule picks: a shipped rule (set-1 … set-4) "
+                                              "or a rule file (TOML)."),
+    lines: Optional[str] = typer.Option(None, "--lines", metavar="L1,L2,...",
+                                        help="These shots, by their lines in the test database file."),
+    from_case: Optional[Path] = typer.Option(None, "--from-case",
+                                             help="Base case whose numerics the shots take (default: the "
+                                                  "Table 2 7a example)."),
+    force: bool = typer.Option(False, "--force", help="Overwrite an existing folder."),
+    resume: bool = typer.Option(False, "--resume", help=RESUME_HELP),
+    workers: Optional[int] = typer.Option(None, "--workers", help="Shots run at once (default: all cores)."),
+    dask: Optional[str] = typer.Option(None, "--dask", help="'local' for a LocalCluster, or a scheduler address."),
+    keep_all: bool = typer.Option(False, "--keep-all", help="Keep every file of each shot."),
+):
+    """Run test shots of the database and score the simulated verdicts, and the equation's, by distance
+    from the equation's limit."""
+    from rich.progress import Progress
+
+    from impactdyn._errors import InputError
+    from impactdyn._runfolder import check_target
+    from impactdyn.ble import read_database
+    from impactdyn.whipple import database_shot, load_rule, rule_hash, run_validation, select_shots
+
+    if (select is None) == (lines is None):
+        raise InputError("give --select RULE or --lines L1,L2,... (one of them)")
+    check_target(out, force or resume)
+    db = read_database()
+    if select is not None:
+        rule = load_rule(select)
+        shots = [database_shot(int(db.line[i]), db) for i in select_shots(rule, db)]
+        selection = {"rule": rule.name, "sha256": rule_hash(rule), "fixed": rule.fixed and rule.fixed.date}
+    else:
+        shots = [database_shot(_line(token), db) for token in lines.split(",")]
+        selection = {"lines": [shot.line for shot in shots]}
+    with Progress(transient=True) as bar:
+        task = bar.add_task("shots", total=len(shots))
+        scores = run_validation(shots, out, selection=selection, base=from_case, force=force, resume=resume,
+                                scheduler="dask" if dask else "processes", workers=workers, address=dask,
+                                keep_all=keep_all, progress=lambda: bar.advance(task))
+    for who, name in (("simulated", "simulation"), ("jsc", "JSC 2011")):
+        a = scores[who]["overall"]["accuracy"]
+        typer.echo(f"{name}: {a['count']} of {a['of']} right ({100 * a['low']:.0f}–{100 * a['high']:.0f} %, 95 %)")
+    if select is not None and rule.fixed is None:
+        typer.echo(f"note: rule {rule.name} is not fixed (impactdyn whipple fix-rule): these scores cannot judge a "
+                   "change")
+    typer.echo(f"table in {out / 'validation.csv'}, scores by band in {out / 'validation.html'}")
+
+
+@app.command("fix-rule")
+def fix_rule(rule: Path = typer.Argument(..., help="Selection rule file (TOML) to fix before its shots are run.")):
+    """Write the date and the hash of a selection rule into it: from then on it cannot change."""
+    from impactdyn.whipple import fix_rule as fix
+
+    fixed = fix(rule)
+    typer.echo(f"{rule}: rule {fixed.name} fixed on {fixed.fixed.date} (sha256 {fixed.fixed.sha256[:12]}…)")
+
+
+def _line(token: str) -> int:
+    from impactdyn._errors import InputError
+
+    try:
+        return int(token)
+    except ValueError:
+        raise InputError(f"--lines: {token.strip()!r} is not a line number") from None
+
+
 def _parse_bracket(spec: str) -> tuple[float, tuple[float, float]]:
     """``V:LOW:HIGH`` → (V, (LOW, HIGH))."""
     from impactdyn._errors import InputError

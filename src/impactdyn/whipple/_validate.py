@@ -1,0 +1,192 @@
+"""How the simulation does on real test shots: run a set of database shots and score the verdicts.
+
+Each shot is the database shot's case on a base case (:func:`~impactdyn.whipple.database_shot_case`),
+run end to end as a lean shot (:mod:`._shots`) into ``runs/line<N>/``.  A shot counts as
+called perforated when the wall stage's verdict is a perforation or a detached spall (JSC test
+practice counts both as a failed rear wall); the JSC 2011 equation (the package default) is
+scored on the same shots.
+
+Scores are reported by band of the distance from the equation's limit, |d/d_lim − 1| (< 5 %,
+5–15 %, 15–30 %, ≥ 30 %, and overall; :func:`impactdyn.ble.score_by_distance`): near the limit
+the tests themselves flip (the equation calls half of the shots within 5 % of it right), so a
+score without its band and its interval cannot tell a better model from luck.  Each accuracy,
+false-safe rate (perforated in the test, called safe) and false-alarm rate has its 95 % Wilson
+interval; the exact McNemar test compares the simulation with the equation on the same shots.
+
+Folder (a family folder, :mod:`impactdyn._family`: written as the shots finish, resumable):
+``validation.csv`` / ``validation.json`` (one row per shot), ``scores.json``, ``validation.png``
+(the shots as d/d_lim against V cos θ, marked by agreement with the test) and ``validation.html``.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+from pathlib import Path
+
+import numpy as np
+
+from impactdyn._config import validate
+from impactdyn._errors import InputError
+from impactdyn._family import FamilyFolder
+from impactdyn._sweep import run_all
+from impactdyn.ble import mcnemar, score_by_distance
+from impactdyn.whipple._case import WhippleCase
+from impactdyn.whipple._limit import FAILED_VERDICTS
+from impactdyn.whipple._report import ble_verdict
+from impactdyn.whipple._shots import Shot, run_shot, shot_workers, threads_per_shot
+from impactdyn.whipple._test_shot import DatabaseShot, database_shot_case
+
+VALIDATION_HEADER = ["line", "source", "shot_id", "diameter_cm", "velocity_km_s", "obliquity_deg",
+                     "normal_velocity_km_s", "jsc_limit_cm", "d_over_limit", "test_perforated", "jsc_perforated",
+                     "simulated_verdict", "simulated_perforated", "simulated_right", "jsc_right", "caution", "run"]
+
+
+def run_validation(shots: list[DatabaseShot], outdir: str | Path, *, selection: dict, base: str | Path | None = None,
+                   force: bool = False, resume: bool = False, scheduler: str = "processes",
+                   workers: int | None = None, address: str | None = None, keep_all: bool = False,
+                   progress=None) -> dict:
+    """Run ``shots`` into ``outdir`` and score them (module docstring); returns ``scores.json``'s content.
+
+    ``selection``: how the shots were chosen (the rule's name and hash, or the lines given),
+    recorded with the folder so that a resume under another selection is refused.
+    """
+    if not shots:
+        raise InputError("validate: the selection holds no shot")
+    cases = [validate(WhippleCase, database_shot_case(shot, base), source=f"test shot {shot.name}")
+             for shot in shots]
+    settings = {"selection": selection, "keep_all": keep_all,
+                "cases": {_run_name(s): c.model_dump(mode="json") for s, c in zip(shots, cases)}}
+    rows: list = [None] * len(shots)
+    with FamilyFolder(outdir, "whipple validate", settings, table="validation.csv", member="shot", force=force,
+                      resume=resume) as family:
+        def record(k: int, summary: dict) -> None:
+            rows[k] = _row(shots[k], cases[k], summary)
+            family.finished += 1
+            _write_table(family, [r for r in rows if r is not None])
+            if progress:
+                progress()
+
+        to_run = []
+        for k, shot in enumerate(shots):
+            done = family.member_done("runs", _run_name(shot), "summary.json")
+            if done is not None:
+                record(k, json.loads(done.read_text()))
+            else:
+                to_run.append(k)
+        n_workers = shot_workers(scheduler, workers, len(to_run))
+        tasks = [Shot(cases[k], family.path / "runs" / _run_name(shots[k]), threads_per_shot(n_workers), keep_all)
+                 for k in to_run]
+        run_all(run_shot, tasks, scheduler=scheduler, workers=n_workers, address=address,
+                on_result=lambda i, summary: record(to_run[i], summary))
+        scores = score_validation(rows) | {"selection": selection}
+        family.write_json("scores.json", scores)
+        _plot(family.path / "validation.png", rows)
+        family.write_text("validation.html", _page(rows, scores))
+    return scores
+
+
+def score_validation(rows: list[dict]) -> dict:
+    """The simulated and the JSC verdicts scored against the tests by distance band, and McNemar's test."""
+    ratio = np.array([r["d_over_limit"] for r in rows], dtype=float)
+    truth = np.array([r["test_perforated"] for r in rows], dtype=bool)
+    simulated = np.array([r["simulated_perforated"] for r in rows], dtype=bool)
+    jsc = np.array([r["jsc_perforated"] for r in rows], dtype=bool)
+    test = mcnemar(truth, simulated, jsc)
+    return {"n_shots": len(rows),
+            "simulated": score_by_distance(ratio, truth, simulated).as_dict(),
+            "jsc": score_by_distance(ratio, truth, jsc).as_dict(),
+            "mcnemar_simulated_vs_jsc": {"simulated_right_jsc_wrong": test.b, "jsc_right_simulated_wrong": test.c,
+                                         "p_exact": test.p_exact, "p_mid": test.p_mid}}
+
+
+def _run_name(shot: DatabaseShot) -> str:
+    return f"line{shot.line}"
+
+
+def _row(shot: DatabaseShot, case: WhippleCase, summary: dict) -> dict:
+    jsc = ble_verdict(case)
+    limit = jsc["threshold_cm"]
+    wall = summary["wall"]
+    called = wall["verdict"] in FAILED_VERDICTS
+    jsc_called = jsc["verdict"] == "perforation"
+    return {"line": shot.line, "source": shot.source, "shot_id": shot.shot_id, "diameter_cm": shot.diameter_cm,
+            "velocity_km_s": shot.velocity_km_s, "obliquity_deg": shot.obliquity_deg,
+            "normal_velocity_km_s": shot.velocity_km_s * float(np.cos(np.radians(shot.obliquity_deg))),
+            "jsc_limit_cm": limit, "d_over_limit": shot.diameter_cm / limit if limit else None,
+            "test_perforated": shot.perforated, "jsc_perforated": jsc_called, "simulated_verdict": wall["verdict"],
+            "simulated_perforated": called, "simulated_right": called == shot.perforated,
+            "jsc_right": jsc_called == shot.perforated, "caution": wall.get("caution") or "",
+            "run": f"runs/{_run_name(shot)}"}
+
+
+def _write_table(folder: FamilyFolder, rows: list[dict]) -> None:
+    """``validation.csv`` and ``validation.json``: the finished shots, in selection order."""
+    folder.write_csv("validation.csv", VALIDATION_HEADER, [[r[k] for k in VALIDATION_HEADER] for r in rows])
+    folder.write_json("validation.json", rows)
+
+
+def _plot(path: Path, rows: list[dict]) -> None:
+    """The shots as d/d_lim against V cos θ: filled where the test perforated, coloured by whether the
+    simulation called it right."""
+    from impactdyn._plotting import pyplot, save_figure
+
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(7, 4.5), constrained_layout=True)
+    for right, colour, label in ((True, "tab:green", "simulation agrees with the test"),
+                                 (False, "tab:red", "simulation disagrees")):
+        for perforated, marker in ((True, "o"), (False, "s")):
+            pick = [r for r in rows if r["simulated_right"] == right and r["test_perforated"] == perforated
+                    and r["d_over_limit"] is not None]
+            if pick:
+                ax.scatter([r["normal_velocity_km_s"] for r in pick], [r["d_over_limit"] for r in pick],
+                           c=colour, marker=marker, facecolors=colour if perforated else "none",
+                           label=f"{label} ({'perforated' if perforated else 'held'} in the test)")
+    ax.axhline(1.0, color="k", lw=0.8)
+    for edge in (0.95, 1.05, 0.85, 1.15, 0.70, 1.30):
+        ax.axhline(edge, color="0.7", lw=0.5, ls=":")
+    ax.set_xlabel("normal velocity V cos θ (km/s)")
+    ax.set_ylabel("d / d_lim (JSC 2011)")
+    ax.legend(fontsize=7, loc="best")
+    ax.grid(alpha=0.3)
+    save_figure(fig, path)
+
+
+def _ratio_text(ratio: float | None) -> str:
+    return "–" if ratio is None else f"{ratio:.3f}"
+
+
+def _page(rows: list[dict], scores: dict) -> str:
+    """``validation.html``: the scores by band beside the equation's, McNemar's test, every shot."""
+    def interval(p: dict) -> str:
+        if p["of"] == 0:
+            return "–"
+        return f"{p['count']}/{p['of']} = {100 * p['rate']:.0f} % ({100 * p['low']:.0f}–{100 * p['high']:.0f})"
+
+    band_rows = []
+    for who, name in (("simulated", "simulation"), ("jsc", "JSC 2011")):
+        for b in [*scores[who]["bands"], scores[who]["overall"]]:
+            band_rows.append(f"<tr><td>{name}</td><td>{b['band']}</td><td>{interval(b['accuracy'])}</td>"
+                             f"<td>{interval(b['false_safe'])}</td><td>{interval(b['false_alarm'])}</td></tr>")
+    m = scores["mcnemar_simulated_vs_jsc"]
+    shot_rows = "".join(
+        f"<tr><td>{r['line']}</td><td>{html.escape(str(r['source']))} {html.escape(str(r['shot_id']))}</td>"
+        f"<td>{r['diameter_cm']:.4g}</td><td>{r['velocity_km_s']:.3g}</td><td>{r['obliquity_deg']:g}</td>"
+        f"<td>{_ratio_text(r['d_over_limit'])}</td><td>{'P' if r['test_perforated'] else 'NP'}</td>"
+        f"<td>{'P' if r['jsc_perforated'] else 'NP'}</td><td>{html.escape(r['simulated_verdict'])}</td>"
+        f"<td>{'yes' if r['simulated_right'] else 'no'}</td><td><a href=\"{r['run']}/report.html\">run</a></td></tr>"
+        for r in rows)
+    return f"""<!doctype html><html><head><meta charset="utf-8"><title>Validation on test shots</title>
+<style>body{{font-family:sans-serif;max-width:70em;margin:2em auto}}
+td,th{{padding:2px 8px;border-bottom:1px solid #ddd}}</style></head><body><h1>Validation on {scores['n_shots']} test shots</h1>
+<p>Selection: <code>{html.escape(json.dumps(scores['selection']))}</code></p>
+<h2>Scores by distance from the equation's limit, |d/d_lim − 1| (95 % Wilson intervals)</h2>
+<table><tr><th>verdict of</th><th>band</th><th>right</th><th>false-safe (of perforated)</th>
+<th>false alarm (of held)</th></tr>{''.join(band_rows)}</table>
+<p>Exact McNemar test, simulation against the equation on the same shots: simulation right and equation wrong on
+{m['simulated_right_jsc_wrong']}, the reverse on {m['jsc_right_simulated_wrong']}; p = {m['p_exact']:.3g}
+(mid-p {m['p_mid']:.3g}).</p>
+<img src="validation.png" alt="shots as d/d_lim against V cos θ">
+<h2>Shots</h2><table><tr><th>line</th><th>shot</th><th>d (cm)</th><th>V (km/s)</th><th>θ (°)</th><th>d/d_lim</th>
+<th>test</th><th>JSC</th><th>simulated</th><th>right</th><th></th></tr>{shot_rows}</table></body></html>
+"""
