@@ -1,5 +1,9 @@
 """The validation shots of the wall stage, chosen from the test database by a rule fixed before any is run.
 
+The rules are data now: ``src/impactdyn/whipple/rules/set-N.toml``, selected by
+:func:`impactdyn.whipple.select_shots` (``impactdyn whipple validate --select set-N`` runs and scores them);
+this script lists a set.  The history of the rules and of the decisions they served:
+
 Rule (written down 2026-11-24, before a single database shot was simulated; issue 11):
 
 1. Eligible: the pipeline can model the shot with library materials and its case validates:
@@ -66,68 +70,25 @@ import sys
 import numpy as np
 
 from impactdyn.ble import read_database
-
-TABLE2 = {"bumper_thickness_cm": 0.127, "wall_thickness_cm": 0.3175, "spacing_cm": 10.16}
-PROJECTILE = {"AA2017-T4": "al2024-t4", "AA2024-T3": "al2024-t4", "AA2024-T4": "al2024-t4", "AA6061-T6": "al6061-t6"}
-PLATE = {"AA6061-T6": "al6061-t6", "AA2024-T3": "al2024-t4"}
-N_PER_OUTCOME = 6
-MIN_OBLIQUE = 3
-
-
-def _materials(path) -> dict[int, tuple[str, str, str]]:
-    """Line number → (projectile, bumper, wall) alloy names, read from the CSV (the reader keeps numbers only)."""
-    import csv
-
-    out = {}
-    with open(path, encoding="utf-8-sig", newline="") as fh:
-        for line, row in enumerate(csv.DictReader(fh), start=2):
-            out[line] = (row["proj_mat"].strip(), row["bumper_mat"].strip(), row["wall_mat"].strip())
-    return out
+from impactdyn.whipple import ALLOYS, load_rule, select_shots
 
 
 def select(set_number: int = 1) -> list[dict]:
-    """The shots of validation set ``set_number`` (module docstring), sorted by file line."""
-    taken: set[int] = set()
-    for _ in range(1, set_number):
-        taken |= {r["line"] for r in _select_from(taken)}
-    return _select_from(taken)
-
-
-def _select_from(taken: set[int]) -> list[dict]:
-    """Rule 1–3 on the eligible shots whose file line is not in ``taken``."""
+    """The shots of validation set ``set_number`` (the shipped rule ``set-N``), sorted by file line."""
     db = read_database()
-    mats = _materials(db.path)
+    rule = load_rule(f"set-{set_number}")
+    reference = rule.distance.model_dump()
     rows = []
-    for i in range(len(db)):
-        p, b, w = mats[int(db.line[i])]
-        if p not in PROJECTILE or b not in PLATE or w not in PLATE:
-            continue
-        v, d, s, tw = db.velocity_km_s[i], db.diameter_cm[i], db.spacing_cm[i], db.wall_thickness_cm[i]
-        if not (3.0 <= v <= 8.0 and 0.2 <= d <= 1.0 and s >= 4.0 and tw >= 0.1):
-            continue
-        dist = sum(abs(np.log(getattr(db, k)[i] / ref)) for k, ref in TABLE2.items())
+    for i in select_shots(rule, db):
         rows.append({"line": int(db.line[i]), "source": str(db.source[i]), "shot_id": str(db.shot_id[i]),
-                     "projectile": PROJECTILE[p], "bumper": PLATE[b], "wall": PLATE[w],
-                     "diameter_cm": float(d), "velocity_km_s": float(v), "obliquity_deg": float(db.obliquity_deg[i]),
-                     "bumper_thickness_cm": float(db.bumper_thickness_cm[i]), "wall_thickness_cm": float(tw),
-                     "spacing_cm": float(s), "wall_yield_ksi": float(db.wall_yield_ksi[i]),
-                     "perforated": bool(db.perforated[i]), "distance": float(dist)})
-    rows = [r for r in rows if r["line"] not in taken]
-    rows.sort(key=lambda r: (r["distance"], r["line"]))
-    chosen = {o: [r for r in rows if r["perforated"] == o][:N_PER_OUTCOME] for o in (True, False)}
-    outcome = True
-    while sum(r["obliquity_deg"] > 0 for o in chosen for r in chosen[o]) < MIN_OBLIQUE:
-        normal = [r for r in chosen[outcome] if r["obliquity_deg"] == 0]
-        spare = [r for r in rows if r["perforated"] == outcome and r["obliquity_deg"] > 0
-                 and r not in chosen[outcome]]
-        if normal and spare:
-            chosen[outcome].remove(max(normal, key=lambda r: r["distance"]))
-            chosen[outcome].append(spare[0])
-        elif not any(r["obliquity_deg"] > 0 and r not in chosen[o] for o in (True, False) for r in rows
-                     if r["perforated"] == o):
-            break
-        outcome = not outcome
-    return sorted(chosen[True] + chosen[False], key=lambda r: r["line"])
+                     "projectile": ALLOYS[db.projectile_material[i]], "bumper": ALLOYS[db.bumper_material[i]],
+                     "wall": ALLOYS[db.wall_material[i]], "diameter_cm": float(db.diameter_cm[i]),
+                     "velocity_km_s": float(db.velocity_km_s[i]), "obliquity_deg": float(db.obliquity_deg[i]),
+                     "bumper_thickness_cm": float(db.bumper_thickness_cm[i]),
+                     "wall_thickness_cm": float(db.wall_thickness_cm[i]), "spacing_cm": float(db.spacing_cm[i]),
+                     "wall_yield_ksi": float(db.wall_yield_ksi[i]), "perforated": bool(db.perforated[i]),
+                     "distance": float(sum(abs(np.log(getattr(db, k)[i] / ref)) for k, ref in reference.items()))})
+    return rows
 
 
 def main() -> None:

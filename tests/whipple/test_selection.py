@@ -63,6 +63,7 @@ def test_fixing_a_rule_stamps_its_hash_and_keeps_its_text(tmp_path):
     (("min_oblique = 3", "min_oblique = 3\nbogus = 1"), "counts.bogus"),
     (("perforated = 6", "perforated = -1"), "counts.perforated"),
     (("spacing_cm = 10.16", "spacing_cm = 0.0"), "distance.spacing_cm"),
+    (('plate_alloys = ["AA6061-T6"', 'plate_alloys = ["AA1100-O"'), "eligible.plate_alloys: .*AA1100-O: no library"),
 ])
 def test_a_bad_rule_names_its_key(tmp_path, change, key):
     path = tmp_path / "bad.toml"

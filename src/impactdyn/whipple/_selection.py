@@ -36,12 +36,13 @@ from typing import Annotated
 
 import numpy as np
 import tomli_w
-from pydantic import Field
+from pydantic import Field, field_validator
 
 from impactdyn._config import Positive, Section, load_toml, validate
 from impactdyn._errors import InputError, reading
 from impactdyn._runfolder import atomic_output
 from impactdyn.ble import ShotDatabase, read_database
+from impactdyn.whipple._test_shot import ALLOYS
 
 RULES_DIR = Path(__file__).parent / "rules"
 
@@ -57,6 +58,14 @@ class Eligible(Section):
     diameter_cm: Annotated[list[float], Field(min_length=2, max_length=2)]
     min_spacing_cm: float = 0.0
     min_wall_thickness_cm: float = 0.0
+
+    @field_validator("projectile_alloys", "plate_alloys")
+    @classmethod
+    def _modelled(cls, alloys: list[str]) -> list[str]:
+        unknown = [a for a in alloys if a not in ALLOYS]
+        if unknown:
+            raise ValueError(f"{', '.join(unknown)}: no library material (modelled: {', '.join(sorted(ALLOYS))})")
+        return alloys
 
 
 class Reference(Section):

@@ -37,14 +37,13 @@ is always the shot's.
 
 from __future__ import annotations
 
-import csv
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from impactdyn._config import load_toml, set_dotted, validate
-from impactdyn._errors import InputError, reading
+from impactdyn._errors import InputError
 from impactdyn.ble import ShotDatabase, read_database
 from impactdyn.whipple._case import WhippleCase
 
@@ -58,9 +57,6 @@ EXAMPLE_CASE = Path(__file__).resolve().parents[3] / "examples" / "whipple" / "t
 #: 99.9 %) has no library entry.
 ALLOYS = {"AA2017-T4": "al2024-t4", "AA2024-T3": "al2024-t4", "AA2024-T4": "al2024-t4",
           "AA2024-T351": "al2024-t4", "AA6061-T6": "al6061-t6"}
-
-#: The database's alloy columns: part of the shot → column.
-ALLOY_COLUMNS = {"projectile": "proj_mat", "bumper": "bumper_mat", "wall": "wall_mat"}
 
 
 @dataclass(frozen=True)
@@ -146,26 +142,12 @@ def _shot_at(db: ShotDatabase, i: int) -> DatabaseShot:
     line = int(db.line[i])
     return DatabaseShot(
         database=db.path, line=line, source=str(db.source[i]), shot_id=str(db.shot_id[i]),
-        alloys=_alloys(db.path, line), diameter_cm=float(db.diameter_cm[i]),
+        alloys={"projectile": str(db.projectile_material[i]), "bumper": str(db.bumper_material[i]),
+                "wall": str(db.wall_material[i])}, diameter_cm=float(db.diameter_cm[i]),
         velocity_km_s=float(db.velocity_km_s[i]), obliquity_deg=float(db.obliquity_deg[i]),
         bumper_thickness_cm=float(db.bumper_thickness_cm[i]), wall_thickness_cm=float(db.wall_thickness_cm[i]),
         spacing_cm=float(db.spacing_cm[i]), wall_yield_ksi=float(db.wall_yield_ksi[i]),
         perforated=bool(db.perforated[i]))
-
-
-def _alloys(path: str, line: int) -> dict[str, str]:
-    """Part → alloy name of the shot on ``line`` of ``path`` (the database reader keeps the numbers only;
-    lines are counted as it counts them)."""
-    with reading(path, "database file"), open(path, encoding="utf-8-sig", newline="") as fh:
-        reader = csv.reader(fh)
-        index = {name.strip(): i for i, name in enumerate(next(reader, []))}
-        missing = [c for c in ALLOY_COLUMNS.values() if c not in index]
-        if missing:
-            raise InputError(f"{path}:1: no column(s) {', '.join(map(repr, missing))}: a case needs the shot's alloys")
-        for row in reader:
-            if reader.line_num == line:
-                return {part: row[index[column]].strip() for part, column in ALLOY_COLUMNS.items()}
-    raise InputError(f"{path}: no line {line}")
 
 
 def _material(shot: DatabaseShot, part: str) -> str:
