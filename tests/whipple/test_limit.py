@@ -170,3 +170,30 @@ def test_an_interrupted_search_keeps_its_table_and_resumes_without_repeating_a_s
     assert sorted(taken) == sorted(whole) and len(set(taken)) == len(taken), "a kept shot was run again"
     with pytest.raises(InputError, match=r"other settings \(tolerance_cm\)"):
         _limit.run_limit(raw, [4.0, 7.0], out, tolerance_cm=0.02, scheduler="serial", resume=True)
+
+
+def test_the_limit_fitted_to_the_tests_of_the_configuration_is_drawn_where_it_exists(tmp_path, make_case,
+                                                                                    monkeypatch):
+    import impactdyn.ble
+    from impactdyn.ble import Configuration, DerivedLimit, LimitFit
+
+    drawn = {}
+    monkeypatch.setattr(impactdyn.ble, "plot_ballistic_limit", lambda curves, path, **kw: drawn.update(kw))
+    _fake_shots(monkeypatch, lambda v: 0.45)
+    raw = load_toml(make_case(tmp_path))
+    _limit.run_limit(raw, [7.0], tmp_path / "real", tolerance_cm=0.05, scheduler="serial")
+    assert drawn["tested"] is None, "the packaged database has no fitted limit for the Table 2 shield"
+
+    case = _limit.validate(_limit.WhippleCase, raw)
+    p, b, w = case.projectile, case.bumper, case.wall
+    fit = LimitFit(shots=9, perforated=5, d50_cm=0.4, low_cm=None, high_cm=0.5, slope=5.0, largest_held_cm=0.45,
+                   smallest_perforated_cm=0.38, refused=None, confidence=0.95)
+    here = Configuration("AA6061-T6", "AA6061-T6", "AA6061-T6", 1.02 * b.thickness_cm, w.thickness_cm,
+                         w.spacing_cm, p.obliquity_deg + 1.0)
+    elsewhere = Configuration("AA6061-T6", "AA6061-T6", "AA6061-T6", 1.2 * b.thickness_cm, w.thickness_cm,
+                              w.spacing_cm, p.obliquity_deg)
+    monkeypatch.setattr(impactdyn.ble, "derived_limits", lambda db: [
+        DerivedLimit(here, 6.0, 7.0, (1,), fit), DerivedLimit(elsewhere, 6.0, 7.0, (2,), fit)])
+    _limit.run_limit(raw, [7.0], tmp_path / "fitted", tolerance_cm=0.05, scheduler="serial")
+    v, low, d50, high, half_band = drawn["tested"]
+    assert (v, low, d50, high, half_band) == ((6.5,), (0.0,), (0.4,), (0.5,), (0.5,))

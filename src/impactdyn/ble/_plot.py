@@ -68,7 +68,7 @@ def _draw_shots(ax, shots: ShotDatabase, x: np.ndarray, y: np.ndarray, what: str
 
 
 def _draw_curves(ax, curves: list[BallisticLimitCurve], shot=None, outcomes=None,
-                 shots: ShotDatabase | None = None, simulated=None, limit=None) -> None:
+                 shots: ShotDatabase | None = None, simulated=None, limit=None, tested=None) -> None:
     main = curves[0]
     v = main.velocity_km_s
     if main.regime_boundaries_km_s is not None:
@@ -113,6 +113,11 @@ def _draw_curves(ax, curves: list[BallisticLimitCurve], shot=None, outcomes=None
         vl, dl, half, label = limit
         ax.errorbar(vl, dl, yerr=half, fmt="D-", color="tab:purple", ms=7, capsize=5, lw=1.5, zorder=7, label=label)
         tops.append(float(np.max(np.asarray(dl) + np.asarray(half))))
+    if tested is not None and len(tested[0]):
+        vt, low, d50, high, v_band = (np.asarray(a, dtype=float) for a in tested)
+        ax.errorbar(vt, d50, xerr=v_band, yerr=[d50 - low, high - d50], fmt="o", color="tab:orange", ms=8,
+                    capsize=5, lw=1.5, zorder=7, label="limit from the tests (50 %, 95 % interval; velocity band)")
+        tops.append(float(np.max(high)))
     ax.set_xlabel("impact velocity V (km/s)")
     ax.set_ylabel("critical projectile diameter d_c (cm)")
     ax.set_xlim(v[0], v[-1])
@@ -124,7 +129,8 @@ def _draw_curves(ax, curves: list[BallisticLimitCurve], shot=None, outcomes=None
 def plot_ballistic_limit(curves: list[BallisticLimitCurve], path: str | os.PathLike,
                          shot: tuple[float, float, bool] | None = None, title: str | None = None,
                          outcomes: tuple | None = None, shots: ShotDatabase | None = None,
-                         simulated: tuple | None = None, limit: tuple | None = None) -> Path:
+                         simulated: tuple | None = None, limit: tuple | None = None,
+                         tested: tuple | None = None) -> Path:
     """Draw d_c(V) curves into ``path`` (written under a temporary name, then renamed).
 
     The first curve's regimes, if it has them, are shaded, with the boundaries marked;
@@ -137,11 +143,13 @@ def plot_ballistic_limit(curves: list[BallisticLimitCurve], path: str | os.PathL
     rear wall was perforated (P), open blue circles where not (NP).  ``simulated`` = (V (n,),
     d (n,), failed (n,) bool): shots whose wall verdict a simulation gave, dark red pluses where
     it failed and dark green squares where not.  ``limit`` = (V (m,), d (m,), half width (m,),
-    label): a limit found by bisection, drawn with its brackets as error bars.
+    label): a limit found by bisection, drawn with its brackets as error bars.  ``tested`` = (V (k,),
+    d low (k,), d50 (k,), d high (k,), half band (k,)): limits fitted to test shots
+    (:func:`impactdyn.ble.derived_limits`), an open interval end drawn to the plot's edge.
     """
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(8.5, 5.8), constrained_layout=True)
-    _draw_curves(ax, curves, shot, outcomes, shots, simulated, limit)
+    _draw_curves(ax, curves, shot, outcomes, shots, simulated, limit, tested)
     main = curves[0]
     ax.set_title(title or f"Ballistic limit, θ = {main.obliquity_deg:g}°, "
                           f"ρ_p = {main.projectile_density:g} g/cm³", fontsize=10)

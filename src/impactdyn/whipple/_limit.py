@@ -27,8 +27,9 @@ n velocities takes about as many rounds as one.
 Folder (a family folder, :mod:`impactdyn._family`: written as the search goes, resumable):
 ``limit.csv`` / ``limit.json`` (one row per velocity; ``status`` is ``searching`` while a
 velocity's search is under way), ``shots.csv`` (every shot), ``limit.png`` (the simulated
-limit with its brackets over the JSC curve, and the test database's shots near the
-configuration; drawn when the search ends) and ``runs/V<v>_d<d>/`` (lean run folders,
+limit with its brackets over the JSC curve, the test database's shots near the
+configuration and, where the tests of that configuration are enough for one, the limit fitted
+to them (:func:`tested_limits`); drawn when the search ends) and ``runs/V<v>_d<d>/`` (lean run folders,
 :mod:`._shots`).
 """
 
@@ -47,6 +48,7 @@ from impactdyn._sweep import case_variants, run_all
 from impactdyn.whipple._case import WhippleCase
 from impactdyn.whipple._report import ble_verdict, wall_caution
 from impactdyn.whipple._shots import Shot, run_shot, shot_name, shot_variant, shot_workers, threads_per_shot
+from impactdyn.whipple._test_shot import ALLOYS
 
 LIMIT_HEADER = ["velocity_km_s", "limit_diameter_cm", "half_width_cm", "largest_safe_cm", "smallest_failed_cm",
                 "jsc_critical_diameter_cm", "n_shots", "status", "caution"]
@@ -209,6 +211,30 @@ def _limit_row(s: _Search) -> dict:
             "caution": wall_caution(0.5 * (s.safe + s.failed), s.velocity) if both else None}
 
 
+def tested_limits(case: WhippleCase) -> list:
+    """The limits fitted to the test database's shots of the case's configuration, where a fit exists
+    (:func:`impactdyn.ble.derived_limits`): the same modelled alloys (:data:`ALLOYS`), and t_b, t_w, S
+    and θ within the tolerances that define a configuration there.  This, not a single shot, is what a
+    simulated limit should be compared with; on the packaged database few configurations have one."""
+    from impactdyn.ble import CONFIGURATION_OBLIQUITY_DEG, CONFIGURATION_TOLERANCE, derived_limits, read_database
+
+    def near(value: float, reference: float) -> bool:
+        return abs(value / reference - 1.0) <= CONFIGURATION_TOLERANCE
+
+    p, b, w = case.projectile, case.bumper, case.wall
+    found = []
+    for t in derived_limits(read_database()):
+        c = t.configuration
+        if (t.fit.refused is None
+                and (ALLOYS.get(c.projectile_material), ALLOYS.get(c.bumper_material), ALLOYS.get(c.wall_material))
+                == (p.material, b.material, w.material)
+                and near(c.bumper_thickness_cm, b.thickness_cm) and near(c.wall_thickness_cm, w.thickness_cm)
+                and near(c.spacing_cm, w.spacing_cm)
+                and abs(c.obliquity_deg - p.obliquity_deg) <= CONFIGURATION_OBLIQUITY_DEG):
+            found.append(t)
+    return found
+
+
 def _plot(path: Path, case: WhippleCase, searches: list[_Search], rows: list[dict], tolerance: float) -> None:
     """The simulated limit of the ``limit.csv`` rows with its brackets and every shot, over the JSC
     curve and the test database's shots near the configuration (:func:`impactdyn.ble.nearby_shots`)."""
@@ -222,10 +248,14 @@ def _plot(path: Path, case: WhippleCase, searches: list[_Search], rows: list[dic
     curve = ballistic_limit_curve(shield, np.linspace(1.0, vmax, 281), p.obliquity_deg, get_material(p.material).rho0)
     shots = [(s.velocity, d, failed) for s in searches for d, _, failed, _, _ in s.shots]
     done = [r for r in rows if r["limit_diameter_cm"] is not None]
+    tested = [(0.5 * (t.velocity_low_km_s + t.velocity_high_km_s), t.fit.low_cm or 0.0, t.fit.d50_cm,
+               t.fit.high_cm or 2.0 * t.fit.d50_cm, 0.5 * (t.velocity_high_km_s - t.velocity_low_km_s))
+              for t in tested_limits(case)]
     plot_ballistic_limit(
         [curve], path, shots=nearby_shots(shield, p.obliquity_deg),
         simulated=tuple(np.array(c) for c in zip(*shots)) if shots else None,
         limit=([r["velocity_km_s"] for r in done], [r["limit_diameter_cm"] for r in done],
                [r["half_width_cm"] for r in done], f"simulated limit (bisection to {tolerance:g} cm)"),
+        tested=tuple(zip(*tested)) if tested else None,
         title=f"Simulated ballistic limit: t_b = {b.thickness_cm:g} cm, t_w = {w.thickness_cm:g} cm, "
               f"S = {w.spacing_cm:g} cm, θ = {p.obliquity_deg:g}°, wall model {case.wall_solver.material_model}")
