@@ -89,9 +89,11 @@ def _on_dask(fn, tasks, workers, address) -> Iterator[tuple[int, Any]]:
 
     cluster = None
     if address in (None, "local"):
-        # its workers' warnings (a task cancelled on an interrupt) are not the user's business
+        # the cluster is the command's private machinery: a failure that matters reaches the command as
+        # an exception (a task's own, KilledWorker); its logs only add noise, above all when a stop tears
+        # it down mid-task (cancelled tasks, heartbeats to a scheduler already gone)
         cluster = LocalCluster(n_workers=workers or os.cpu_count(), threads_per_worker=1, processes=True,
-                               dashboard_address=None, silence_logs=logging.ERROR)
+                               dashboard_address=None, silence_logs=logging.CRITICAL)
     try:
         with Client(cluster if cluster is not None else address) as client:
             if cluster is not None:  # our workers leave Ctrl-C to us, as the local pool's do
