@@ -33,39 +33,8 @@ EXAMPLES = int(os.environ.get("IMPACTDYN_EXAMPLES_PER_FILE", 150))
 
 APPENDIX_C = Path(__file__).resolve().parents[2] / "examples" / "debris" / "legacy" / "dc3din"
 
-SMALL_DC3DIN = """*
-* dc3d input file (small: an 8 x 6 x 8 cell dump)
-*     itype     jtype
-{itype:>10d}{jtype:>10d}
-*        i1        i2
-         2         9
-*        j1        j2
-         2         7
-*        k1        k2
-         2         9
-*           xlow        delta x
-            0.0            0.1
-*           ylow        delta y
-           -1.0            0.1
-*           zlow        delta z
-            0.0            0.1
-*           tcut           tmin         dencut
-           25.0            0.0           0.01
-*     idmax     jdmax     kdmax    idmaxn    jdmaxn    kdmaxn
-         9         3         9         5         3         5
-*          xdmin          xdmax         xdminn         xdmaxn
-            0.0            0.8            0.0            0.8
-*          ydmin          ydmax         ydminn         ydmaxn
-            0.0            0.3            0.0            0.3
-*          zdmin          zdmax         zdminn         zdmaxn
-            0.0            0.8            0.0            0.8
-*             mu         lambda         denref            eta
-          0.239          0.503          2.703         1.0e-2
-*           zeta            eps         ymxref
-            0.0         1.0e-6         1.0e-6
-*         factor
-            1.0
-"""
+#: The debris CLI tests' small dc3din (an 8 x 6 x 8 cell dump), its run type to fill in.
+SMALL_DC3DIN = (Path(__file__).parents[1] / "data" / "small_dc3din.txt").read_text()
 SMALL_LAYOUT = AvsLayout(2, 9, 2, 7, 2, 9, 0.0, 0.1, -1.0, 0.1, 0.0, 0.1)
 
 
