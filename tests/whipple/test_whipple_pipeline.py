@@ -136,6 +136,21 @@ def test_restart_from_a_stage_reuses_the_earlier_ones(run, tmp_path, make_case):
     assert read_grid(copy / "binning" / "handoff_grid.h5").x[1] == pytest.approx(0.12)
 
 
+
+def test_debris_beyond_memory_is_refused_before_seeding_naming_the_binning_key(run, tmp_path, capsys, monkeypatch):
+    from impactdyn import _limits
+    from impactdyn.debris._seed import PARTICLE_BYTES
+
+    case, out, s = run
+    copy = tmp_path / "run"
+    shutil.copytree(out, copy)
+    particles = json.loads((out / "debris" / "stage.json").read_text())["n_particles"]
+    monkeypatch.setattr(_limits, "physical_memory", lambda: particles * PARTICLE_BYTES // 2)
+    assert main(["whipple", "run", str(case), "-o", str(copy), "--from", "debris"]) == 2
+    err = capsys.readouterr().err
+    assert "error: binning.cell_size_cm = 0.1, seed filters of [filter]: the hand-off grid" in err
+    assert "debris particles need at least" in err
+
 def test_restart_needs_a_run_folder(tmp_path, capsys, make_case):
     case = make_case(tmp_path)
     assert main(["whipple", "run", str(case), "-o", str(tmp_path / "none"), "--from", "decks"]) == 2

@@ -8,7 +8,7 @@ run folder.  File formats live in :mod:`impactdyn.io`.
 from impactdyn.debris._analytic import ShellCloud, shell_cloud_grid
 from impactdyn.debris._case import (
     ComputeSection, DebrisCase, FilterSection, IntegratorSection, LegacySection, OutputSection, WallSection, build,
-    check_bulk_modulus, load_debris_case, remap_grid)
+    check_bulk_modulus, check_seeding, load_debris_case, remap_grid)
 from impactdyn.debris._deposit import (
     POINTS_PER_PARTICLE, areal_density, arrival_points, deposit, element_impulse, element_records, face_areas,
     face_element, momentum_enhancement, remap_impulse)
@@ -42,7 +42,7 @@ __all__ = [
     "IntegratorSection", "LegacySection", "OutputSection", "ParticleMaterial", "POINTS_PER_PARTICLE", "ParticleCloud",
     "PropagationStats", "SeedFilter", "SeedOptions", "ShellCloud", "WallDeposition", "WallGrid", "WallSection",
     "Mat13Card", "affine_velocity_fit", "areal_density", "arrival_points", "arrival_times", "build",
-    "cell_nodes", "check_bulk_modulus", "check_wave_speed", "deposit",
+    "cell_nodes", "check_bulk_modulus", "check_seeding", "check_wave_speed", "deposit",
     "element_impulse", "element_records", "face_areas", "face_element", "gather_tets", "inertia_tensor",
     "initial_state", "load_debris_case", "momentum_enhancement", "pack_state", "propagate", "propagate_chunked",
     "register_integrator", "remap_grid", "remap_impulse", "run_case", "run_debris", "run_legacy", "seed_and_select", "seed_cells",

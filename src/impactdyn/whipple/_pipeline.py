@@ -119,13 +119,16 @@ def _binning(s: StageContext) -> dict:
 
 
 def _debris(s: StageContext) -> dict:
-    from impactdyn.debris import build, run_debris
+    from impactdyn.debris import build, check_seeding, run_debris
     from impactdyn.debris import write_debris_files
     from impactdyn.io import read_grid
     from impactdyn.whipple._case import debris_case
 
     case = debris_case(s.case, "../binning/handoff_grid.h5")
     grid = read_grid(s.folder.path / "binning" / "handoff_grid.h5")
+    # before any particle is seeded: too many for memory, or debris behind the wall, named by the case's keys
+    check_seeding(case, grid, f"binning.cell_size_cm = {s.case.binning.cell_size_cm:g}",
+                  "the wall's front face (bumper.thickness_cm + wall.spacing_cm)", "the shield stage's hand-off")
     result = run_debris(**build(case, grid=grid), progress=s.report)
     summary = write_debris_files(s.folder.sub("debris"), result, case, decks=False)
     return {key: summary[key] for key in (
