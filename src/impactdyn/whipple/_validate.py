@@ -127,8 +127,8 @@ def _write_table(folder: FamilyFolder, rows: list[dict]) -> None:
 
 
 def _plot(path: Path, rows: list[dict]) -> None:
-    """The shots as d/d_lim against V cos θ: filled where the test perforated, coloured by whether the
-    simulation called it right."""
+    """The shots as d/d_lim against V cos θ: filled circles where the test perforated, open squares where
+    it held, green where the simulation called it right and red where not."""
     from impactdyn._plotting import pyplot, save_figure
 
     plt = pyplot()
@@ -140,7 +140,7 @@ def _plot(path: Path, rows: list[dict]) -> None:
                     and r["d_over_limit"] is not None]
             if pick:
                 ax.scatter([r["normal_velocity_km_s"] for r in pick], [r["d_over_limit"] for r in pick],
-                           c=colour, marker=marker, facecolors=colour if perforated else "none",
+                           marker=marker, edgecolors=colour, facecolors=colour if perforated else "none",
                            label=f"{label} ({'perforated' if perforated else 'held'} in the test)")
     ax.axhline(1.0, color="k", lw=0.8)
     for edge in (0.95, 1.05, 0.85, 1.15, 0.70, 1.30):
