@@ -166,7 +166,7 @@ def _page(rows: list[dict], scores: dict) -> str:
     band_rows = []
     for who, name in (("simulated", "simulation"), ("jsc", "JSC 2011")):
         for b in [*scores[who]["bands"], scores[who]["overall"]]:
-            band_rows.append(f"<tr><td>{name}</td><td>{b['band']}</td><td>{interval(b['accuracy'])}</td>"
+            band_rows.append(f"<tr><td>{name}</td><td>{html.escape(b['band'])}</td><td>{interval(b['accuracy'])}</td>"
                              f"<td>{interval(b['false_safe'])}</td><td>{interval(b['false_alarm'])}</td></tr>")
     m = scores["mcnemar_simulated_vs_jsc"]
     shot_rows = "".join(
@@ -178,7 +178,8 @@ def _page(rows: list[dict], scores: dict) -> str:
         for r in rows)
     return f"""<!doctype html><html><head><meta charset="utf-8"><title>Validation on test shots</title>
 <style>body{{font-family:sans-serif;max-width:70em;margin:2em auto}}
-td,th{{padding:2px 8px;border-bottom:1px solid #ddd}}</style></head><body><h1>Validation on {scores['n_shots']} test shots</h1>
+td,th{{padding:2px 8px;border-bottom:1px solid #ddd}}</style></head>
+<body><h1>Validation on {scores['n_shots']} test shots</h1>
 <p>Selection: <code>{html.escape(json.dumps(scores['selection']))}</code></p>
 <h2>Scores by distance from the equation's limit, |d/d_lim − 1| (95 % Wilson intervals)</h2>
 <table><tr><th>verdict of</th><th>band</th><th>right</th><th>false-safe (of perforated)</th>
