@@ -47,7 +47,8 @@ def test_validate_runs_scores_and_resumes_after_a_kill(tmp_path, make_case, cli)
     assert scores["n_shots"] == 3 and scores["simulated"]["overall"]["shots"] == 3
     assert scores["simulated"]["overall"]["accuracy"]["count"] == sum(r["simulated_right"] == "True" for r in rows)
     assert scores["selection"]["rule"] == "three" and scores["selection"]["fixed"] is None
-    assert (out / "validation.png").is_file() and "Scores by distance" in (out / "validation.html").read_text()
+    page = (out / "validation.html").read_text()
+    assert (out / "validation.png").is_file() and "Scores by distance" in page and "<td>&lt;5%</td>" in page
     assert cli.hidden(out) == []
 
 
