@@ -88,4 +88,31 @@ def test_an_interrupt_in_a_family_removes_staging_and_says_what_was_kept(tmp_pat
             raise KeyboardInterrupt
     assert cli.hidden(tmp_path) == []
     with FamilyFolder(tmp_path / "f", "whipple limit", {}, table="limit.csv", resume=True) as family:
-        assert family.member_done("runs", "V7_d0.4") is not None
+        assert (family.path / "runs" / "V7_d0.4").is_dir()
+
+
+def test_a_member_that_finished_during_the_stop_is_recorded(tmp_path):
+    """A worker renames its finished run into place, then the stop comes before its result reaches the
+    main process: the member is read back from its folder, so the table holds every finished member."""
+    import json
+
+    from impactdyn._family import run_members
+
+    summaries = [tmp_path / f"m{k}" / "summary.json" for k in range(3)]
+
+    def run(k: int) -> dict:
+        summaries[k].parent.mkdir()
+        summaries[k].write_text(json.dumps({"member": k}))
+        if k == 1:  # finished on disk, result never delivered
+            raise KeyboardInterrupt
+        return {"member": k}
+
+    recorded = {}
+    with pytest.raises(KeyboardInterrupt):
+        run_members(run, summaries, lambda pending: pending, recorded.__setitem__, scheduler="serial")
+    assert recorded == {0: {"member": 0}, 1: {"member": 1}}
+    # resumed: both are read back, only the third runs
+    ran = []
+    run_members(lambda k: ran.append(k) or run(k), summaries, lambda pending: pending, recorded.__setitem__,
+                scheduler="serial")
+    assert ran == [2] and recorded == {k: {"member": k} for k in range(3)}

@@ -22,12 +22,14 @@ from __future__ import annotations
 
 import json
 import shutil
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
 from impactdyn._errors import InputError, Interrupted
 from impactdyn._interrupt import shielded
 from impactdyn._runfolder import FolderWriter, check_target
+from impactdyn._sweep import run_all
 
 RECORD = "family.json"
 
@@ -58,11 +60,6 @@ class FamilyFolder(FolderWriter):
             shutil.rmtree(target)
         target.mkdir(parents=True, exist_ok=True)
         self._write_record(complete=False)
-
-    def member_done(self, name: str, *parts: str) -> Path | None:
-        """The finished member ``name`` (a folder or file under the family folder), or None."""
-        path = self.path.joinpath(name, *parts)
-        return path if path.exists() else None
 
     def __enter__(self) -> "FamilyFolder":
         return self
@@ -99,6 +96,39 @@ class FamilyFolder(FolderWriter):
 
     def _write_record(self, complete: bool) -> None:
         self.write_json(RECORD, {"command": self.command, "complete": complete, "settings": self.settings})
+
+
+def run_members(fn: Callable[[Any], Any], summaries: Sequence[Path], make_tasks: Callable[[list[int]], list],
+                record: Callable[[int, dict], None], **schedule: Any) -> None:
+    """Bring every member ``k`` of a family to an end and ``record(k, summary)`` it, in the main process.
+
+    A member whose summary file ``summaries[k]`` exists is read back, not run (a resume); the
+    others run as ``fn`` of the tasks ``make_tasks(pending)`` builds for them, scheduled as
+    :func:`impactdyn._sweep.run_all` takes ``schedule``, and are recorded as they finish.  A member
+    run writes its summary file itself (or ``record`` does).  On a stop, a member that finished
+    while the others were being stopped (its folder renamed into place before its result reached
+    this process) is read back and recorded too, so the table holds every finished member.
+    """
+    pending = []
+    for k, path in enumerate(summaries):
+        if path.exists():
+            record(k, json.loads(path.read_text()))
+        else:
+            pending.append(k)
+    recorded: set[int] = set()
+
+    def finished(i: int, summary: dict) -> None:
+        recorded.add(pending[i])
+        record(pending[i], summary)
+
+    try:
+        run_all(fn, make_tasks(pending), on_result=finished, **schedule)
+    except BaseException:
+        with shielded():
+            for k in pending:
+                if k not in recorded and summaries[k].exists():
+                    record(k, json.loads(summaries[k].read_text()))
+        raise
 
 
 def remove_staging(folder: Path) -> None:

@@ -2,15 +2,14 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
 
 from impactdyn._config import load_toml, parse_range
 from impactdyn._errors import InputError
-from impactdyn._family import FamilyFolder
-from impactdyn._sweep import case_variants, run_all
+from impactdyn._family import FamilyFolder, run_members
+from impactdyn._sweep import case_variants
 
 SWEEP_HEADER = ["index", "value", "n_impacts", "first_impact_t_s", "v_approach_m_s", "v_separation_m_s",
                 "restitution", "peak_force_N", "final_theta_rad", "final_theta_dot_rad_s", "wall_time_s"]
@@ -62,24 +61,19 @@ def run_sweep(case_path, vary: str, outdir, force=False, resume: bool = False, w
     rows: list = [None] * len(cases)
     with FamilyFolder(outdir, "beam sweep", settings, table="sweep.csv", member="case", force=force,
                       resume=resume) as family:
-        def record(i: int, summary: dict, write: bool = True) -> None:
-            if write:
-                family.write_json(f"cases/{i:03d}/summary.json", summary)
+        summaries = [family.path / "cases" / f"{i:03d}" / "summary.json" for i in range(len(cases))]
+
+        def record(i: int, summary: dict) -> None:
+            if not summaries[i].exists():  # a case runs in a worker; its summary is written here
+                family.write_json(summaries[i].relative_to(family.path).as_posix(), summary)
             rows[i] = _row(i, float(values[i]), summary)
             family.finished += 1
             family.write_csv("sweep.csv", SWEEP_HEADER, [r for r in rows if r is not None])
             if progress:
                 progress()
 
-        to_run = []
-        for i in range(len(cases)):
-            done = family.member_done("cases", f"{i:03d}", "summary.json")
-            if done is not None:
-                record(i, json.loads(done.read_text()), write=False)
-            else:
-                to_run.append(i)
-        run_all(_run_one, [cases[i] for i in to_run], scheduler="dask" if dask_address else "processes",
-                workers=workers, address=dask_address, on_result=lambda k, summary: record(to_run[k], summary))
+        run_members(_run_one, summaries, lambda pending: [cases[i] for i in pending], record,
+                    scheduler="dask" if dask_address else "processes", workers=workers, address=dask_address)
         _plot(rows, key, family.path / "sweep.png")
     return Path(outdir)
 

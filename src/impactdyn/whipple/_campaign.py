@@ -14,15 +14,14 @@ diameter where the simulated verdict changes, bisected per velocity, see
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 from impactdyn._config import validate
 from impactdyn._errors import InputError
-from impactdyn._family import FamilyFolder
-from impactdyn._sweep import case_variants, run_all
+from impactdyn._family import FamilyFolder, run_members
+from impactdyn._sweep import case_variants
 from impactdyn.whipple._case import WhippleCase
-from impactdyn.whipple._shots import Shot, run_shot, shot_name, shot_variant, shot_workers, threads_per_shot
+from impactdyn.whipple._shots import run_shot, shot_name, shot_tasks, shot_variant, shot_workers
 from impactdyn.whipple._limit import FAILED_VERDICTS
 
 CAMPAIGN_HEADER = [
@@ -82,18 +81,11 @@ def run_campaign(raw: dict, velocities: list[float], diameters: list[float], out
             if progress:
                 progress()
 
-        to_run = []
-        for k, (v, d, _) in enumerate(grid):
-            done = family.member_done("runs", shot_name(v, d), "summary.json")
-            if done is not None:
-                record(k, json.loads(done.read_text()))
-            else:
-                to_run.append(k)
-        n_workers = shot_workers(scheduler, workers, len(to_run))
-        tasks = [Shot(grid[k][2], family.path / "runs" / shot_name(*grid[k][:2]), threads_per_shot(n_workers),
-                      keep_all) for k in to_run]
-        run_all(run_shot, tasks, scheduler=scheduler, workers=n_workers, address=address,
-                on_result=lambda i, summary: record(to_run[i], summary))
+        summaries = [family.path / "runs" / shot_name(v, d) / "summary.json" for v, d, _ in grid]
+        run_members(run_shot, summaries,
+                    lambda pending: shot_tasks([grid[k][2] for k in pending], [summaries[k].parent for k in pending],
+                                               scheduler, workers, keep_all),
+                    record, scheduler=scheduler, workers=shot_workers(scheduler, workers, len(grid)), address=address)
         _write_tables(family, rows)
         _plot(family.path / "campaign.png", grid[0][2], rows)
     return rows

@@ -35,7 +35,6 @@ to them (:func:`tested_limits`); drawn when the search ends) and ``runs/V<v>_d<d
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -43,11 +42,11 @@ import numpy as np
 
 from impactdyn._config import validate
 from impactdyn._errors import InputError
-from impactdyn._family import FamilyFolder
-from impactdyn._sweep import case_variants, run_all
+from impactdyn._family import FamilyFolder, run_members
+from impactdyn._sweep import case_variants
 from impactdyn.whipple._case import WhippleCase
 from impactdyn.whipple._report import ble_verdict, wall_caution
-from impactdyn.whipple._shots import Shot, run_shot, shot_name, shot_variant, shot_workers, threads_per_shot
+from impactdyn.whipple._shots import run_shot, shot_name, shot_tasks, shot_variant, shot_workers
 from impactdyn.whipple._test_shot import ALLOYS
 
 LIMIT_HEADER = ["velocity_km_s", "limit_diameter_cm", "half_width_cm", "largest_safe_cm", "smallest_failed_cm",
@@ -154,19 +153,12 @@ def run_limit(raw: dict, velocities: list[float], outdir: str | Path, *, source:
         _write_tables(family, searches, tolerance_cm, bracket_ratio)
         while batch := [(s, d) for s in searches for d in s.pending()]:
             cases = case_variants(WhippleCase, raw, [shot_variant(base, s.velocity, d) for s, d in batch], source)
-            to_run = []
-            for (s, d), case in zip(batch, cases):
-                done = family.member_done("runs", shot_name(s.velocity, d), "summary.json")
-                if done is not None:
-                    record(s, d, case, json.loads(done.read_text()))
-                else:
-                    to_run.append((s, d, case))
-            if to_run:
-                n_workers = shot_workers(scheduler, workers, len(to_run))
-                tasks = [Shot(case, family.path / "runs" / shot_name(s.velocity, d), threads_per_shot(n_workers),
-                              keep_all) for s, d, case in to_run]
-                run_all(run_shot, tasks, scheduler=scheduler, workers=n_workers, address=address,
-                        on_result=lambda i, summary: record(*to_run[i], summary))
+            summaries = [family.path / "runs" / shot_name(s.velocity, d) / "summary.json" for s, d in batch]
+            run_members(run_shot, summaries,
+                        lambda pending: shot_tasks([cases[k] for k in pending], [summaries[k].parent for k in pending],
+                                                   scheduler, workers, keep_all),
+                        lambda k, summary: record(*batch[k], cases[k], summary),
+                        scheduler=scheduler, workers=shot_workers(scheduler, workers, len(batch)), address=address)
             for s in searches:
                 s.settle(tolerance_cm, max_expansions)
             rows = _write_tables(family, searches, tolerance_cm, bracket_ratio)

@@ -71,6 +71,12 @@ def threads_per_shot(n_workers: int) -> int:
     return max(1, (os.cpu_count() or 1) // max(1, n_workers))
 
 
+def shot_tasks(cases: list, folders: list[Path], scheduler: str, workers: int | None, keep_all: bool) -> list[Shot]:
+    """The :class:`Shot` of each case into its folder, the cores shared among the shots run at once."""
+    threads = threads_per_shot(shot_workers(scheduler, workers, len(cases)))
+    return [Shot(case, folder, threads, keep_all) for case, folder in zip(cases, folders)]
+
+
 def run_shot(shot: Shot) -> dict:
     """Run the shot's pipeline into its folder (lean unless ``keep_all``); returns its summary."""
     import numba

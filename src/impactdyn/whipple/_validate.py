@@ -28,13 +28,12 @@ import numpy as np
 
 from impactdyn._config import validate
 from impactdyn._errors import InputError
-from impactdyn._family import FamilyFolder
-from impactdyn._sweep import run_all
+from impactdyn._family import FamilyFolder, run_members
 from impactdyn.ble import mcnemar, score_by_distance
 from impactdyn.whipple._case import WhippleCase
 from impactdyn.whipple._limit import FAILED_VERDICTS
 from impactdyn.whipple._report import ble_verdict
-from impactdyn.whipple._shots import Shot, run_shot, shot_workers, threads_per_shot
+from impactdyn.whipple._shots import run_shot, shot_tasks, shot_workers
 from impactdyn.whipple._test_shot import DatabaseShot, database_shot_case
 
 VALIDATION_HEADER = ["line", "source", "shot_id", "diameter_cm", "velocity_km_s", "obliquity_deg",
@@ -67,18 +66,11 @@ def run_validation(shots: list[DatabaseShot], outdir: str | Path, *, selection: 
             if progress:
                 progress()
 
-        to_run = []
-        for k, shot in enumerate(shots):
-            done = family.member_done("runs", _run_name(shot), "summary.json")
-            if done is not None:
-                record(k, json.loads(done.read_text()))
-            else:
-                to_run.append(k)
-        n_workers = shot_workers(scheduler, workers, len(to_run))
-        tasks = [Shot(cases[k], family.path / "runs" / _run_name(shots[k]), threads_per_shot(n_workers), keep_all)
-                 for k in to_run]
-        run_all(run_shot, tasks, scheduler=scheduler, workers=n_workers, address=address,
-                on_result=lambda i, summary: record(to_run[i], summary))
+        summaries = [family.path / "runs" / _run_name(shot) / "summary.json" for shot in shots]
+        run_members(run_shot, summaries,
+                    lambda pending: shot_tasks([cases[k] for k in pending], [summaries[k].parent for k in pending],
+                                               scheduler, workers, keep_all),
+                    record, scheduler=scheduler, workers=shot_workers(scheduler, workers, len(shots)), address=address)
         scores = score_validation(rows) | {"selection": selection}
         family.write_json("scores.json", scores)
         _plot(family.path / "validation.png", rows)
