@@ -252,8 +252,9 @@ CASES = [(kind, base, key, info) for kind, k in KINDS.items() for base, data in 
          for key, info in _keys(k.model, data)]
 
 KNOWN = {("whipple", "wall.yield_stress_ksi"): pytest.mark.xfail(
-    raises=OverflowError, strict=False, reason="ble's JSC equations overflow for a yield stress below 4e-307 ksi "
-    "(int(inf) in ble._jsc2011._bisect), in the report stage's ballistic-limit verdict; ble's to fix")}
+    raises=OverflowError, strict=False, reason="ble's JSC equations overflow for the smallest subnormal yield stress, "
+    "5e-324 ksi (its yield term underflows to 0: int(inf) in ble._jsc2011._bisect), in the report stage's "
+    "ballistic-limit verdict; ble's to fix")}
 """Failures known to lie outside the case and its loaders, by (kind, key)."""
 
 
