@@ -14,7 +14,7 @@ EQUATIONS: dict[str, WhippleEquation] = {}
 
 #: The equation used when none is named: the 2011 form, chosen on the 1135-shot test
 #: database because it calls more shots right and, above all, far fewer perforations safe
-#: (README, "Ballistic limit equations", and ``impactdyn ble validate``).
+#: (docs/ble.md, and ``impactdyn ble validate``).
 DEFAULT_EQUATION = "jsc2011"
 
 
