@@ -1,4 +1,4 @@
-"""Rotating flexible beam with impact (seed 001: IMPACTC, IMPACTB, ROOTM, INTEG).
+"""Rotating flexible beam with impact (the 1988 report: IMPACTC, IMPACTB, ROOTM, INTEG).
 
 >>> from impactdyn.beam import load_case, simulate
 >>> result = simulate(load_case("examples/beam/impactb_sample.toml"))  # doctest: +SKIP

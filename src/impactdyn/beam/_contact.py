@@ -59,7 +59,7 @@ class ContactLaw(abc.ABC):
 
 
 def listing_restitution(v: float) -> float:
-    """Velocity-dependent restitution of IMPACTC (seed 001, listing TRESP).
+    """Velocity-dependent restitution of IMPACTC (the 1988 report, listing TRESP).
 
     e(v) = 2.578 v² − 1.7428 v + 1 for v < 0.2 m/s, else 0.5014 v^−0.25,
     v = |ġ⁻| the approach speed of the stop point in m/s. The two branches meet

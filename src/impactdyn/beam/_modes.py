@@ -1,6 +1,6 @@
 """Clamped–free cantilever modes and modal integrals (the 1988 ROOTM and INTEG).
 
-Eigenvalues βᵢ are the roots of ``cos β cosh β + 1 = 0`` (seed 001, ROOTM),
+Eigenvalues βᵢ are the roots of ``cos β cosh β + 1 = 0`` (the 1988 report, ROOTM),
 found by Newton's method on the scaled, well-conditioned form
 ``f(β) = cos β + 1/cosh β`` started from the listing's seeds and
 ``(2i − 1)π/2`` beyond the fifth.

@@ -15,7 +15,7 @@ V_LV is 3 km/s in the 1993 equations and 2.6 km/s in the 2011 form.  Units: cm, 
 km/s, ksi; θ from the target normal.
 
 Obliquity cap: θ is replaced by min(θ, 65°) everywhere, in the regime boundaries too
-(Christiansen 1993 eq. 12 and NASA/TM-2009-214785 eq. 4-26, as cited in issue 12 and
+(Christiansen 1993 eq. 12 and NASA/TM-2009-214785 eq. 4-26, as cited in
 DESIGN §7; the ballistic limit analysis program of NASA/TM-2009-214789 applies the same cap
 to Whipple shields).  Beyond 65° the equations were never fitted, and the uncapped
 (cos θ)^{-2/3} of the hypervelocity limit grows without bound toward 90°.

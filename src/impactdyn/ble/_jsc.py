@@ -47,7 +47,7 @@ weights (1.75 − V_n/4) and (V_n/4 − 0.75) are the linear interpolation above
 evaluate the regime ends exactly, so d_c is continuous at both boundaries; the rounded
 form differs by about 3 × 10⁻⁴ relative (0.52141 vs 0.52127 cm in the example below).
 
-Issue 4 acceptance example (bumper 0.127 cm Al, wall 0.3175 cm, σ = 40 ksi, θ = 25°,
+A worked example (bumper 0.127 cm Al, wall 0.3175 cm, σ = 40 ksi, θ = 25°,
 ρ_p = ρ_b = 2.7 g/cm³, S = 10 cm): at 7 km/s V_n = 6.344 km/s, so the point lies in
 the *shatter* regime (W2), d_c = 0.521267 cm; at 10 km/s V_n = 9.063 km/s, (W3) gives
 d_c = 0.482295 cm.  ρ_b = 2.713 gives 0.521011 and 0.482038 cm — both densities

@@ -1,4 +1,4 @@
-"""DC3D debris-cloud propagation (seed 000): hand-off grid → particles → wall deposition.
+"""DC3D debris-cloud propagation (Fahrenthold 1994): hand-off grid → particles → wall deposition.
 
 Python API: ``run_debris(grid, wall, material, ...)`` → :class:`DebrisResult`, or from a
 case file ``run_case(load_debris_case(path))``; :func:`write_debris_run` writes the

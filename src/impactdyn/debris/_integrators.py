@@ -55,7 +55,7 @@ per step. Registered names:
     an absolute eps·1e-6; its errors are controlled through the F they drive.
 
 ``slow``
-    The slow-manifold integrator (:mod:`._slow_manifold`, issue 13): each particle is
+    The slow-manifold integrator (:mod:`._slow_manifold`): each particle is
     projected once onto its stress-free configuration F = R U*(Eₚ) — the ringing's
     energy is dropped, which plastic flow and bulk viscosity would dissipate — and
     then turns as a free rigid body carrying its angular momentum (McLachlan's exact

@@ -1,4 +1,4 @@
-"""State equations of one DC3D deformable tetrahedral particle (seed 000, DESIGN §5).
+"""State equations of one DC3D deformable tetrahedral particle (Fahrenthold 1994, DESIGN §5).
 
 A particle is a tetrahedron of mass m in homogeneous deformation (paper eq. 1)::
 

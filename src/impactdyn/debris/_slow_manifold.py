@@ -1,4 +1,4 @@
-"""``slow``: a slow-manifold integrator that steps over the particles' elastic ringing (issue 13, DESIGN §5).
+"""``slow``: a slow-manifold integrator that steps over the particles' elastic ringing (DESIGN §5).
 
 Why not an implicit scheme on (F, H).  A debris particle rings elastically with
 ω ≈ ω̂ ~ 200/µs while its slow motion — the rigid rotation of a tetrahedron of
@@ -108,7 +108,7 @@ from impactdyn.debris._particle import C_SLICE, P_SLICE, STATE_ROWS, kernel
 from impactdyn.debris._registry import ParticleBatch, StepControl, register_integrator
 
 STEPS_PER_ROTATION = 24.0
-"""Default steps per rigid rotation period 2π/ω_max (BENCHMARKS.md, issue 13)."""
+"""Default steps per rigid rotation period 2π/ω_max (BENCHMARKS.md, the slow integrator's accuracy)."""
 
 SUZUKI_GAMMA = 1.0 / (4.0 - 4.0 ** (1.0 / 3.0))
 """γ of Suzuki's fourth-order fractal composition of a symmetric second-order step."""
