@@ -149,12 +149,12 @@ def fix_rule(path: str | Path, today: str | None = None) -> SelectionRule:
     return load_rule(path)
 
 
-def select_shots(rule: SelectionRule, database: ShotDatabase | None = None, rules_dir: Path = RULES_DIR) -> np.ndarray:
+def select_shots(rule: SelectionRule, database: ShotDatabase | None = None) -> np.ndarray:
     """Indices into ``database`` (default: the packaged one) of the shots ``rule`` picks, in file order."""
     db = read_database() if database is None else database
     taken = np.zeros(len(db), dtype=bool)
     for earlier in rule.after:
-        taken[select_shots(_earlier_rule(earlier, rules_dir), db, rules_dir)] = True
+        taken[select_shots(load_rule(earlier), db)] = True
     eligible = _eligible(rule.eligible, db) & ~db.with_twins(taken)
     distance = sum(np.abs(np.log(getattr(db, key) / ref)) for key, ref in rule.distance.model_dump().items())
     order = sorted(np.flatnonzero(eligible), key=lambda i: (distance[i], db.line[i]))
@@ -166,13 +166,6 @@ def select_shots(rule: SelectionRule, database: ShotDatabase | None = None, rule
             chosen[bool(db.perforated[i])].append(i)
     _meet_oblique(chosen, order, db, distance, rule.counts.min_oblique)
     return np.array(sorted(chosen[True] + chosen[False]), dtype=int)
-
-
-def _earlier_rule(name: str, rules_dir: Path) -> SelectionRule:
-    path = rules_dir / f"{name}.toml"
-    if not path.is_file():
-        path = rule_path(name)
-    return load_rule(path)
 
 
 def _eligible(e: Eligible, db: ShotDatabase) -> np.ndarray:
