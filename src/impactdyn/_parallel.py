@@ -70,8 +70,13 @@ def _on_processes(fn, tasks, workers) -> Iterator[tuple[int, Any]]:
 
 def _stop_pool(pool: ProcessPoolExecutor) -> None:
     """Cancel the queued tasks and end the workers now.  The executor has no public way to end
-    running tasks before Python 3.14 (``terminate_workers``), so its ``_processes`` are ended here."""
+    running tasks before Python 3.14 (``terminate_workers``), so its ``_processes`` are ended here.
+
+    The pool's manager thread reaps the workers it sees die, racing with the joins here; it is
+    joined last, so that on return every worker is reaped and known to be (``active_children``
+    listed one as alive a moment after it had been reaped by that thread)."""
     processes = list((pool._processes or {}).values())
+    manager = pool._executor_manager_thread
     pool.shutdown(wait=False, cancel_futures=True)
     for process in processes:
         if process.is_alive():
@@ -81,6 +86,8 @@ def _stop_pool(pool: ProcessPoolExecutor) -> None:
         if process.is_alive():
             process.kill()
             process.join()
+    if manager is not None:
+        manager.join(STOP_GRACE_S)
 
 
 def _on_dask(fn, tasks, workers, address) -> Iterator[tuple[int, Any]]:
