@@ -77,6 +77,10 @@ class Section(BaseModel, metaclass=_Built):
 
     model_config = ConfigDict(extra="forbid", allow_inf_nan=False, frozen=True, strict=True)
 
+    def replaced(self, **changes: Any) -> Any:
+        """A copy with ``changes``, validated as a new section (``model_copy`` would not check them)."""
+        return type(self)(**{**self.model_dump(), **changes})
+
 
 _NO_DEFAULT: Any = object()
 

@@ -280,7 +280,7 @@ def test_the_debris_case_carries_the_wall_material(tmp_path, make_case):
 
 
 @pytest.mark.parametrize("changes, message", [
-    (dict(wall_solver__refinement_thickness=0), "case.toml: wall_solver: refinement_thickness: must be a positive"),
+    (dict(wall_solver__refinement_thickness=0), "case.toml: wall_solver.refinement_thickness: must be greater than or equal to 1"),
     (dict(wall_solver__material_model="bogus"), "material_model"),
     (dict(wall_solver__max_time_us=-1.0), "max_time_us"),
     (dict(wall_solver__settle_tolerance=0.0), "settle_tolerance"),

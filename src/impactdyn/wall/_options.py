@@ -1,10 +1,13 @@
-"""Options of the wall solver, checked when made, and its breakdown error."""
+"""Options of the wall solver (a config section: the one home of their defaults and bounds, which a
+case's ``[wall_solver]`` table takes over), and the solver's breakdown error."""
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
+from typing import Annotated, Literal
 
+from pydantic import Field, field_validator
+
+from impactdyn._config import NonNegative, Positive, Section
 from impactdyn._errors import InputError, SimulationError
 from impactdyn.wall._load import SPREADS
 from impactdyn.wall._mesh import SUPPORTS
@@ -24,8 +27,11 @@ class WallSolverError(SimulationError):
     """
 
 
-@dataclass(frozen=True)
-class WallOptions:
+#: A number in (0, 1].
+Fraction = Annotated[float, Field(gt=0, le=1)]
+
+
+class WallOptions(Section):
     """Numerical and physical options of :func:`impactdyn.wall.run_wall` (units µs, km/s).
 
     refinement_thickness, refinement_plane : elements per parent element through the
@@ -103,59 +109,36 @@ class WallOptions:
         the initial step is a breakdown (:class:`WallSolverError`).
     """
 
-    refinement_thickness: int = 1
-    refinement_plane: int = 1
+    refinement_thickness: Annotated[int, Field(ge=1)] = 1
+    refinement_plane: Annotated[int, Field(ge=1)] = 1
     material_model: str = "johnson_cook"
-    supports: str = "dyngen"
-    hourglass: str = "assumed_strain"
-    hourglass_coefficient: float = 0.1
-    q1: float = 1.5
-    q2: float = 0.06
-    courant: float = 0.9
-    end_time_us: float | None = None
-    decay_fraction: float = 0.05
-    max_time_us: float = 100.0
-    output_interval_us: float | None = 1.0
-    history_interval_us: float = 0.2
-    spread: str = "area"
-    deposition_depth_cm: float | None = None
+    supports: Literal[SUPPORTS] = "dyngen"
+    hourglass: Literal[HOURGLASS_FORMS] = "assumed_strain"
+    hourglass_coefficient: NonNegative = 0.1
+    q1: NonNegative = 1.5
+    q2: NonNegative = 0.06
+    courant: Fraction = 0.9
+    end_time_us: Positive | None = None
+    decay_fraction: Fraction = 0.05
+    max_time_us: Positive = 100.0
+    output_interval_us: Positive | None = 1.0
+    history_interval_us: Positive = 0.2
+    spread: Literal[SPREADS] = "area"
+    deposition_depth_cm: NonNegative | None = None
     settle: bool = False
-    settle_tolerance: float = 1.0e-3
-    max_settle_steps: int = 200_000
-    escape_velocity_km_s: float = 1.0
-    erosion_step_fraction: float = 0.1
-    min_step_fraction: float = 1.0e-3
+    settle_tolerance: Fraction = 1.0e-3
+    max_settle_steps: Annotated[int, Field(ge=1)] = 200_000
+    escape_velocity_km_s: Positive = 1.0
+    erosion_step_fraction: Annotated[float, Field(ge=0, le=1)] = 0.1
+    min_step_fraction: Fraction = 1.0e-3
 
-    def __post_init__(self) -> None:
-        for name in ("refinement_thickness", "refinement_plane", "max_settle_steps"):
-            r = getattr(self, name)
-            if isinstance(r, bool) or not isinstance(r, int) or r < 1:
-                raise InputError(f"{name}: must be a positive integer, got {r!r}")
-        check_model_name(self.material_model)
-        if not isinstance(self.settle, bool):
-            raise InputError(f"settle: must be true or false, got {self.settle!r}")
-        _check("settle_tolerance", self.settle_tolerance, lo=0.0, lo_open=True, hi=1.0)
-        if self.supports not in SUPPORTS:
-            raise InputError(f"supports: {self.supports!r}, expected one of {SUPPORTS}")
-        if self.hourglass not in HOURGLASS_FORMS:
-            raise InputError(f"hourglass: {self.hourglass!r}, expected one of {HOURGLASS_FORMS}")
-        if self.spread not in SPREADS:
-            raise InputError(f"spread: {self.spread!r}, expected one of {SPREADS}")
-        for name in ("hourglass_coefficient", "q1", "q2"):
-            _check(name, getattr(self, name), lo=0.0)
-        _check("courant", self.courant, lo=0.0, lo_open=True, hi=1.0)
-        _check("decay_fraction", self.decay_fraction, lo=0.0, lo_open=True, hi=1.0)
-        _check("max_time_us", self.max_time_us, lo=0.0, lo_open=True)
-        _check("history_interval_us", self.history_interval_us, lo=0.0, lo_open=True)
-        _check("escape_velocity_km_s", self.escape_velocity_km_s, lo=0.0, lo_open=True)
-        _check("erosion_step_fraction", self.erosion_step_fraction, lo=0.0, hi=1.0)
-        _check("min_step_fraction", self.min_step_fraction, lo=0.0, lo_open=True, hi=1.0)
-        if self.end_time_us is not None:
-            _check("end_time_us", self.end_time_us, lo=0.0, lo_open=True)
-        if self.deposition_depth_cm is not None:
-            _check("deposition_depth_cm", self.deposition_depth_cm, lo=0.0)
-        if self.output_interval_us is not None:
-            _check("output_interval_us", self.output_interval_us, lo=0.0, lo_open=True)
+    @field_validator("material_model")
+    @classmethod
+    def _registered(cls, name: str) -> str:
+        try:
+            return check_model_name(name)
+        except InputError as err:
+            raise ValueError(str(err).removeprefix("material_model: ")) from None
 
     @property
     def hourglass_form(self) -> int:
@@ -169,12 +152,3 @@ class WallOptions:
         return ihq, 1.0 if ihq == 6 else self.hourglass_coefficient
 
 
-def _check(name: str, value, lo: float | None = None, hi: float | None = None, lo_open: bool = False) -> None:
-    ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
-    if ok and lo is not None:
-        ok = value > lo if lo_open else value >= lo
-    if ok and hi is not None:
-        ok = value <= hi
-    if not ok:
-        rng = f"{'(' if lo_open else '['}{lo if lo is not None else '-inf'}, {hi if hi is not None else 'inf'}]"
-        raise InputError(f"{name}: must be a finite number in {rng}, got {value!r}")
