@@ -258,7 +258,8 @@ def jc_update(e, L, dt, vbar, mass, rho, q, S, es, flags, table, prm):
     """Stress, pressure, energy and damage update of element e over Δt (module docstring).
 
     Arguments as :func:`impactdyn.wall._mat13.mat13_update`; ``table`` the packed material
-    (row 0), ``prm`` the damage and spall constants and switches (:meth:`JohnsonCookModel.kernel_params`).  Returns (c, ΔW_σ, ΔW_p).
+    (row 0), ``prm`` the damage and spall constants and switches (:meth:`JohnsonCookModel.kernel_params`).
+    Returns (c, ΔW_σ, ΔW_p).
     """
     wfac = vbar * dt
     G = table[0, SHEAR]
