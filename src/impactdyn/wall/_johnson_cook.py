@@ -72,7 +72,13 @@ initial one, or its volume inverts, :mod:`impactdyn.wall._step`): eroding it at 
 (``erosion=True``) deletes the mass and the support of the material around a crater, so that
 debris behind the first failed layer meets no resistance, and the rubble's momentum leaves the
 mesh (the energy balance books it as eroded).  LS-DYNA's *MAT_JOHNSON_COOK keeps failed solids
-the same way with EROD = 1 (pressure only after failure).
+the same way with EROD = 1 (pressure only after failure).  Measured on a 1 × 0.2 × 1-cm clamped
+wall of 20 × 4 × 20 bricks, a central 4 × 4 patch of face elements each loaded by four impulses
+of 1e-5 to 5e-5 g·cm/µs over 0.75 µs, 8 µs (the default laws otherwise): the same verdict with
+and without erosion at all four loads (no perforation at the lowest, perforation above); without
+erosion 1.1–3.5× more failed mass (the rubble passes compression on to the material behind it,
+which the eroded hole does not), deeper damage at the lowest load (0.15 against 0.05 cm), and
+no mass leaves the mesh.
 
 Sound speed: c² = c_b² + 4G/(3ρ), c_b the isentropic bulk sound speed of the EOS
 (:func:`impactdyn.constitutive.sound_speed`).
