@@ -17,6 +17,7 @@ from impactdyn.constitutive import fracture_strain, tuler_butcher_increment
 from impactdyn.materials import AL_6061_T6_JC_DAMAGE, TULER_BUTCHER, TB_STRESS_RATE, TulerButcher, _gpa
 from impactdyn.wall._johnson_cook import FAILURE_STRAIN_FLOOR, FRACTURE_STRAIN_FLOORS, SPALL_LAWS
 from impactdyn.wall._state import DAMAGE, EPS_P, FAILED, P, SPALL_DAMAGE
+from impactdyn.wallgrid import WallDeposition, WallGrid
 
 from .conftest import drive, one_element
 
@@ -143,3 +144,25 @@ def test_library_constants_and_switches():
         wall.wall_model("johnson_cook", "al6061-t6", fracture_strain_floor="none")
     with pytest.raises(InputError, match="spall_law"):
         wall.wall_model("johnson_cook", "al6061-t6", tuler_butcher=None)
+
+
+def test_old_options_reproduce_the_model_before_the_floor_and_tuler_butcher():
+    # a 1 × 0.2 × 1-cm clamped wall of 20 × 4 × 20 bricks, a central 4 × 4 patch of face elements
+    # each hit by four impulses of 2.5e-5 g·cm/µs over 0.75 µs: with the fit unbounded, the spall
+    # cut-off and erosion at once, the numbers recorded with the model as it was before these laws
+    # (almost all the failed mass failed at the fit's zero), to round-off
+    grid = WallGrid.uniform((0.0, 1.0), (0.0, 0.2), (0.0, 1.0), (21, 5, 21))
+    face = np.array([k * 20 + i for k in range(8, 12) for i in range(8, 12)])
+    elements, times = np.repeat(face, 4), np.tile([0.0, 0.25, 0.5, 0.75], face.size)
+    dep = WallDeposition(element=elements, time=times, impulse=np.array([[0.0, 2.5e-5, 0.0]] * elements.size))
+    model = wall.wall_model("johnson_cook", "al6061-t6", fracture_strain_floor="unbounded", spall_law="cutoff",
+                            erosion=True)
+    r = wall.run_wall(grid, dep, model, wall.WallOptions(material_model="johnson_cook", end_time_us=8.0,
+                                                         output_interval_us=None))
+    m = r.measures
+    assert r.verdict == wall.PERFORATION
+    assert m["damaged_mass_g"] == pytest.approx(0.08480662500000002, rel=1e-12)
+    assert m["failed_mass_by_cause_g"]["ductile_damage_at_floor"] == pytest.approx(0.08109000000000002, rel=1e-12)
+    assert m["failed_mass_by_cause_g"]["ductile_damage"] == pytest.approx(0.003716625000000002, rel=1e-12)
+    assert m["rear_bulge_end_cm"] == pytest.approx(0.025482383095459554, rel=1e-12)
+    assert m["energy"]["internal"] == pytest.approx(1.1182219579515382e-05, rel=1e-12)
