@@ -154,6 +154,7 @@ class JohnsonCookModel(WallModel):
 
     name = "johnson_cook"
     kind = KIND
+    option_keys = ("spall_law", "fracture_strain_floor")
 
     def __post_init__(self) -> None:
         if self.material.johnson_cook is None:

@@ -30,12 +30,14 @@ MODELS: dict[str, type["WallModel"]] = {}
 class WallModel(ABC):
     """Base of the wall material models (each a frozen dataclass).
 
-    Subclasses set ``name`` (the registry key) and ``kind`` (the kernel's dispatch code)
-    and implement the abstract members below.
+    Subclasses set ``name`` (the registry key), ``kind`` (the kernel's dispatch code) and
+    ``option_keys`` (the case keys they take), and implement the abstract members below.
     """
 
     name: ClassVar[str] = ""
     kind: ClassVar[int] = -1
+    #: The :class:`~impactdyn.wall.WallOptions` keys this model takes (keywords of :meth:`from_material`).
+    option_keys: ClassVar[tuple[str, ...]] = ()
 
     @property
     @abstractmethod

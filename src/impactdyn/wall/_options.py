@@ -9,6 +9,7 @@ from pydantic import Field, field_validator
 
 from impactdyn._config import NonNegative, Positive, Section
 from impactdyn._errors import InputError, SimulationError
+from impactdyn.wall._johnson_cook import FRACTURE_STRAIN_FLOORS, SPALL_LAWS
 from impactdyn.wall._load import SPREADS
 from impactdyn.wall._mesh import SUPPORTS
 from impactdyn.wall._models import check_model_name
@@ -101,6 +102,13 @@ class WallOptions(Section):
         nodes below this fraction of the element forces that balance there (Euclidean norms;
         1e-3: the 7a bulge to 0.01 %, BENCHMARKS.md).
     max_settle_steps : the most steps the settling may take; if reached, ``settled`` is false.
+    spall_law : the Johnson–Cook wall's spall law (:mod:`._johnson_cook`, docs/wall.md): "tuler_butcher"
+        (default: Tuler–Butcher cumulative damage of the mean tension over a threshold, a failure
+        with a time scale) or "cutoff" (the instantaneous pressure cut-off p < −p_spall).
+    fracture_strain_floor : the Johnson–Cook wall's floor on the fracture strain: "library" (default:
+        the alloy's ε_f,min from :data:`impactdyn.materials.JOHNSON_COOK_DAMAGE`, where its fit falls
+        to zero beyond its data) or "unbounded" (the fit as published, an extrapolation: any plastic
+        increment beyond its zero fails the element).
     escape_velocity_km_s : the speed above which rear-face material attached to failed
         material is leaving the wall (verdict, :mod:`._verdict`).
     erosion_step_fraction : a failed element is eroded when its step falls below this
@@ -128,6 +136,8 @@ class WallOptions(Section):
     settle: bool = False
     settle_tolerance: Fraction = 1.0e-3
     max_settle_steps: Annotated[int, Field(ge=1)] = 200_000
+    spall_law: Literal[SPALL_LAWS] = "tuler_butcher"
+    fracture_strain_floor: Literal[FRACTURE_STRAIN_FLOORS] = "library"
     escape_velocity_km_s: Positive = 1.0
     erosion_step_fraction: Annotated[float, Field(ge=0, le=1)] = 0.1
     min_step_fraction: Fraction = 1.0e-3

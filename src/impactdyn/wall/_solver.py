@@ -59,14 +59,16 @@ _BREAKDOWN = {_step.BAD_VOLUME: "non-positive volume", _step.BAD_STEP: "time ste
 
 
 def resolve_model(model: Any, options: WallOptions) -> WallModel:
-    """The model instance: ``model`` itself, or ``options.material_model`` built from a material."""
+    """The model instance: ``model`` itself, or ``options.material_model`` built from a material with the
+    options' settings the model takes (its ``option_keys``)."""
     if isinstance(model, WallModel):
         if model.name != options.material_model:
             raise InputError(f"material_model: {options.material_model!r} does not match the model given "
                              f"({model.name!r})")
         return model
     if isinstance(model, (str, Material, Mat13Card)):
-        return MODELS[options.material_model].from_material(model)
+        kind = MODELS[options.material_model]
+        return kind.from_material(model, **{key: getattr(options, key) for key in kind.option_keys})
     raise InputError(f"model: expected a wall model, a library material name, Material or Mat13Card, got {model!r}")
 
 

@@ -32,7 +32,7 @@ from impactdyn.debris import (
 from impactdyn.debris import WallSection as DebrisWallSection
 from impactdyn.materials import REPORT_MATERIAL, Material, MaterialName, get_material
 from impactdyn.shield import BinningMethod, SPHOptions, bin_to_hydrogrid
-from impactdyn.wall import WallOptions, wall_model
+from impactdyn.wall import WallOptions, resolve_model
 
 
 class ProjectileSection(Section):
@@ -191,7 +191,7 @@ class WhippleCase(Section):
         check_wave_speed(debris["lambda_Mbar"], debris["mu_Mbar"], debris["rho_ref_g_cm3"],
                          (*names, f"the density of projectile.material = {p.material!r}"))
         try:
-            wall_model(self.wall_solver.material_model, w.material)
+            resolve_model(w.material, self.wall_solver.options(w.clamped_edges))
         except InputError as err:
             raise ValueError(f"wall.material = {w.material!r} with wall_solver.material_model = "
                              f"{self.wall_solver.material_model!r}: {err}") from None

@@ -169,10 +169,10 @@ def deck_options(case: WhippleCase):
     its EOS for ``johnson_cook``), hourglass type and bulk viscosity, besides the case's
     output table (:meth:`impactdyn.debris.DeckOptions.of`)."""
     from impactdyn.debris import DeckOptions
-    from impactdyn.wall import wall_model
+    from impactdyn.wall import resolve_model
 
     options = case.wall_solver.options(case.wall.clamped_edges)
-    return replace(DeckOptions.of(case), material=wall_model(options.material_model, case.wall.material).deck_material,
+    return replace(DeckOptions.of(case), material=resolve_model(case.wall.material, options).deck_material,
                    hourglass=options.lsdyna_hourglass, bulk_viscosity=(options.q1, options.q2))
 
 
