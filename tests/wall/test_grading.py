@@ -179,7 +179,12 @@ def rear_bulge(mesh, dep, t_end):
 
 def test_graded_bulge_is_the_refined_report_bulge():
     """A uniform load on a central patch of a small wall: the graded mesh (0.0397-cm core graded to
-    0.16 cm) bulges as the report mesh refined to the core size everywhere (0.04 cm, 8 layers)."""
+    0.16 cm) bulges as the report mesh refined to the core size everywhere (0.04 cm, 8 layers).
+
+    Tolerance 2 %: measured 0.2 % at the centre and 0.6 % along the symmetry line at 4 µs (0.6 % and
+    1.1 % at 8 µs), while the meshes the graded one replaces are 4–10 % off the refined bulge (the
+    report's 4 layers of 0.16-cm cells 0.0403 cm, 8 layers of 0.16-cm cells 0.0415, against 0.0449):
+    the test tells a resolved bulge from an unresolved one."""
     grid = WallGrid.uniform((0.0, 1.28), (0.0, 0.3175), (-1.28, 1.28), (9, 5, 17))
     xc, zc = 0.5 * (grid.x[:-1] + grid.x[1:]), 0.5 * (grid.z[:-1] + grid.z[1:])
     k, i = np.nonzero((np.abs(zc)[:, None] < 0.32) & (xc[None, :] < 0.32))        # 2 × 4 cells: 0.32 × 0.64 cm
@@ -195,8 +200,10 @@ def test_graded_bulge_is_the_refined_report_bulge():
     u_g = rear_bulge(graded, on_graded, t_end)
     u_r = rear_bulge(report, dep, t_end)
     centre_g, centre_r = u_g[np.argmin(np.abs(graded.grid.z)), 0], u_r[np.argmin(np.abs(report.grid.z)), 0]
-    assert centre_r > 0.01
-    assert centre_g == pytest.approx(centre_r, rel=0.03)
+    assert centre_r > 0.04
+    assert centre_g == pytest.approx(centre_r, rel=0.02)
+    along_z = np.interp(report.grid.z, graded.grid.z, u_g[:, 0])        # the symmetry line x = 0
+    assert np.abs(along_z - u_r[:, 0]).max() <= 0.02 * centre_r
 
 
 @pytest.mark.parametrize("kwargs, key", [
