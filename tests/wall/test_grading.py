@@ -84,7 +84,7 @@ def test_bounds_on_the_table2_and_thin_walls(grid, load):
     steps = _grading.BUDGET_RUN_US / (_grading.STEP_PER_CM_US * h_core)
     assert (mesh.n_elements * steps <= _grading.ELEMENT_STEPS_BUDGET
             or np.allclose(wall.resolving_region(grid, dep, _grading.REGION_FRACTIONS[-1]), ((x0, x1), (z0, z1))))
-    assert mesh.n_elements <= {0.3175: 85_000, 0.16: 140_000}[round(t, 4)]     # measured: BENCHMARKS.md
+    assert mesh.n_elements <= {0.3175: 85_000, 0.16: 140_000}[round(t, 4)]     # the counts of the _grading docstring
     np.testing.assert_allclose(on_mesh.impulse.sum(axis=0), dep.impulse.sum(axis=0), rtol=1e-12,
                                atol=1e-14 * np.abs(dep.impulse).sum())
 

@@ -7,15 +7,15 @@ lines land on the wall's edges and on the symmetry plane x = x[0] exactly.
 **The core element** (:func:`core_element_size`): a cube of edge h = t/n, n layers through
 the thickness t, with n the smallest count that satisfies both
 
-* n ≥ :data:`MIN_LAYERS` = 8: the wall's bulge converges from 8 layers through the thickness
-  (BENCHMARKS.md, "what fails the 7a wall": 0.3405 cm at 8 layers against 0.3419 at 4 with
-  damage off, while the 4-layer verdict is not converged; and flat one-point bricks,
-  aspect > 2, bend badly), and
+* n ≥ :data:`MIN_LAYERS` = 8: the report's 4 layers do not resolve the wall's bending and
+  spall (BENCHMARKS.md, "what fails the 7a wall": the 7a bulge 0.796 cm and perforation at 4
+  layers, 0.506 cm and detached spall at 8; the one-point bricks' hourglass share of the
+  internal energy 6.7 % at 4 layers in bending, 4.3–5.8 % on 7a from 8 layers), and
 * h ≤ D/:data:`ELEMENTS_ACROSS_CRATER`: the crater of a solid fragment of diameter
   :data:`FRAGMENT_DIAMETER_CM` = 0.06 cm at :data:`FRAGMENT_SPEED_KM_S` = 6 km/s spans at
   least 4 elements.  The crater is the hemispherical hypervelocity crater, diameter D ≈ 2 p∞,
   p∞ the semi-infinite penetration depth of the Cour-Palais equation (S1)
-  (:func:`impactdyn.ble.penetration_depth`; Cour-Palais 1987; Christiansen 1993/2009) on the
+  (:func:`impactdyn.ble.penetration_depth`; Cour-Palais 1987; Christiansen 1991, 2009) on the
   report's Al 6061-T6 wall (HB 95, C 5.1 km/s, ρ_p = ρ_t): p∞ = 0.096 cm, D = 0.19 cm, so
   h ≤ 0.048 cm.  The numbers come from the one-fragment study (BENCHMARKS.md, "one compact
   fragment on the wall", 0.16-cm 2024 wall at 6 km/s): 0.06 cm is (S1)'s perforation limit
@@ -30,12 +30,12 @@ t = 8 × 0.048 = 0.38 cm.  On a 2024 wall (HB 120) the crater is 6 % smaller ((9
 within the rule's margin, so the rule does not take the material.
 
 **The resolving region** (:func:`resolving_region`): the bounding box of the case grid's face
-cells whose areal momentum Σ|I|/area is at least :data:`REGION_FRACTION` of the peak cell's,
-widened by :data:`REGION_MARGIN_THICKNESSES` wall thicknesses on every side and clipped to the
-wall.  Why those: the fragments that crater and perforate arrive where the cloud's core is,
-and the deposition of the debris stage is concentrated there (7a: measured in the module's
-tests and below); one thickness around it holds the shear ring of a punched plug and the
-crater's lip.  Outside it the elements grow.
+cells whose areal momentum Σ|I|/area is at least a share f of the peak cell's, widened by
+:data:`REGION_MARGIN_THICKNESSES` = 1 wall thickness on every side (the shear ring of a punched
+plug and the crater's lip lie within about a thickness of the load) and clipped to the wall.  f is
+the first of :data:`REGION_FRACTIONS` (0.1 … 0.9) whose mesh fits the cost budget below, or else
+0.9 — the box of the cells within 10 % of the peak, where the cloud's core and so its largest
+fragments arrive.  Outside it the elements grow.
 
 **Grading** (:func:`graded_nodes`): along x and along z the element size follows the size field
 h(x) = min(h_max, h_c + ln(r)·d(x)), d the distance to the region, r = ``grading_ratio``; the
@@ -52,9 +52,10 @@ IJNME 19), so the change is kept gradual; above 1.5 a "grading" is a sequence of
 largest in-plane cell (0.16 cm on the report's grid) — the far field is never coarser than the
 report's wall stage, and the deposition there is known on that grid only, so finer cells would
 not resolve the load any better.  There the elements are flat (0.16/0.0397 ≈ 4 on the report's
-wall): the cost of 8 layers everywhere at aspect ≤ 2 would be 164,000 elements on the
-report's 8 × 16-cm half wall, 4 times the budget; flat elements stay where the load is at most
-a tenth of its peak.
+wall, where the report's own were 2): 8 layers everywhere at aspect ≤ 2 would be 164,000
+elements on the report's 8 × 16-cm half wall, 3 times the budget below.  The flat elements
+are where the wall carries the load by bending over lengths of many thicknesses, not where it
+craters.
 
 **The load** (:func:`rebin_deposition`): each record on a case-grid face cell is split over the
 graded grid's face cells it overlaps, in proportion to the overlap areas (rectilinear: products
@@ -63,9 +64,27 @@ mesh.  Every record's impulse is kept to round-off, and the depth δ of the load
 from the case's grid (:func:`~._load.default_depth`), so the load's energy does not change
 with the mesh.
 
-**Cost**: the solver does ~2.5 M element-steps/s at 2 threads (BENCHMARKS.md) and the step is
-∝ h_c, so the graded wall stage of a ~100-µs run costs elements × steps ≈ 1.5e8 element-steps
-for ≲ 60 s.  Measured counts for the Table 2 walls are in the tests and in BENCHMARKS.md.
+**Cost**: the solver does ~2.5 M element-steps/s at 2 threads (BENCHMARKS.md) and its step is
+∝ h_c (:data:`STEP_PER_CM_US`), so a ≤ 60-s wall stage of a ~100-µs run allows
+:data:`ELEMENT_STEPS_BUDGET` = 1.5e8 element-steps.  On the report's 8 × 16-cm half wall the
+budget is not met by any region: the far field alone is 5,000 columns of 0.16-cm cells × 8
+layers = 40,000 elements, and the fine lines of a structured grid run across the whole wall, so
+the smallest region is taken.  Measured (tests/wall/test_grading.py and the 7a run):
+
+=====================================  ==========  =============================  =================
+wall, deposition                       h_c (cm)    elements (nx × 8 × nz)         element-steps
+=====================================  ==========  =============================  =================
+0.3175 cm, the 7a shot's               0.0397      66 × 8 × 135 = 71,280          1.66e8 measured
+                                                   (report mesh: 20,000)          (2,334 steps)
+0.3175 cm, a 0.5-cm sphere             0.0397      63 × 8 × 126 = 63,504          1.7e8 estimated
+0.3175 cm, a 2-cm-wide cloud           0.0397      72 × 8 × 144 = 82,944          2.2e8 estimated
+0.16 cm, a 0.5-cm sphere               0.02        71 × 8 × 142 = 80,656          4.2e8 estimated
+0.16 cm, a 2-cm-wide cloud             0.02        92 × 8 × 184 = 135,424         7.1e8 estimated
+=====================================  ==========  =============================  =================
+
+So a Table 2 wall costs about the budget (7a: ~66 s at 2.5 M element-steps/s), a 0.16-cm wall
+3–5 times it: its 8 layers of 0.02 cm halve the step, and its far-field elements are 8 times
+as wide as thick.
 """
 
 from __future__ import annotations
