@@ -106,11 +106,23 @@ def test_graded_nodes_hold_their_bounds(lo, length, a, b, h, ratio, cap):
     assert np.all(s[inside] <= h * (1 + 1e-9))
 
 
+@settings(max_examples=200, deadline=None)
+@given(cells=st.integers(1, 60), a=st.floats(0, 1), b=st.floats(0, 1), h=st.floats(0.01, 1),
+       ratio=st.floats(1.01, 1.5))
+def test_graded_nodes_on_the_case_lines_hold_their_bounds(cells, a, b, h, ratio):
+    lines = np.linspace(0.0, 0.16 * cells, cells + 1)
+    a, b = sorted((a * lines[-1], b * lines[-1]))
+    x = wall.graded_nodes(0.0, lines[-1], (a, b), 0.16 * h, ratio, 0.16, lines)
+    s = np.diff(x)
+    assert x[0] == 0.0 and x[-1] == lines[-1] and np.all(s > 0) and s.max() <= 0.16 * (1 + 1e-9)
+    assert np.all(s[1:] / s[:-1] <= ratio * (1 + 1e-9)) and np.all(s[:-1] / s[1:] <= ratio * (1 + 1e-9))
+
+
 def test_far_field_is_the_case_grid():
     """Beyond the grading, the node lines are the case grid's: its records there are not split."""
     dep = sphere_deposition(TABLE2, 0.5, 0.6, 2.7, centre_xz=(0.0, 4.0))
     mesh, _ = wall.solver_mesh(TABLE2, dep, 2.703)
-    far = mesh.grid.z[mesh.grid.z > 6.0]
+    far = mesh.grid.z[mesh.grid.z > 7.0]
     assert far.size > 10 and np.all(np.isin(np.round(far, 9), np.round(TABLE2.z, 9)))
 
 

@@ -168,7 +168,9 @@ def graded_nodes(lo: float, hi: float, region: tuple[float, float] | None, h_cor
     a, b = region
     if lines is None:
         return _equidistributed(lo, hi, a, b, h_core, ratio, h_max)
-    reach = (h_max - h_core) / math.log(ratio) + h_max        # the plateau and one element past it
+    # the grading, then r/(r − 1) plateau elements: the graded stretch then has n ≥ r/(r − 1) elements
+    # spanning ∫dx/h > n − 1, each of h_max (n − 1)/n at least, within the factor r of the lines' h_max
+    reach = (h_max - h_core) / math.log(ratio) + h_max * ratio / (ratio - 1.0)
     start = lines[lines <= a - reach]
     end = lines[lines >= b + reach]
     lo_g = start[-1] if start.size else lo
