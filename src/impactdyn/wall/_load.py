@@ -137,7 +137,11 @@ def depth_weights(mesh: WallMesh, depth: float) -> np.ndarray:
 def nodal_load(mesh: WallMesh, deposition: WallDeposition, spread: str = "corners",
                depth: float | None = None) -> NodalLoad:
     """The deposition on ``mesh``'s nodes with the ``spread`` on the front face, carried to the
-    ``depth`` below it (None: :func:`default_depth`; module docstring)."""
+    ``depth`` below it (None: :func:`default_depth`; module docstring).
+
+    ``deposition`` lies on ``mesh.load_grid``'s face cells: on a graded mesh the records
+    :func:`~._grading.solver_mesh` returns re-binned, not the case's (their element numbers
+    would fit the finer grid too, on the wrong cells)."""
     if spread not in SPREADS:
         raise InputError(f"spread: {spread!r}, expected one of {SPREADS}")
     deposition.check_fits(mesh.load_grid)
