@@ -74,8 +74,8 @@ the smallest region is taken.  Measured (tests/wall/test_grading.py and the 7a r
 =====================================  ==========  =============================  =================
 wall, deposition                       h_c (cm)    elements (nx × 8 × nz)         element-steps
 =====================================  ==========  =============================  =================
-0.3175 cm, the 7a shot's               0.0397      66 × 8 × 135 = 71,280          1.66e8 measured
-                                                   (report mesh: 20,000)          (2,334 steps)
+0.3175 cm, the 7a shot's               0.0397      66 × 8 × 135 = 71,280          1.62e8 measured
+                                                   (report mesh: 20,000)          (2,278 steps)
 0.3175 cm, a 0.5-cm sphere             0.0397      63 × 8 × 126 = 63,504          1.7e8 estimated
 0.3175 cm, a 2-cm-wide cloud           0.0397      72 × 8 × 144 = 82,944          2.2e8 estimated
 0.16 cm, a 0.5-cm sphere               0.02        71 × 8 × 142 = 80,656          4.2e8 estimated
@@ -116,8 +116,8 @@ BUDGET_RUN_US = 100.0
 #: The region's margin around those cells, in wall thicknesses.
 REGION_MARGIN_THICKNESSES = 1.0
 #: The solver's mean step over the core element's edge, µs/cm, measured on the 7a wall (Johnson–Cook
-#: 6061-T6, default options, 0.0397-cm core): 1.38 at the start (courant 0.9 × ℓ/c), 0.95 over the
-#: whole run (87.5 µs in 2334 steps), the elements' deformation and erosion shortening the step.
+#: 6061-T6, default options, 0.0397-cm core): 1.38 at the start (courant 0.9 × ℓ/c), 0.95–0.97 over
+#: the whole run (87.5 µs in 2,278–2,334 steps), the elements' deformation and erosion shortening it.
 STEP_PER_CM_US = 0.95
 #: Default and largest ratio of neighbouring element sizes (module docstring).
 GRADING_RATIO = 1.2
