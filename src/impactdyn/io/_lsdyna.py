@@ -50,6 +50,10 @@ ends with a flat zero segment, so LS-DYNA's extrapolation past its ends stays 0.
 ``pulse_width`` should be of the order of a debris particle's contact time
 (size / speed: 0.03 cm / 0.6 cm/µs ≈ 0.05 µs, the default).
 
+The wall may be any :class:`WallGrid` with the deposition on its own face cells: the case's
+grid, or the mesh the wall stage ran (:func:`impactdyn.wall.solver_mesh` returns its grid
+``mesh.grid`` and the records re-binned onto it), so the deck carries the wall stage's mesh.
+
 :func:`read_lsdyna_deck` reads back what this module writes (nodes, solids,
 SPCs, curves, point loads), for tests and checks.
 """

@@ -9,7 +9,7 @@
   :data:`impactdyn.wall.FAILURE_CAUSES`), ``pressure`` (Mbar) and ``von_mises`` (Mbar); eroded
   elements stay in the mesh, flagged (threshold on ``eroded`` to hide them);
 * ``wall.json`` — verdict, evidence, measures, energy and momentum balance, model constants,
-  mesh and options;
+  the mesh (:meth:`WallMesh.describe`: kind, elements, counts, element-size ranges) and options;
 
 and into ``plots`` (default ``folder/plots``):
 
