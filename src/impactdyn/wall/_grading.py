@@ -95,7 +95,8 @@ import numpy as np
 
 from impactdyn._errors import InputError
 from impactdyn.ble import SingleWall, penetration_depth
-from impactdyn.wall._mesh import MESH_KINDS, WallMesh, assemble_mesh, build_mesh, check_density_supports
+from impactdyn.wall._mesh import (
+    MESH_KINDS, WallMesh, assemble_mesh, build_mesh, check_density_supports, check_refinements, refine)
 from impactdyn.wallgrid import WallDeposition, WallGrid, check_nodes
 
 #: Layers through the thickness at least: the bulge converges from 8 (module docstring).
@@ -275,7 +276,9 @@ def solver_mesh(wall: WallGrid, deposition: WallDeposition, density: float, *, m
       h = ``element_size_cm`` (None: :func:`core_element_size`), in the resolving region of
       ``deposition``; in-plane sizes growing by at most ``grading_ratio`` per element up to
       ``max_element_size_cm`` (None: the largest in-plane cell of ``wall``, or h if that is
-      smaller).  The refinements are not used.  The deposition is re-binned onto the mesh's
+      smaller); then every element cut into ``refinement_thickness`` layers and
+      ``refinement_plane`` × ``refinement_plane`` pieces in the plane, the same mesh refined
+      uniformly (the convergence study's "2×").  The deposition is re-binned onto the mesh's
       face cells (:func:`rebin_deposition`).
     * ``"report"``: :func:`~._mesh.build_mesh` with the refinements; the deposition as given.
 
@@ -289,24 +292,30 @@ def solver_mesh(wall: WallGrid, deposition: WallDeposition, density: float, *, m
         return build_mesh(wall, density, refinement_thickness, refinement_plane, supports), deposition
     check_density_supports(density, supports)
     thickness = float(wall.y[-1] - wall.y[0])
-    extent = float(min(wall.x[-1] - wall.x[0], wall.z[-1] - wall.z[0]))
-    h = core_element_size(thickness) if element_size_cm is None else _size("element_size_cm", element_size_cm, extent)
+    check_mesh_sizes(min(wall.x[-1] - wall.x[0], wall.z[-1] - wall.z[0]), element_size_cm, max_element_size_cm)
+    h = core_element_size(thickness) if element_size_cm is None else element_size_cm
     if not (isinstance(grading_ratio, (int, float)) and 1.0 < grading_ratio <= MAX_GRADING_RATIO):
         raise InputError(f"grading_ratio: must be in (1, {MAX_GRADING_RATIO}], got {grading_ratio!r}")
     h_core = thickness / math.ceil(thickness / h * (1.0 - 1e-12))
     if max_element_size_cm is None:
         h_max = max(h_core, float(max(np.diff(wall.x).max(), np.diff(wall.z).max())))
     else:
-        h_max = _size("max_element_size_cm", max_element_size_cm, extent)
+        h_max = float(max_element_size_cm)
         if h_max < h_core:
             raise InputError(f"max_element_size_cm: {h_max:g} cm is below the core element's {h_core:g} cm")
     grid, _ = graded_grid(wall, deposition, h_core, grading_ratio, h_max)
-    return (assemble_mesh(wall, grid, density, supports, refinement=None, kind="graded"),
+    rt, rp = check_refinements(refinement_thickness, refinement_plane)
+    grid = WallGrid(refine(grid.x, rp), refine(grid.y, rt), refine(grid.z, rp))
+    return (assemble_mesh(wall, grid, density, supports, refinement=(rt, rp), kind="graded"),
             rebin_deposition(deposition, wall, grid))
 
 
-def _size(key: str, value, extent: float) -> float:
-    """``value`` as a size in (0, ``extent``] cm, else an InputError naming ``key``."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not (0.0 < value <= extent):
-        raise InputError(f"{key}: must be in (0, {extent:g}] cm (the wall's smaller in-plane extent), got {value!r}")
-    return float(value)
+def check_mesh_sizes(extent_cm: float, element_size_cm: float | None, max_element_size_cm: float | None) -> None:
+    """The graded mesh's sizes (None: the rule's) in (0, ``extent_cm``] (the wall's smaller in-plane
+    extent), else an InputError naming the key (a case checks them before any stage runs)."""
+    extent = float(extent_cm)
+    for key, value in (("element_size_cm", element_size_cm), ("max_element_size_cm", max_element_size_cm)):
+        if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float))
+                                  or not (0.0 < value <= extent)):
+            raise InputError(f"{key}: must be in (0, {extent:g}] cm (the wall's smaller in-plane extent), "
+                             f"got {value!r}")

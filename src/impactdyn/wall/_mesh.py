@@ -63,8 +63,9 @@ class WallMesh:
         default depth is half its first layer, :func:`~._load.default_depth`).
     grid : WallGrid
         The solver grid; its node and element numbering is the mesh's.
-    refinement : (int, int) or None
-        (through the thickness, in the plane) of a ``"report"`` mesh; None on a graded one.
+    refinement : (int, int)
+        (through the thickness, in the plane): every element of the case's grid (``"report"``) or of
+        the graded grid (``"graded"``) cut into that many layers and pieces along each in-plane axis.
     coordinates : (n_nodes, 3)
         Initial node coordinates, cm.
     connectivity : (n_elements, 8) int64
@@ -91,7 +92,7 @@ class WallMesh:
 
     parent: WallGrid
     grid: WallGrid
-    refinement: tuple[int, int] | None
+    refinement: tuple[int, int]
     coordinates: np.ndarray
     connectivity: np.ndarray
     volume: np.ndarray
@@ -161,7 +162,7 @@ class WallMesh:
         layers = np.diff(self.grid.y)
         return {"kind": self.kind, "elements": list(self.shape), "n_elements": self.n_elements,
                 "n_nodes": self.n_nodes,
-                "refinement": None if self.refinement is None else list(self.refinement),
+                "refinement": list(self.refinement),
                 "element_size_plane_cm": [float(plane.min()), float(plane.max())],
                 "layer_thickness_cm": [float(layers.min()), float(layers.max())],
                 "supports": self.supports}
@@ -182,6 +183,14 @@ def check_density_supports(density: float, supports: str) -> None:
         raise InputError(f"supports: {supports!r}, expected one of {SUPPORTS}")
 
 
+def check_refinements(refinement_thickness: int, refinement_plane: int) -> tuple[int, int]:
+    """(r_t, r_p) as ints, or an InputError naming the argument that is not a positive integer."""
+    for name, r in (("refinement_thickness", refinement_thickness), ("refinement_plane", refinement_plane)):
+        if isinstance(r, bool) or not isinstance(r, (int, np.integer)) or r < 1:
+            raise InputError(f"{name}: must be a positive integer, got {r!r}")
+    return int(refinement_thickness), int(refinement_plane)
+
+
 def build_mesh(wall: WallGrid, density: float, refinement_thickness: int = 1, refinement_plane: int = 1,
                supports: str = "dyngen") -> WallMesh:
     """The ``"report"`` solver mesh of ``wall`` (module docstring), ρ₀ = ``density`` g/cm³.
@@ -189,17 +198,14 @@ def build_mesh(wall: WallGrid, density: float, refinement_thickness: int = 1, re
     Raises :class:`InputError` naming the argument for a non-positive or non-integer
     refinement, a non-positive density or an unknown support condition.
     """
-    for name, r in (("refinement_thickness", refinement_thickness), ("refinement_plane", refinement_plane)):
-        if isinstance(r, bool) or not isinstance(r, (int, np.integer)) or r < 1:
-            raise InputError(f"{name}: must be a positive integer, got {r!r}")
+    rt, rp = check_refinements(refinement_thickness, refinement_plane)
     check_density_supports(density, supports)
-    rt, rp = int(refinement_thickness), int(refinement_plane)
     grid = WallGrid(refine(wall.x, rp), refine(wall.y, rt), refine(wall.z, rp))
     return assemble_mesh(wall, grid, density, supports, refinement=(rt, rp), kind="report")
 
 
 def assemble_mesh(parent: WallGrid, grid: WallGrid, density: float, supports: str,
-                  refinement: tuple[int, int] | None, kind: str) -> WallMesh:
+                  refinement: tuple[int, int], kind: str) -> WallMesh:
     """The :class:`WallMesh` of the solver grid ``grid`` (checked arguments): masses, supports, node map."""
     coords = np.ascontiguousarray(grid.node_coordinates(), dtype=np.float64)
     conn = np.ascontiguousarray(grid.element_nodes() - 1, dtype=np.int64)

@@ -9,9 +9,10 @@ from pydantic import Field, field_validator
 
 from impactdyn._config import NonNegative, Positive, Section
 from impactdyn._errors import InputError, SimulationError
+from impactdyn.wall._grading import GRADING_RATIO, MAX_GRADING_RATIO
 from impactdyn.wall._johnson_cook import FRACTURE_STRAIN_FLOORS, SPALL_LAWS
 from impactdyn.wall._load import SPREADS
-from impactdyn.wall._mesh import SUPPORTS
+from impactdyn.wall._mesh import MESH_KINDS, SUPPORTS
 from impactdyn.wall._models import check_model_name
 
 HOURGLASS_FORMS = ("viscous", "stiffness", "assumed_strain")
@@ -35,8 +36,19 @@ Fraction = Annotated[float, Field(gt=0, le=1)]
 class WallOptions(Section):
     """Numerical and physical options of :func:`impactdyn.wall.run_wall` (units µs, km/s).
 
-    refinement_thickness, refinement_plane : elements per parent element through the
-        thickness and along each in-plane axis (:mod:`._mesh`).
+    mesh : "graded" (default; :mod:`._grading`): near-cubic elements of the core size in the region
+        the debris load is densest, growing by at most ``grading_ratio`` per element to the case
+        grid's cell, with every record's impulse re-binned onto the mesh exactly; or "report": the
+        case's grid as the report's DYNA3D model had it (51 × 5 × 101 nodes for Table 2), for
+        comparison with the 1994 results.
+    element_size_cm : the core element's edge; None (default): the rule of
+        :func:`impactdyn.wall.core_element_size` (8 layers through the thickness at least, and 4
+        elements across the crater of a 0.06-cm fragment at 6 km/s).
+    grading_ratio : the largest ratio of neighbouring element sizes of the graded mesh (1.2).
+    max_element_size_cm : the largest in-plane element of the graded mesh; None: the case grid's.
+    refinement_thickness, refinement_plane : every element of the mesh (either kind) cut into
+        that many layers and pieces along each in-plane axis (:mod:`._mesh`): the convergence
+        study's "2×" is 2 and 2.
     material_model : a registered model name (:data:`impactdyn.wall.MODELS`): "johnson_cook"
         (default: Johnson–Cook strength, Mie–Grüneisen EOS, JC damage, spall and erosion) or
         "mat13" (the report's DYNA3D type 13).  Why the default: chosen by a rule fixed before
@@ -117,6 +129,10 @@ class WallOptions(Section):
         the initial step is a breakdown (:class:`WallSolverError`).
     """
 
+    mesh: Literal[MESH_KINDS] = "graded"
+    element_size_cm: Positive | None = None
+    grading_ratio: Annotated[float, Field(gt=1, le=MAX_GRADING_RATIO)] = GRADING_RATIO
+    max_element_size_cm: Positive | None = None
     refinement_thickness: Annotated[int, Field(ge=1)] = 1
     refinement_plane: Annotated[int, Field(ge=1)] = 1
     material_model: str = "johnson_cook"
@@ -149,6 +165,11 @@ class WallOptions(Section):
             return check_model_name(name)
         except InputError as err:
             raise ValueError(str(err).removeprefix("material_model: ")) from None
+
+    def mesh_settings(self) -> dict:
+        """The keywords of :func:`impactdyn.wall.solver_mesh` these options set."""
+        return {key: getattr(self, key) for key in ("mesh", "element_size_cm", "grading_ratio", "max_element_size_cm",
+                                                    "refinement_thickness", "refinement_plane", "supports")}
 
     @property
     def hourglass_form(self) -> int:

@@ -37,7 +37,8 @@ from impactdyn.materials import Mat13Card, Material
 from impactdyn.units import CM_US_PER_KM_S, KM_S_PER_CM_US
 from impactdyn.wall import _step
 from impactdyn.wall._load import NodalLoad, nodal_load
-from impactdyn.wall._mesh import WallMesh, build_mesh
+from impactdyn.wall._grading import solver_mesh
+from impactdyn.wall._mesh import WallMesh
 from impactdyn.wall._models import MODELS, WallModel
 from impactdyn.wall._options import WallOptions, WallSolverError
 from impactdyn.wall._result import (
@@ -499,8 +500,8 @@ def run_wall(wall: WallGrid, deposition: WallDeposition, model: Any = "al6061-t6
     m = resolve_model(model, options)
     if wall.y[-1] - wall.y[0] <= 0:
         raise InputError("wall: thickness must be > 0")
-    mesh = build_mesh(wall, m.density, options.refinement_thickness, options.refinement_plane, options.supports)
-    load = nodal_load(mesh, deposition, options.spread, options.deposition_depth_cm)
+    mesh, on_mesh = solver_mesh(wall, deposition, m.density, **options.mesh_settings())
+    load = nodal_load(mesh, on_mesh, options.spread, options.deposition_depth_cm)
     t_start = float(load.time.min()) if load.time.size else 0.0
     last = float(load.time.max()) if load.time.size else 0.0
     if options.end_time_us is not None and options.end_time_us < last:
