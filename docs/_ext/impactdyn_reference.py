@@ -1,10 +1,15 @@
-"""Sphinx extension: the case-file and command-line reference pages, generated from the code.
+"""Sphinx extension: the reference pages generated from the code, and the docstrings made reST.
 
 At ``builder-inited`` it writes ``user-guide/case-files.md`` (every key of the four case kinds,
 walked from their pydantic :class:`~impactdyn._config.Section` models: dotted key, type, unit,
-default, bounds, description) and ``user-guide/cli.md`` (every command of the typer app with its
-arguments and options).  Both files are build outputs (ignored by git), so they cannot drift
-from the code; ``tests/test_docs_reference.py`` checks the case reference against the models.
+default, bounds, description), ``user-guide/cli.md`` (every command of the typer app with its
+arguments and options) and ``api/*.md`` (each public module's ``__all__``, every object on the
+page of the package that defines it).  They are build outputs (ignored by git), so they cannot
+drift from the code; ``tests/test_docs_reference.py`` checks the case reference against the models.
+
+The docstrings write maths in plain text (``|p|``, ``a*b``) and document settings as
+``name : text`` lines; :func:`as_rest` escapes the one and turns the other into a definition
+list before autodoc parses them.
 """
 
 from __future__ import annotations
@@ -22,7 +27,7 @@ from pydantic import BaseModel
 from pydantic.fields import FieldInfo
 from pydantic_core import PydanticUndefined
 
-from impactdyn._config import documented_settings
+from impactdyn._config import SETTING_ENTRY, documented_settings
 from impactdyn.beam import BeamCase
 from impactdyn.debris import DebrisCase
 from impactdyn.whipple import WhippleCase
@@ -233,17 +238,130 @@ def cli_reference() -> str:
     return "\n".join(lines)
 
 
-GENERATED = {"user-guide/case-files.md": case_reference, "user-guide/cli.md": cli_reference}
+API_MODULES = {
+    "whipple": "The end-to-end Whipple pipeline, its cases, campaigns, limits and validation.",
+    "shield": "The built-in SPH shield-impact stage and the binning to a hand-off grid.",
+    "debris": "DC3D's deformable particles: seeding, integrators, deposition on the wall.",
+    "wall": "Explicit finite elements of the rear wall, its failure and verdict.",
+    "ble": "Ballistic-limit equations and the test database.",
+    "beam": "The rotating flexible beam with impact.",
+    "io": "File formats: grids, legacy DC3D and CTH files, LS-DYNA and DYNA3D decks, VTK.",
+    "hydrogrid": "The hand-off state on a rectilinear grid.",
+    "wallgrid": "The wall's brick mesh and the deposited momentum.",
+    "materials": "The material library with its sources.",
+    "constitutive": "Compiled equation-of-state and strength kernels shared by the SPH and FE solvers.",
+    "units": "Unit conversions.",
+}
+
+
+def _home(module: str, obj: Any) -> str:
+    """The public module whose page documents ``obj``: the package that defines it, else ``module``."""
+    defined = getattr(obj, "__module__", None) or module
+    for name in ["impactdyn", *(f"impactdyn.{m}" for m in API_MODULES)]:
+        if defined.startswith(f"{name}.") and name != "impactdyn" or defined == name:
+            return name
+    return "impactdyn" if getattr(obj, "__name__", None) in _exports("impactdyn") else module
+
+
+def _exports(module: str) -> list[str]:
+    import importlib
+
+    imported = importlib.import_module(module)
+    return list(getattr(imported, "__all__", [n for n in vars(imported) if not n.startswith("_")]))
+
+
+def api_page(module: str, summary: str) -> str:
+    import importlib
+
+    imported = importlib.import_module(module)
+    own, elsewhere = [], []
+    for name in _exports(module):
+        home = _home(module, getattr(imported, name))
+        (own if home == module else elsewhere).append((name, home))
+    lines = [f"# {module}", "", summary, "", "```{eval-rst}", f".. automodule:: {module}",
+             f"   :members: {', '.join(n for n, _ in own)}" if own else "   :no-members:",
+             *([f"   :exclude-members: {', '.join(n for n, _ in elsewhere)}"] if elsewhere else []), "```", ""]
+    if elsewhere:
+        lines += ["Also exported here, documented where they are defined: " + ", ".join(
+            f"[`{n}`]({home.replace('impactdyn.', '') if home != 'impactdyn' else 'impactdyn'}.md)"
+            for n, home in elsewhere) + ".", ""]
+    return "\n".join(lines)
+
+
+def api_index() -> str:
+    lines = ["# API reference", "",
+             "The public names of each module: those its `__init__` exports (`__all__`). Names that start "
+             "with an underscore are private and may change without notice.", "",
+             "| module | what it holds |", "| --- | --- |",
+             "| [`impactdyn`](impactdyn.md) | the two errors every command and function raises |",
+             *(f"| [`impactdyn.{m}`]({m}.md) | {s} |" for m, s in API_MODULES.items()),
+             "", "```{toctree}", ":hidden:", "", "impactdyn", *API_MODULES, "```", ""]
+    return "\n".join(lines)
+
+
+def generated_pages() -> dict[str, str]:
+    pages = {"user-guide/case-files.md": case_reference(), "user-guide/cli.md": cli_reference(),
+             "api/index.md": api_index(),
+             "api/impactdyn.md": api_page("impactdyn", "The package: its errors, which every command maps to an "
+                                                       "exit code.")}
+    pages |= {f"api/{m}.md": api_page(f"impactdyn.{m}", s) for m, s in API_MODULES.items()}
+    return pages
 
 
 def write_pages(app: Any) -> None:
-    for name, page in GENERATED.items():
+    for name, text in generated_pages().items():
         path = Path(app.srcdir) / name
-        text = page()
+        path.parent.mkdir(exist_ok=True)
         if not path.exists() or path.read_text(encoding="utf-8") != text:  # unchanged: no rebuild
             path.write_text(text, encoding="utf-8")
 
 
+_CODE = re.compile(r"(``.+?``|:[\w:]+:`[^`]+`|`[^`]+`_?)")
+
+
+def _escape(line: str) -> str:
+    """``|`` and ``*`` outside literals and roles, as text (the docstrings' absolute values, products)."""
+    bullet = re.match(r"\s*[*-] ", line)
+    head, line = (bullet.group(0), line[bullet.end():]) if bullet else ("", line)
+    parts = _CODE.split(line)
+    return head + "".join(p if i % 2 else p.replace("|", "\\|").replace("*", "\\*") for i, p in enumerate(parts))
+
+
+def as_rest(lines: list[str]) -> list[str]:
+    """A docstring's lines as reStructuredText: maths escaped outside literal blocks, and each run of
+    ``name : text`` entries (with their indented continuations) a definition list."""
+    out: list[str] = []
+    literal_indent = None  # the indentation of the paragraph that opened a literal block (``::``)
+    in_entries = False
+    for line in lines:
+        indent = len(line) - len(line.lstrip())
+        if literal_indent is not None and (not line.strip() or indent > literal_indent):
+            out.append(line)
+            continue
+        literal_indent = None
+        entry = SETTING_ENTRY.match(line)
+        if entry:
+            if not in_entries and out and out[-1].strip():
+                out.append("")
+            out += [", ".join(f"``{n}``" for n in entry.group(1).split(", ")), f"    {_escape(entry.group(2))}"]
+            in_entries = True
+        elif in_entries and line.startswith(" ") and line.strip():
+            out.append(f"    {_escape(line.strip())}")
+        else:
+            if in_entries and line.strip():
+                out.append("")
+            in_entries = False
+            out.append(_escape(line))
+        if line.rstrip().endswith("::"):
+            literal_indent = indent
+    return out
+
+
+def _rest_docstring(app: Any, what: str, name: str, obj: Any, options: Any, lines: list[str]) -> None:
+    lines[:] = as_rest(lines)
+
+
 def setup(app: Any) -> dict[str, Any]:
     app.connect("builder-inited", write_pages)
+    app.connect("autodoc-process-docstring", _rest_docstring)
     return {"parallel_read_safe": True}

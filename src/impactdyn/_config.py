@@ -123,7 +123,8 @@ def field_of(source: Any, name: str, default: Any = _NO_DEFAULT) -> Any:
     return info
 
 
-_ENTRY = re.compile(r"^(\w+(?:, \w+)*) : (.*)$")
+#: A docstring line that documents settings: ``name : text`` or ``a, b : text``.
+SETTING_ENTRY = re.compile(r"^(\w+(?:, \w+)*) : (.*)$")
 
 
 def documented_settings(cls: type) -> dict[str, str]:
@@ -136,7 +137,7 @@ def documented_settings(cls: type) -> dict[str, str]:
     for klass in reversed(cls.__mro__):
         names: list[str] = []
         for line in inspect.cleandoc(klass.__dict__.get("__doc__") or "").splitlines():
-            entry = _ENTRY.match(line)
+            entry = SETTING_ENTRY.match(line)
             if entry:
                 names = entry.group(1).split(", ")
                 entries.update(dict.fromkeys(names, entry.group(2).strip()))
