@@ -30,8 +30,7 @@ from pydantic_core import PydanticUndefined
 from impactdyn._config import SETTING_ENTRY, documented_settings
 from impactdyn.beam import BeamCase
 from impactdyn.debris import DebrisCase
-from impactdyn.whipple import WhippleCase
-from impactdyn.whipple._selection import SelectionRule
+from impactdyn.whipple import SelectionRule, WhippleCase
 
 
 @dataclasses.dataclass(frozen=True)
