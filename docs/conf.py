@@ -32,8 +32,7 @@ root_doc = "index"
 myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence", "deflist"]
 myst_heading_anchors = 3
 math_number_all = False
-numfig = True
-math_numfig = True
+math_numfig = False  # equations numbered per page, (1), (2), …: the docstrings cite them so
 math_eqref_format = "({number})"
 
 # API reference: each public package's __all__ (autodoc respects it), types as written in the signatures.
@@ -60,8 +59,11 @@ html_title = "impactdyn"
 html_theme_options = {
     "navigation_with_keys": False,
     "show_toc_level": 2,
-    "secondary_sidebar_items": ["page-toc"],
+    # The generated references are wide tables: they take the room of the page's table of contents.
+    "secondary_sidebar_items": {"**": ["page-toc"], "user-guide/case-files": [], "user-guide/cli": []},
     "footer_start": ["copyright"],
     "footer_end": [],
 }
 html_show_sourcelink = False
+html_static_path = ["_static"]
+html_css_files = ["impactdyn.css"]

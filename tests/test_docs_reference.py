@@ -68,4 +68,4 @@ def test_a_row_carries_unit_default_and_bounds(page):
     row = next(line for line in _section(page, WhippleCase).splitlines()
                if line.startswith("| `projectile.obliquity_deg` |"))
     assert [cell.strip() for cell in row.strip("|").split("|")][:5] == [
-        "`projectile.obliquity_deg`", "number", "°", "0.0", "≥ 0, < 90"]
+        "`projectile.obliquity_deg`", "number", "°", "`0.0`", "≥ 0, < 90"]

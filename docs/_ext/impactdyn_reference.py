@@ -127,7 +127,8 @@ def default_of(info: FieldInfo) -> str:
         return "none"
     if isinstance(value, BaseModel):
         return "(table)"
-    return f'"{value}"' if isinstance(value, str) else str(value).replace("True", "true").replace("False", "false")
+    toml = f'"{value}"' if isinstance(value, str) else str(value).replace("True", "true").replace("False", "false")
+    return f"`{toml}`"
 
 
 def _plain(text: str) -> str:
@@ -196,7 +197,7 @@ def case_reference() -> str:
                 doc = _table_doc(kind.model, section) if section else ""
                 lines += ["", heading, "", *([doc, ""] if doc else []),
                           "| key | type | unit | default | bounds | description |", "| --- | --- | --- | --- | --- | --- |"]
-            lines.append(f"| `{key.dotted}` | {key.type} | {key.unit} | {_plain(key.default)} | {key.bounds} | "
+            lines.append(f"| `{key.dotted}` | {key.type} | {key.unit} | {key.default} | {key.bounds} | "
                          f"{key.description} |")
         lines.append("")
     return "\n".join(lines)

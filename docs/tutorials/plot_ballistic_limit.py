@@ -16,10 +16,12 @@ import numpy as np
 
 from impactdyn.ble import WhippleShield, ballistic_limit_curve, jsc_verdict, nearby_shots
 
-shield = WhippleShield(bumper_thickness_cm=0.127, wall_thickness_cm=0.3175, spacing_cm=10.16, wall_yield_ksi=40.0)
+shield = WhippleShield(bumper_thickness_cm=0.127, wall_thickness_cm=0.3175, spacing_cm=10.16,
+                       wall_yield_ksi=40.0)
 for velocity, diameter in [(7.0, 0.575), (7.0, 0.475), (10.0, 0.530), (10.0, 0.430)]:
     verdict = jsc_verdict(shield, diameter, velocity, 25.0, projectile_density=2.703)
-    print(f"V = {velocity:4.1f} km/s, d = {diameter:.3f} cm: d_c = {verdict['critical_diameter_cm']:.3f} cm "
+    d_c = verdict["critical_diameter_cm"]
+    print(f"V = {velocity:4.1f} km/s, d = {diameter:.3f} cm: d_c = {d_c:.3f} cm "
           f"({verdict['regime']}) -> {verdict['verdict']}")
 
 # %%
@@ -28,15 +30,18 @@ for velocity, diameter in [(7.0, 0.575), (7.0, 0.475), (10.0, 0.530), (10.0, 0.4
 # within ±10° of the normal. Each has its own shield, so it is drawn where it was fired, not
 # rescaled to this one.
 shots = nearby_shots(shield, obliquity_deg=0.0)
-print(f"{len(shots)} nearby shots at normal incidence, {int(shots.perforated.sum())} of them perforated the wall")
+print(f"{len(shots)} nearby shots at normal incidence, "
+      f"{int(shots.perforated.sum())} of them perforated the wall")
 
 # %%
 # The two registered forms of the equation at normal incidence over 1-15 km/s. ``threshold_cm``
 # is the diameter above which a sphere perforates; it equals the critical diameter wherever the
 # 2011 form has one (its fixed point).
-curves = {name: ballistic_limit_curve(shield, np.linspace(1.0, 15.0, 141), 0.0, 2.703, equation=name)
+speeds = np.linspace(1.0, 15.0, 141)
+curves = {name: ballistic_limit_curve(shield, speeds, 0.0, 2.703, equation=name)
           for name in ("jsc1993", "jsc2011")}
-print("regime boundaries of the 2011 form (km/s):", curves["jsc2011"].regime_boundaries_km_s)
+print("regime boundaries of the 2011 form (km/s):",
+      curves["jsc2011"].regime_boundaries_km_s)
 
 fig, ax = plt.subplots(figsize=(7, 4.5))
 for name, style in (("jsc2011", "-"), ("jsc1993", "--")):

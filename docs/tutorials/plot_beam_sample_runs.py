@@ -19,8 +19,10 @@ import matplotlib.pyplot as plt
 
 from impactdyn.beam import load_case, simulate
 
-EXAMPLES = Path("../../examples/beam")  # the tutorials run from docs/tutorials
-results = {name: simulate(load_case(EXAMPLES / f"{name}_sample.toml")) for name in ("impactc", "impactb")}
+# the tutorials run from docs/tutorials
+EXAMPLES = Path("../../examples/beam")
+results = {name: simulate(load_case(EXAMPLES / f"{name}_sample.toml"))
+           for name in ("impactc", "impactb")}
 
 # %%
 # The first contact of each: the approach and separation speeds of the stop point and their
@@ -28,10 +30,12 @@ results = {name: simulate(load_case(EXAMPLES / f"{name}_sample.toml")) for name 
 # one lasts some 39 µs and has a peak force.
 for name, result in results.items():
     first = result.impacts[0]
+    duration_us = 1e6 * (first.t_end - first.t_start)
     force = ("an impulse" if first.peak_force is None else
-             f"{1e6 * (first.t_end - first.t_start):.1f} µs long, peak force {first.peak_force:.0f} N")
-    print(f"{name}: {len(result.impacts)} contacts; the first at {first.t_start:.7f} s, "
-          f"{first.v_approach:.6f} -> {first.v_separation:.6f} m/s, e = {first.restitution:.6f}, {force}")
+             f"{duration_us:.1f} µs long, peak force {first.peak_force:.0f} N")
+    print(f"{name}: {len(result.impacts)} contacts; the first at {first.t_start:.7f} s,\n"
+          f"  {first.v_approach:.6f} -> {first.v_separation:.6f} m/s, "
+          f"e = {first.restitution:.6f}, {force}")
 
 # %%
 # The hub angle and speed through the strike. With the momentum law the beam chatters against

@@ -22,7 +22,8 @@ from matplotlib.patches import Rectangle
 from impactdyn import InputError
 from impactdyn.io import read_dc3din
 
-DC3DIN = Path("../../examples/debris/legacy/dc3din")  # the tutorials run from docs/tutorials
+# the tutorials run from docs/tutorials
+DC3DIN = Path("../../examples/debris/legacy/dc3din")
 d = read_dc3din(DC3DIN)
 print("run type:", d.run_type.name, f"(itype {d.itype}, jtype {d.jtype})")
 for name in ("tcut", "tmin", "dencut", "mu", "lam", "rho_ref", "eta", "zeta", "eps"):
@@ -33,7 +34,8 @@ for name in ("tcut", "tmin", "dencut", "mu", "lam", "rho_ref", "eta", "zeta", "e
 # (CTH's first real cell), with the node of cell i at xlow + (i − 2) Δx.
 layout = d.avs_layout
 cells = (layout.i2 - layout.i1 + 1, layout.j2 - layout.j1 + 1, layout.k2 - layout.k1 + 1)
-x0, z0 = layout.xlow + (layout.i1 - 2) * layout.dx, layout.zlow + (layout.k1 - 2) * layout.dz
+x0 = layout.xlow + (layout.i1 - 2) * layout.dx
+z0 = layout.zlow + (layout.k1 - 2) * layout.dz
 print(f"dumped block: {cells[0]} x {cells[1]} x {cells[2]} cells of {layout.dx} cm")
 
 # %%
