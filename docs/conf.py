@@ -36,7 +36,7 @@ math_numfig = False  # equations numbered per page, (1), (2), …: the docstring
 math_eqref_format = "({number})"
 
 # API reference: each public package's __all__ (autodoc respects it), types as written in the signatures.
-autodoc_default_options = {"members": True, "show-inheritance": False}
+autodoc_default_options = {"members": True}
 autodoc_member_order = "bysource"
 autodoc_typehints = "description"
 autodoc_typehints_format = "short"

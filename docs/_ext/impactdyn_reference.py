@@ -223,15 +223,16 @@ def cli_reference() -> str:
     for path, command in _commands(typer.main.get_command(app), "impactdyn"):
         depth = min(path.count(" ") + 2, 4)
         arguments = [p for p in command.params if p.param_type_name == "argument"]
-        usage = " ".join([path, *(p.name.upper() if p.required else f"[{p.name.upper()}]" for p in arguments),
-                          "[OPTIONS]" if len(arguments) < len(command.params) else "",
-                          "COMMAND" if hasattr(command, "commands") else ""])
+        usage = " ".join(word for word in [
+            path, *(p.name.upper() if p.required else f"[{p.name.upper()}]" for p in arguments),
+            "[OPTIONS]" if len(arguments) < len(command.params) else "",
+            "COMMAND" if hasattr(command, "commands") else ""] if word)
         lines += [f"{'#' * depth} `{path}`", "", _plain(command.help or ""), "", f"```text\n{usage.strip()}\n```", ""]
         if command.params:
             lines += ["| argument / option | required | default | help |", "| --- | --- | --- | --- |"]
             for p in command.params:
-                name = p.name.upper() if p.param_type_name == "argument" else " ".join(p.opts)
-                default = "" if p.required or p.default is None else f"`{p.default}`"
+                name = p.name.upper() if p.param_type_name == "argument" else ", ".join(p.opts)
+                default = "" if p.required or p.default is None or getattr(p, "is_flag", False) else f"`{p.default}`"
                 lines.append(f"| `{name}` | {'yes' if p.required else ''} | {default} | "
                              f"{_plain(getattr(p, 'help', None) or '')} |")
             lines.append("")
