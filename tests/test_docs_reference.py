@@ -69,3 +69,14 @@ def test_a_row_carries_unit_default_and_bounds(page):
                if line.startswith("| `projectile.obliquity_deg` |"))
     assert [cell.strip() for cell in row.strip("|").split("|")][:5] == [
         "`projectile.obliquity_deg`", "number", "°", "`0.0`", "≥ 0, < 90"]
+
+
+def test_a_setting_documented_in_its_class_docstring_keeps_its_description_in_a_case_table():
+    """``name : text`` entries of an options class (here SPHOptions') describe the case keys that
+    take the option over (``field_of``), so the reference has a description for them."""
+    from impactdyn._config import documented_settings
+    from impactdyn.shield import SPHOptions
+
+    shield = WhippleCase.model_fields["shield"].annotation
+    assert documented_settings(SPHOptions)["cfl"] == "time-step factors."
+    assert shield.model_fields["cfl"].description == "time-step factors."
