@@ -17,7 +17,7 @@ Sources
 [S91]  D. J. Steinberg, *Equation of state and strength properties of selected
        materials*, LLNL UCRL-MA-106439 (1991, rev. 1996): ρ₀, c₀, s, Γ₀, G₀, Y₀
        (the Steinberg–Guinan ``Y0``, the yield stress at zero plastic strain and
-       pressure), as tabulated in DESIGN §6 for the aluminium alloys.
+       pressure), as tabulated in docs/theory/shield.md for the aluminium alloys.
 [JC83] G. R. Johnson, W. H. Cook, *A constitutive model and data for metals
        subjected to large strains, high strain rates and high temperatures*,
        Proc. 7th Int. Symp. Ballistics, The Hague (1983), Table 1 (2024-T351, OFHC copper).

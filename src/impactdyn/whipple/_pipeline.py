@@ -1,4 +1,4 @@
-"""The end-to-end Whipple pipeline: shield → binning → debris → wall → decks → report (DESIGN §5–9).
+"""The end-to-end Whipple pipeline: shield → binning → debris → wall → decks → report (docs/theory/).
 
 Each stage reads the artifacts of the stages before it from the run folder and
 writes its own into a subfolder with a ``stage.json`` record (its numbers, its
