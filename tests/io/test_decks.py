@@ -243,6 +243,11 @@ def test_johnson_cook_material_and_controls(tmp_path):
     np.testing.assert_allclose(mat[2], [al.specific_heat, -al.spall_strength, 3, 0, dmg.D1, dmg.D2, dmg.D3, dmg.D4],
                                rtol=1e-8)
     assert mat[3][0] == pytest.approx(dmg.D5)
+    assert mat[3][2] == 0.0 and mat[3][3] == 0.0  # EROD 0 (erode) and EFMIN blank (LS-DYNA's 1e-6) unless given
+    kept = tmp_path / "kept.k"
+    write_lsdyna_deck(kept, wall, al, failure_strain_floor=dmg.efmin, erode_failed=False)
+    card4 = read_lsdyna_deck(kept).cards["*MAT_JOHNSON_COOK"][3]
+    assert card4[2] == 1.0 and card4[3] == pytest.approx(dmg.efmin, rel=1e-6)  # the wall stage's defaults (a 10-column field: 7 digits)
     eos = cards["*EOS_GRUNEISEN"]
     np.testing.assert_allclose(eos[0][:6], [1, al.c0, al.s, 0, 0, al.gamma0], rtol=1e-8)
     assert eos[1][0] == 1.0

@@ -185,6 +185,10 @@ class JohnsonCookModel(WallModel):
         return math.sqrt(m.c0 ** 2 + 4.0 * m.shear_modulus / (3.0 * m.rho0))
 
     @property
+    def deck_failure_strain_floor(self) -> float | None:
+        return self.efmin if self.damage is not None else None
+
+    @property
     def efmin(self) -> float:
         """The fracture-strain floor ε_f,min in effect (module docstring)."""
         d = self.damage

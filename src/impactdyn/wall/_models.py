@@ -56,6 +56,11 @@ class WallModel(ABC):
         a :class:`~impactdyn.materials.Mat13Card` (``*MAT_013``) or a library
         :class:`~impactdyn.materials.Material` (``*MAT_015`` with ``*EOS_GRUNEISEN``)."""
 
+    @property
+    def deck_failure_strain_floor(self) -> float | None:
+        """The fracture-strain floor an LS-DYNA deck writes (*MAT_JOHNSON_COOK's EFMIN); None: none."""
+        return None
+
     @abstractmethod
     def wave_speed(self) -> float:
         """Longitudinal wave speed of the undeformed material, √((K + 4G/3)/ρ₀), cm/µs."""

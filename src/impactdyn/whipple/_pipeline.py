@@ -182,8 +182,10 @@ def deck_options(case: WhippleCase):
     from impactdyn.wall import resolve_model
 
     options = case.wall_solver.options(case.wall.clamped_edges)
-    return replace(DeckOptions.of(case), material=resolve_model(case.wall.material, options).deck_material,
-                   hourglass=options.lsdyna_hourglass, bulk_viscosity=(options.q1, options.q2))
+    model = resolve_model(case.wall.material, options)
+    return replace(DeckOptions.of(case), material=model.deck_material, hourglass=options.lsdyna_hourglass,
+                   bulk_viscosity=(options.q1, options.q2), failure_strain_floor=model.deck_failure_strain_floor,
+                   erode_failed=model.erodes)
 
 
 def _report(s: StageContext) -> dict:
