@@ -151,8 +151,9 @@ def documented_settings(cls: type) -> dict[str, str]:
 def section_of(name: str, base: type[M], source: Any, names: Sequence[str], module: str) -> type[M]:
     """A :class:`Section` named ``name`` derived from ``base`` with the settings ``names`` of
     ``source`` (:func:`field_of`: their types, defaults and bounds), e.g. a case table that exposes
-    some of a solver's options under the same keys."""
-    hints = typing.get_type_hints(source)
+    some of a solver's options under the same keys.  The types keep their ``Annotated`` bounds (a
+    bound written inside an optional type, ``Positive | None``, lives there, not in the field)."""
+    hints = typing.get_type_hints(source, include_extras=True)
     return create_model(name, __base__=base, __module__=module,
                         **{key: (hints[key], field_of(source, key)) for key in names})
 

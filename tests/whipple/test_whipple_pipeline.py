@@ -287,6 +287,14 @@ def test_the_debris_case_carries_the_wall_material(tmp_path, make_case):
     (dict(wall__thickness_cm=0.0), "wall.thickness_cm"),
     (dict(wall_solver__deposition_depth_cm=-1.0), "deposition_depth_cm"),
     (dict(wall_solver__deposition_depth_cm=5.0), "wall_solver.deposition_depth_cm = 5.0 exceeds the wall's thickness"),
+    (dict(wall_solver__mesh="fine"), "wall_solver.mesh: must be 'graded' or 'report'"),
+    (dict(wall_solver__grading_ratio=1.0), "wall_solver.grading_ratio: must be greater than 1"),
+    (dict(wall_solver__grading_ratio=2.0), "wall_solver.grading_ratio: must be less than or equal to 1.5"),
+    (dict(wall_solver__element_size_cm=0.0), "wall_solver.element_size_cm: must be greater than 0"),
+    (dict(wall_solver__element_size_cm=50.0), "wall_solver.element_size_cm: must be in (0, "),
+    (dict(wall_solver__max_element_size_cm=50.0), "wall_solver.max_element_size_cm: must be in (0, "),
+    (dict(wall_solver__spall_law="instant"), "wall_solver.spall_law: must be 'tuler_butcher' or 'cutoff'"),
+    (dict(wall_solver__fracture_strain_floor="none"), "wall_solver.fracture_strain_floor: must be"),
 ])
 def test_bad_wall_solver_settings_exit_2_before_any_work(tmp_path, capsys, make_case, changes, message):
     case = make_case(tmp_path, **changes)
