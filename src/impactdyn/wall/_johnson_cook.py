@@ -55,6 +55,7 @@ Sound speed: c² = c_b² + 4G/(3ρ), c_b the isentropic bulk sound speed of the 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -70,7 +71,6 @@ from impactdyn.wall._models import WallModel, register_model
 from impactdyn.wall._state import (
     DAMAGE, EPS_P, FAIL_DAMAGE, FAIL_DAMAGE_FLOOR, FAIL_TENSION, FAILED, IE, P, RATE, stress_power)
 
-KIND = 1
 (J_DAMAGE, J_D1, J_D2, J_D3, J_D4, J_D5, J_EFMIN, J_SPALL, J_FLOOR) = range(9)
 
 #: Numerical floor on the JC fracture strain (module docstring).
@@ -107,7 +107,6 @@ class JohnsonCookModel(WallModel):
     damage_at_floor: bool = True
 
     name = "johnson_cook"
-    kind = KIND
 
     def __post_init__(self) -> None:
         if self.material.johnson_cook is None:
@@ -128,6 +127,14 @@ class JohnsonCookModel(WallModel):
     def wave_speed(self) -> float:
         m = self.material
         return math.sqrt(m.c0 ** 2 + 4.0 * m.shear_modulus / (3.0 * m.rho0))
+
+    @property
+    def update_kernel(self) -> Callable:
+        return jc_element_update
+
+    def reference_moduli(self) -> tuple[float, float]:
+        t = self.kernel_table()[0]
+        return t[RHO0] * t[C0] ** 2, t[SHEAR]
 
     def kernel_params(self) -> np.ndarray:
         d = self.damage
@@ -171,6 +178,13 @@ class JohnsonCookModel(WallModel):
         if isinstance(damage, str) and damage == LIBRARY:
             damage = JOHNSON_COOK_DAMAGE.get(m.name)
         return cls(m, damage=damage, spall=spall, erosion=erosion, damage_at_floor=damage_at_floor)
+
+
+@njit(cache=True, inline="always")
+def jc_element_update(e, L, dt, vbar, mass, rho, vratio, q, S, es, flags, table, prm):
+    """:func:`jc_update` in the element pass's convention (:func:`impactdyn.wall._step.material_update`):
+    the EOS takes the density, not the volume ratio."""
+    return jc_update(e, L, dt, vbar, mass, rho, q, S, es, flags, table, prm)
 
 
 @njit(cache=True, inline="always")
