@@ -44,7 +44,6 @@ import argparse
 import os
 import statistics
 import time
-from dataclasses import replace
 
 import numba
 import numpy as np
@@ -107,7 +106,7 @@ def bench_solver(refinement: int, hourglass: str | None = None, material_model: 
     options = wall.WallOptions(refinement_thickness=refinement, refinement_plane=refinement,
                                material_model=material_model)
     if hourglass is not None:
-        options = replace(options, hourglass=hourglass)
+        options = options.replaced(hourglass=hourglass)
     model = wall.wall_model(material_model, "al6061-t6")
     mesh = wall.build_mesh(grid, model.density, refinement, refinement)
     load = wall.nodal_load(mesh, synthetic_deposition(grid))

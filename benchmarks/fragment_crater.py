@@ -11,15 +11,16 @@ thin wall perforate where (S1) says it does (t < 1.8 p_∞)?
 The sphere is laid on a uniform face grid of cell ``h`` (half model, centre on the symmetry plane
 x = 0) by :func:`impactdyn.wallgrid.sphere_deposition`: each face cell takes the momentum of the
 sphere's columns over it at a stopped rod's rate ρ_p V² over L/V.  The wall: the case's
-Johnson–Cook model (Mie–Grüneisen EOS, JC damage, spall, erosion), cells of ``h`` through the
-thickness as in the plane, clamped edges at ±``half_width``, the load spread over a depth δ =
+Johnson–Cook model (Mie–Grüneisen EOS, JC damage, spall), cells of ``h`` through the
+thickness as in the plane (``--mesh-rule``: the wall stage's default graded mesh of that face grid,
+whose core element the mesh rule sets, :func:`impactdyn.wall.core_element_size`), clamped edges at ±``half_width``, the load spread over a depth δ =
 ``depth_per_diameter`` × d (the default load depth, half the first layer, moves the front nodes
 by more than a layer in a step under one fragment at a resolved mesh: the solver stops with its
 non-positive-volume error).  Run to ``end`` µs after the last arrival.
 
     python benchmarks/fragment_crater.py [--diameter 0.06] [--velocity 6.0] [--cell 0.01]
         [--thickness 0.16 0.6] [--material al2024-t4] [--half-width 0.4] [--end 6]
-        [--depth-per-diameter 1] [--bisect LO HI [--tolerance 0.0025]] [--sph SPACING]
+        [--depth-per-diameter 1] [--bisect LO HI [--tolerance 0.0025]] [--sph SPACING] [--mesh-rule]
 
 Prints, per wall thickness: (S1)'s p_∞ and its verdict for that thickness, the wall stage's
 verdict, crater depth (its damage depth: the damaged material connected to the front face,
@@ -63,6 +64,7 @@ def crater_run(thickness: float, diameter: float, args: argparse.Namespace) -> d
     v = args.velocity * 0.1
     deposition = sphere_deposition(grid, diameter, v, PROJECTILE_DENSITY, t0_us=1.0)
     options = wall.WallOptions(material_model="johnson_cook", supports="clamped",
+                               mesh="graded" if args.mesh_rule else "report",
                                end_time_us=float(deposition.time.max()) + args.end,
                                history_interval_us=0.05,
                                deposition_depth_cm=min(args.depth_per_diameter * diameter, thickness))
@@ -73,7 +75,7 @@ def crater_run(thickness: float, diameter: float, args: argparse.Namespace) -> d
                                         PROJECTILE_DENSITY))
     m = result.measures
     return {
-        "layers": n_thick, "elements": grid.n_elements, "p_inf": p_inf,
+        "layers": result.mesh.shape[1], "elements": result.mesh.n_elements, "p_inf": p_inf,
         "equation": "P" if thickness < 1.8 * p_inf else ("DS" if thickness < 2.2 * p_inf else "NP"),
         "verdict": result.verdict, "crater_cm": m["crater_depth_cm"], "eroded_g": m["eroded_mass_g"],
         "bulge": m["rear_bulge_end_cm"], "load_work": m["energy"]["load_work"],
@@ -130,6 +132,9 @@ def main() -> int:
                          "perforation, to --tolerance, per thickness")
     ap.add_argument("--tolerance", type=float, default=0.0025, help="bisection tolerance, cm")
     ap.add_argument("--end", type=float, default=6.0, help="run time after the last arrival, µs")
+    ap.add_argument("--mesh-rule", action="store_true",
+                    help="the wall stage's default graded mesh on the --cell face grid (its core element by the "
+                         "mesh rule, wall.core_element_size) instead of --cell elements")
     ap.add_argument("--sph", type=float, metavar="SPACING",
                     help="run the shield stage's SPH on the same sphere and plate instead, at this particle spacing (cm)")
     args = ap.parse_args()
@@ -138,7 +143,10 @@ def main() -> int:
         print(f"{args.material} plate of radius {args.half_width} cm, {SPH_PROJECTILE} sphere at {args.velocity} km/s, "
               f"SPH spacing {args.sph} cm, {args.end} µs after the sphere's transit")
     else:
-        print(f"{args.material}, {args.velocity} km/s, cell {args.cell} cm, load depth {args.depth_per_diameter} d, "
+        cell = (f"face cells {args.cell} cm, the default graded mesh (core element "
+                f"{', '.join(f'{wall.core_element_size(t):.4g}' for t in args.thickness)} cm)" if args.mesh_rule
+                else f"cell {args.cell} cm")
+        print(f"{args.material}, {args.velocity} km/s, {cell}, load depth {args.depth_per_diameter} d, "
               f"clamped at ±{args.half_width} cm, {args.end} µs after the last arrival")
     if args.bisect:
         print("t_w (cm) | (S1) d_c, perforation (cm) | " + ("SPH" if args.sph else "wall stage")

@@ -15,7 +15,6 @@ last arrival.  Nothing is written.
 from __future__ import annotations
 
 import argparse
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -38,8 +37,8 @@ def main() -> int:
     case = load_whipple_case(args.run / "case.toml")
     grid, deposition, _ = read_deposition(args.run / "debris" / "debris.h5")
     last = float(deposition.time.max())
-    options = replace(case.wall_solver.options(case.wall.clamped_edges), output_interval_us=args.every,
-                      max_time_us=last + 1.0)
+    options = case.wall_solver.options(case.wall.clamped_edges).replaced(output_interval_us=args.every,
+                                                                       max_time_us=last + 1.0)
     result = run_wall(grid, deposition, case.wall.material, options)
     nx, ny, nz = result.mesh.shape
     if (nx, nz) != (grid.shape[0], grid.shape[2]):

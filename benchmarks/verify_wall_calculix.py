@@ -421,7 +421,7 @@ def main() -> int:
         for h, change in cases:
             mesh = plate_mesh(h, args.layers)
             v = initial_velocity(mesh, args.v0, args.patch)
-            opt = replace(defaults, **change)
+            opt = defaults.replaced(**change)
             r = run_impactdyn(mesh, v, T, opt, sample_us=0.5)
             label = (f"{opt.hourglass} QH {opt.hourglass_coefficient:g}"
                      + (f", Q1 {opt.q1:g} Q2 {opt.q2:g}" if (opt.q1, opt.q2) != (defaults.q1, defaults.q2) else ""))

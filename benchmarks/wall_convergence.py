@@ -32,7 +32,6 @@ import argparse
 import json
 import sys
 import time
-from dataclasses import replace
 from pathlib import Path
 
 from impactdyn.debris import read_deposition
@@ -54,7 +53,7 @@ def rerun_wall(run: Path, model_changes: dict | None = None, **changes) -> dict:
     ``damage=None``): the verdict, :data:`KEYS` of the measures and the wall time; nothing is written."""
     case = load_whipple_case(run / "case.toml")
     wall, deposition, _ = read_deposition(run / "debris" / "debris.h5")
-    options = replace(case.wall_solver.options(case.wall.clamped_edges), output_interval_us=None, **changes)
+    options = case.wall_solver.options(case.wall.clamped_edges).replaced(output_interval_us=None, **changes)
     model = (wall_model(options.material_model, case.wall.material, **model_changes) if model_changes
              else case.wall.material)
     tick = time.perf_counter()
@@ -96,7 +95,7 @@ def main() -> int:
     case = load_whipple_case(args.run / "case.toml")
     base = case.wall_solver.options(case.wall.clamped_edges)
     if args.deposition_depth is not None:
-        base = replace(base, deposition_depth_cm=args.deposition_depth)
+        base = base.replaced(deposition_depth_cm=args.deposition_depth)
     r = args.refinement
     variants = {"case settings": {},
                 f"{r}x refinement": {"refinement_thickness": base.refinement_thickness * r,

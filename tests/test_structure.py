@@ -1,7 +1,8 @@
 """The package's import structure (docs/ARCHITECTURE.md): imports go one way.
 
-Data model (root modules, ``io``) → solver packages → ``whipple`` → ``cli``.  Each
-check runs in a fresh interpreter, so what a module loads is what it alone needs.
+Infrastructure → data model → ``io`` → solver packages → ``whipple`` → ``cli``
+(:data:`LAYERS`): a module imports only its own layer and those below.  The load checks run
+in a fresh interpreter, so what a module loads is what it alone needs.
 """
 
 from __future__ import annotations
@@ -15,7 +16,18 @@ import sys
 import pytest
 
 SRC = pathlib.Path(__file__).resolve().parents[1] / "src" / "impactdyn"
-SOLVERS = ("beam", "debris", "shield", "wall", "whipple")
+SOLVERS = ("beam", "ble", "debris", "shield", "wall", "whipple", "cli")
+
+#: The layers of docs/ARCHITECTURE.md, bottom first: the first names of ``impactdyn.<name>`` in each.
+#: Root modules with a leading underscore are infrastructure.
+LAYERS = (
+    ("_*",),
+    ("hydrogrid", "wallgrid", "materials", "constitutive", "units"),
+    ("io",),
+    ("beam", "shield", "debris", "wall", "ble"),
+    ("whipple",),
+    ("cli",),
+)
 
 
 def _loaded_after(statement: str) -> list[str]:
@@ -62,7 +74,29 @@ def _imports(path: pathlib.Path, module: str) -> list[tuple[str, int]]:
                 base = ".".join(package.split(".")[:len(package.split(".")) - node.level + 1] + ([base] if base else []))
             if base.startswith("impactdyn"):
                 found += [(base, node.lineno)]
+                # ``from impactdyn.pkg import _mod`` imports the private module impactdyn.pkg._mod
+                found += [(f"{base}.{a.name}", node.lineno) for a in node.names if a.name.startswith("_")]
     return found
+
+
+def _layer(module: str) -> int:
+    top = module.split(".")[1] if "." in module else ""
+    for level, names in enumerate(LAYERS):
+        if top in names or (names == ("_*",) and top.startswith("_")):
+            return level
+    raise AssertionError(f"{module}: in no layer of docs/ARCHITECTURE.md (add it to LAYERS)")
+
+
+def test_imports_go_down_the_layers():
+    """No module imports a layer above its own (deferred imports inside functions included)."""
+    bad = []
+    for module, path in _modules().items():
+        if module == "impactdyn":
+            continue
+        for target, line in _imports(path, module):
+            if target != "impactdyn" and _layer(target) > _layer(module):
+                bad.append(f"{path.relative_to(SRC.parent)}:{line}: {target}")
+    assert bad == []
 
 
 def test_no_private_import_across_packages():

@@ -31,6 +31,7 @@ import dataclasses
 import functools
 import inspect
 import math
+import re
 import tomllib
 import typing
 from collections.abc import Callable, Sequence
@@ -75,7 +76,12 @@ class _Built(type(BaseModel)):
 class Section(BaseModel, metaclass=_Built):
     """Base of every config table and solver option set: strict keys, finite numbers, frozen."""
 
-    model_config = ConfigDict(extra="forbid", allow_inf_nan=False, frozen=True, strict=True)
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False, frozen=True, strict=True,
+                              use_attribute_docstrings=True)
+
+    def replaced(self, **changes: Any) -> Any:
+        """A copy with ``changes``, validated as a new section (``model_copy`` would not check them)."""
+        return type(self)(**{**self.model_dump(), **changes})
 
 
 _NO_DEFAULT: Any = object()
@@ -85,7 +91,8 @@ def field_of(source: Any, name: str, default: Any = _NO_DEFAULT) -> Any:
     """The setting ``name`` of ``source``, to declare it again under another name or in another table.
 
     ``source`` is a :class:`Section` (the field's default, bounds and description
-    come along), a function (its keyword's default, and the bounds of its
+    come along; the description written under the field or in the class docstring,
+    :func:`documented_settings`), a function (its keyword's default, and the bounds of its
     annotation, ``Annotated[float, Field(gt=0)]``, which :func:`checked` enforces
     in the function) or a dataclass (its field's default), e.g.
     ``t_min_us: float = field_of(ArrivalWindow, "t_min")``.  ``default``: the
@@ -97,6 +104,8 @@ def field_of(source: Any, name: str, default: Any = _NO_DEFAULT) -> Any:
     """
     if isinstance(source, type) and issubclass(source, BaseModel):
         info = source.model_fields[name]
+        if info.description is None and name in documented_settings(source):
+            info = FieldInfo.merge_field_infos(info, description=documented_settings(source)[name])
     elif dataclasses.is_dataclass(source):
         info = Field(default={f.name: f for f in dataclasses.fields(source)}[name].default)
     else:
@@ -112,6 +121,31 @@ def field_of(source: Any, name: str, default: Any = _NO_DEFAULT) -> Any:
         info = FieldInfo.merge_field_infos(info)
         info.metadata = [m for m in info.metadata if getattr(m, "allow_inf_nan", None) is None]
     return info
+
+
+#: A docstring line that documents settings: ``name : text`` or ``a, b : text``.
+SETTING_ENTRY = re.compile(r"^(\w+(?:, \w+)*) : (.*)$")
+
+
+def documented_settings(cls: type) -> dict[str, str]:
+    """The ``name : description`` entries of the docstrings of ``cls`` and its bases, e.g.
+    ``cfl, force_cfl : time-step factors.`` (both named; indented lines continue an entry).
+
+    The description of a setting documented in its class's docstring rather than under the
+    field (where pydantic takes it as the field's ``description``)."""
+    entries: dict[str, str] = {}
+    for klass in reversed(cls.__mro__):
+        names: list[str] = []
+        for line in inspect.cleandoc(klass.__dict__.get("__doc__") or "").splitlines():
+            entry = SETTING_ENTRY.match(line)
+            if entry:
+                names = entry.group(1).split(", ")
+                entries.update(dict.fromkeys(names, entry.group(2).strip()))
+            elif names and line.startswith(" "):
+                entries.update(dict.fromkeys(names, f"{entries[names[0]]} {line.strip()}"))
+            else:
+                names = []
+    return entries
 
 
 def section_of(name: str, base: type[M], source: Any, names: Sequence[str], module: str) -> type[M]:

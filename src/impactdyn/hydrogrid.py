@@ -2,7 +2,7 @@
 
 Units are the impact stages' (cm, g, µs; see :mod:`impactdyn.units`).  Cell
 ``(i, j, k)`` spans ``[x[i], x[i+1]] × [y[j], y[j+1]] × [z[k], z[k+1]]``; its lower
-corner is node ``(i, j, k)`` (DESIGN §5, the listing's NDDATA convention).
+corner is node ``(i, j, k)`` (docs/theory/debris.md, seeding: the listing's NDDATA convention).
 
 Two velocity conventions (``staggered``):
 
@@ -168,7 +168,7 @@ class HydroGrid:
         Cells outside the grid carry no weight; a node whose stencil holds no mass
         gets zero (RDAVS: "empty weights → zero").
 
-        Staggered data (RDAVS, Fahrenthold 1994 App. G; DESIGN §5): component d at
+        Staggered data (RDAVS, Fahrenthold 1994 App. G; docs/theory/binning.md): component d at
         node (a, b, c) averages the cells whose lower d-face contains the node —
         the four cells sharing the node's face plane for that component::
 

@@ -17,7 +17,7 @@ Sources
 [S91]  D. J. Steinberg, *Equation of state and strength properties of selected
        materials*, LLNL UCRL-MA-106439 (1991, rev. 1996): ρ₀, c₀, s, Γ₀, G₀, Y₀
        (the Steinberg–Guinan ``Y0``, the yield stress at zero plastic strain and
-       pressure), as tabulated in DESIGN §6 for the aluminium alloys.
+       pressure), as tabulated in docs/theory/shield.md for the aluminium alloys.
 [JC83] G. R. Johnson, W. H. Cook, *A constitutive model and data for metals
        subjected to large strains, high strain rates and high temperatures*,
        Proc. 7th Int. Symp. Ballistics, The Hague (1983), Table 1 (2024-T351, OFHC copper).
@@ -33,6 +33,12 @@ Sources
        aluminium alloys 1.0–1.7 GPa and of copper 1.2–1.6 GPa at microsecond
        load durations. The values below are representative values inside those
        ranges, not measurements of the particular temper.
+[B52]  P. W. Bridgman, *Studies in large plastic flow and fracture*, McGraw-Hill
+       (1952): the stress triaxiality at the centre of a notched round bar,
+       σ_m/σ_eq = 1/3 + ln(1 + a/2R) (a the neck radius, R the notch radius).
+[TB68] F. R. Tuler, B. M. Butcher, *A criterion for the time dependence of dynamic
+       fracture*, Int. J. Fract. Mech. 4 (1968) 431–437: the cumulative spall law
+       ∫ max(0, σ − σ₀)^λ dt ≥ K (the form only: the paper's constants could not be read here).
 [ASM]  ASM Handbook vol. 2 (aluminium, copper) and vol. 1 (steel): specific heat
        and elongation at break. The elongation is used as the plastic-strain
        failure limit — a simple, conservative (early-failing) choice.
@@ -324,6 +330,11 @@ class JohnsonCookDamage:
     σ* = σ_m/σ_eq (mean stress over von Mises stress, positive in tension), ε̇* and T* as
     in :class:`JohnsonCook`; the material fails at D = 1.  Dimensionless constants;
     ``source`` says where they come from.
+
+    ``efmin`` is the floor ε_f,min on the bracket D1 + D2 exp(D3 σ*) where the fit falls towards
+    zero beyond the triaxialities of its data (LS-DYNA's EFMIN of *MAT_JOHNSON_COOK), with its
+    basis in ``efmin_source``; None where the fit is bounded below by a positive D1 by itself
+    (D2 > 0, D3 < 0: the bracket decreases towards D1), so no floor beyond it is needed.
     """
 
     D1: float
@@ -332,6 +343,8 @@ class JohnsonCookDamage:
     D4: float
     D5: float
     source: str = ""
+    efmin: float | None = None
+    efmin_source: str = ""
 
 
 #: Al 6061-T6, the constants [L01] give with the Johnson–Cook strength above (A 324 MPa,
@@ -343,9 +356,22 @@ class JohnsonCookDamage:
 #: /FAIL/JOHNSON defaults of an open deck converter (D1 -0.77, D2 1.45, D3 -0.47, D4 0,
 #: D5 1.6; material not named).  D1 < 0 makes ε_f vanish for σ* > ln(0.77/1.45)/(-0.47)
 #: = 1.35 (see the wall model's floor on ε_f).
+#:
+#: The fracture-strain floor ε_f,min: the fit's value at the highest triaxiality round notched bars
+#: reach, NOTCHED_BAR_TRIAXIALITY = 1/3 + ln 2 = 1.03 ([B52] with R = a/2, the sharpest notch of the
+#: usual series; Bao & Wierzbicki's 2024-T351 notched bars, the reference set of such tests, stay
+#: below it), i.e. ε_f is held at D1 + D2 exp(D3 · 1.03) = 0.125 beyond the data instead of
+#: falling to zero at σ* = 1.35.  UNCERTAIN: no measured 6061-T6 fracture strain at σ* > 1 could
+#: be read here (neither [L01]'s data nor a published LS-DYNA EFMIN for this alloy: LS-DYNA's
+#: default EFMIN is the numerical 1e-6); the value rests on the fit and on where notched-bar
+#: data end, not on a test at the wall's triaxialities.
+NOTCHED_BAR_TRIAXIALITY = 1.0 / 3.0 + math.log(2.0)
 AL_6061_T6_JC_DAMAGE = JohnsonCookDamage(
     D1=-0.77, D2=1.45, D3=-0.47, D4=0.0, D5=1.6,
     source="[L01] (Lesuer, Kay & LeBlanc, UCRL-JC-134118, 2001), as quoted in public model inputs",
+    efmin=-0.77 + 1.45 * math.exp(-0.47 * NOTCHED_BAR_TRIAXIALITY),
+    efmin_source="the [L01] fit at the largest notched-bar triaxiality 1/3 + ln 2 ([B52]); uncertain, no "
+                 "measurement at higher triaxiality",
 )
 
 #: Al 2024-T351, the damage set used with the [JC83] strength constants of the library's
@@ -353,14 +379,17 @@ AL_6061_T6_JC_DAMAGE = JohnsonCookDamage(
 #: 2024-T351 plates (Teng & Wierzbicki's perforation study [TW06] uses 2024-T351).  The values
 #: are the widely quoted ones; neither [TW06] nor a primary table could be read here to check
 #: them.  D1, D2 > 0: the fracture strain falls from 0.26 at zero mean stress through 0.21 in
-#: uniaxial tension (σ* = ⅓) towards 0.13 at high triaxiality; it never reaches the wall
-#: model's floor.
+#: uniaxial tension (σ* = ⅓) towards 0.13 at high triaxiality: bounded below by D1 = 0.13 itself,
+#: so it needs no fracture-strain floor (``efmin`` None).  Bao & Wierzbicki's notched-bar tests on
+#: 2024-T351 (Int. J. Mech. Sci. 46 (2004) 81) are the data such a floor would rest on; they could
+#: not be read here to check D1 against them.
 AL_2024_T351_JC_DAMAGE = JohnsonCookDamage(
     D1=0.13, D2=0.13, D3=-1.5, D4=0.011, D5=0.0,
     source="2024-T351 as widely quoted (e.g. the 2024-T351 plates of [TW06]); not checked against a primary table",
 )
 
-#: OFHC copper, Johnson & Cook's own fit [JC85] (with the [JC83] strength constants above).
+#: OFHC copper, Johnson & Cook's own fit [JC85] (with the [JC83] strength constants above);
+#: D1 = 0.54 > 0 bounds it below (no floor needed).
 CU_OFHC_JC_DAMAGE = JohnsonCookDamage(
     D1=0.54, D2=4.89, D3=-3.03, D4=0.014, D5=1.12,
     source="[JC85] (Johnson & Cook, Eng. Fract. Mech. 21 (1985) 31), OFHC copper",
@@ -370,3 +399,67 @@ CU_OFHC_JC_DAMAGE = JohnsonCookDamage(
 #: have no ductile-damage data here (their Johnson–Cook wall fails by spall alone).
 JOHNSON_COOK_DAMAGE: dict[str, JohnsonCookDamage] = {
     "al6061-t6": AL_6061_T6_JC_DAMAGE, "al2024-t4": AL_2024_T351_JC_DAMAGE, "cu-ofhc": CU_OFHC_JC_DAMAGE}
+
+
+# --- Tuler–Butcher spall (the wall stage's default spall law) -----------------------------------
+
+@dataclass(frozen=True)
+class TulerButcher:
+    """Tuler–Butcher cumulative spall damage [TB68]::
+
+        ∫ max(0, σ_t − σ₀)^λ dt ≥ K   fails the material
+
+    σ_t the tensile stress (the wall model uses the mean tension −p), σ₀ (Mbar) the threshold
+    below which no damage accumulates, λ the exponent, K (Mbar^λ·µs) the damage at failure.
+    Under a constant-rate ramp σ_t = σ̇t the material fails at σ_f = σ₀ + ((λ+1) σ̇ K)^{1/(λ+1)}.
+    ``source`` says where the constants come from.
+    """
+
+    sigma0: float
+    lam: float
+    K: float
+    source: str = ""
+
+    def __post_init__(self) -> None:
+        _require_numbers(self, ("sigma0", "lam", "K"), positive=True)
+
+    def failure_stress(self, stress_rate: float) -> float:
+        """σ_f (Mbar) under the ramp σ_t = σ̇t, σ̇ = ``stress_rate`` (Mbar/µs)."""
+        return self.sigma0 + ((self.lam + 1.0) * stress_rate * self.K) ** (1.0 / (self.lam + 1.0))
+
+
+#: The constants below are a documented FALLBACK, not published Tuler–Butcher constants: Tuler &
+#: Butcher's 6061-T6 fit [TB68] (to the plate-impact data of Butcher, Barker, Munson & Lundergan,
+#: AIAA J. 2 (1964) 977) and the tabulations in the textbooks (Zukas; Meyers; Antoun et al.) could
+#: not be read here, and no 2024 constants were found.  They scale from the spall strengths of [K04]:
+#: σ₀ = the library's spall strength p_spall (the onset of spall in microsecond experiments, so no
+#: damage below it), λ = TB_EXPONENT, and K such that at the stress rate of a typical spall
+#: experiment, TB_STRESS_RATE, the material fails at the top of [K04]'s range for the alloy family
+#: (aluminium alloys 1.7 GPa, copper 1.6 GPa): K = (σ_hi − σ₀)^{λ+1} / ((λ+1) σ̇_ref).  UNCERTAIN:
+#: λ, the reference rate and hence K; σ₀ is as good as p_spall (a representative value of [K04]).
+#:
+#: λ = 2: the quadratic (energy-like) form most used with Tuler–Butcher for metals; not checked
+#: against [TB68]'s fit.
+TB_EXPONENT = 2.0
+#: σ̇_ref = 10 GPa/µs: the unloading rate ρ₀c_L² ε̇ of a plate-impact spall test at ε̇ ≈ 10⁵ /s (the
+#: middle of [K04]'s 10⁴–10⁶ /s) in aluminium (ρ₀c_L² ≈ 110 GPa); in Mbar/µs.
+TB_STRESS_RATE = _gpa(10.0)
+
+
+def _tuler_butcher_from_spall(spall_strength: float, spall_strength_high: float, alloy: str) -> TulerButcher:
+    """The fallback constants (above) from p_spall and the top of [K04]'s range σ_hi (Mbar)."""
+    lam = TB_EXPONENT
+    k = (spall_strength_high - spall_strength) ** (lam + 1.0) / ((lam + 1.0) * TB_STRESS_RATE)
+    return TulerButcher(sigma0=spall_strength, lam=lam, K=k,
+                        source=f"fallback scaled from [K04] spall strengths of {alloy} (sigma0 = p_spall, "
+                               f"failure at {spall_strength_high / _gpa(1.0):.1f} GPa under 10 GPa/us, "
+                               f"lambda = 2); not [TB68]'s fit, uncertain")
+
+
+#: Tuler–Butcher constants by library material name (the fallback above; materials without an
+#: entry have only the cut-off spall law).
+TULER_BUTCHER: dict[str, TulerButcher] = {
+    "al6061-t6": _tuler_butcher_from_spall(AL_6061_T6.spall_strength, _gpa(1.7), "aluminium alloys"),
+    "al2024-t4": _tuler_butcher_from_spall(AL_2024_T4.spall_strength, _gpa(1.7), "aluminium alloys"),
+    "cu-ofhc": _tuler_butcher_from_spall(CU_OFHC.spall_strength, _gpa(1.6), "copper"),
+}

@@ -1,4 +1,4 @@
-"""Integrators of the particle state equations: accuracy, invariants, failures (DESIGN §5)."""
+"""Integrators of the particle state equations: accuracy, invariants, failures (docs/theory/debris.md)."""
 
 import numpy as np
 import pytest

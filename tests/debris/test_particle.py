@@ -1,4 +1,4 @@
-"""Constitutive law and state equations of a DC3D particle (DESIGN §5)."""
+"""Constitutive law and state equations of a DC3D particle (docs/theory/debris.md)."""
 
 import numpy as np
 import pytest
@@ -26,7 +26,7 @@ def particle(rng, n):
 
 
 def design_energy(F, Ep, V0, mat):
-    """U of DESIGN §5 written out with numpy, independently of the kernels."""
+    """U of docs/theory/debris.md, eq. (2), written out with numpy, independently of the kernels."""
     E = 0.5 * (np.swapaxes(F, -1, -2) @ F - np.eye(3))
     Edev = E - np.trace(E, axis1=-2, axis2=-1)[..., None, None] * np.eye(3) / 3
     detF = np.linalg.det(F)

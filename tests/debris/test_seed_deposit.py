@@ -1,4 +1,4 @@
-"""Seeding, arrival times, deposition and DCPOST's areal density (DESIGN §5; issue 3 acceptance)."""
+"""Seeding, arrival times, deposition and DCPOST's areal density (docs/theory/debris.md)."""
 
 import numpy as np
 import pytest

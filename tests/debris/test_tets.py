@@ -1,4 +1,4 @@
-"""Tetrahedra of a cell, inertia tensor, affine velocity fit, initial state (DESIGN §5)."""
+"""Tetrahedra of a cell, inertia tensor, affine velocity fit, initial state (docs/theory/debris.md)."""
 
 from math import factorial
 
@@ -11,7 +11,7 @@ from hypothesis.extra.numpy import arrays
 from impactdyn.debris import _tets as T
 from impactdyn.debris._particle import kinetic_energy, unpack_state
 
-# DESIGN §5, transcribed by name: the node coordinates and the five tetrahedra.
+# docs/theory/debris.md (seeding), transcribed by name: the node coordinates and the five tetrahedra.
 NODES = {"n1": (0, 0, 0), "n2": (1, 0, 0), "n3": (1, 1, 0), "n4": (0, 1, 0),
          "n5": (0, 0, 1), "n6": (1, 0, 1), "n7": (1, 1, 1), "n8": (0, 1, 1)}
 TETS = [("n1", "n2", "n4", "n5"), ("n3", "n4", "n2", "n7"), ("n4", "n2", "n7", "n5"),

@@ -243,6 +243,11 @@ def test_johnson_cook_material_and_controls(tmp_path):
     np.testing.assert_allclose(mat[2], [al.specific_heat, -al.spall_strength, 3, 0, dmg.D1, dmg.D2, dmg.D3, dmg.D4],
                                rtol=1e-8)
     assert mat[3][0] == pytest.approx(dmg.D5)
+    assert mat[3][2] == 0.0 and mat[3][3] == 0.0  # EROD 0 (erode) and EFMIN blank (LS-DYNA's 1e-6) unless given
+    kept = tmp_path / "kept.k"
+    write_lsdyna_deck(kept, wall, al, failure_strain_floor=dmg.efmin, erode_failed=False)
+    card4 = read_lsdyna_deck(kept).cards["*MAT_JOHNSON_COOK"][3]
+    assert card4[2] == 1.0 and card4[3] == pytest.approx(dmg.efmin, rel=1e-6)  # the wall stage's defaults (a 10-column field: 7 digits)
     eos = cards["*EOS_GRUNEISEN"]
     np.testing.assert_allclose(eos[0][:6], [1, al.c0, al.s, 0, 0, al.gamma0], rtol=1e-8)
     assert eos[1][0] == 1.0
@@ -282,3 +287,31 @@ def test_curve_points_in_one_pass_are_the_point_cards():
     f = np.concatenate([awkward[::-1], rng.standard_normal(200) * 10.0 ** rng.integers(-12, 13, 200)])
     assert _points(t, f) == [_point(a, b) for a, b in zip(t.tolist(), f.tolist())]
     assert _points(np.zeros(0), np.zeros(0)) == []
+
+
+def test_decks_carry_the_graded_mesh(tmp_path):
+    """The decks of the mesh the wall stage ran: the graded grid's nodes and solids, and its re-binned
+    records, whose load curves integrate to the case's deposited impulse."""
+    from impactdyn.wall import solver_mesh
+    from impactdyn.wallgrid import sphere_deposition
+
+    case = WallGrid.uniform((0.0, 1.6), (0.0, 0.3175), (-1.6, 1.6), (11, 5, 21))
+    dep = sphere_deposition(case, 0.3, 0.6, 2.7, t0_us=5.0)
+    mesh, on_mesh = solver_mesh(case, dep, 2.703)
+    assert mesh.grid.n_elements > case.n_elements and on_mesh.element.size > dep.element.size
+    p = tmp_path / "wall.k"
+    write_lsdyna_deck(p, mesh.grid, deposition=on_mesh)
+    deck = read_lsdyna_deck(p)
+    # the graded nodes are not round numbers: as many digits as a 16-column *NODE field holds
+    np.testing.assert_allclose(deck.coordinates, mesh.coordinates, rtol=0, atol=1e-11)
+    np.testing.assert_array_equal(deck.solid_nodes, mesh.connectivity + 1)
+    total = np.zeros(3)
+    for (nid, dof, lcid), sf in zip(deck.point_loads, deck.point_load_scale):
+        t, f = deck.curves[lcid]
+        total[dof - 1] += sf * np.trapezoid(f, t)
+    np.testing.assert_allclose(total, dep.impulse.sum(axis=0), rtol=1e-10, atol=1e-14)
+    d3 = tmp_path / "wall_dyna3d.inp"
+    write_dyna3d_deck(d3, mesh.grid, deposition=on_mesh)
+    lines = d3.read_text().splitlines()
+    assert lines[1][5:21] == f"{mesh.n_nodes + 8:8d}{mesh.n_elements + 1:8d}"
+    assert len(lines) == 2 + 16 + mesh.n_nodes + 8 + mesh.n_elements + 1 + 5 + on_mesh.element.size

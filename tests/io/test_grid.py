@@ -1,4 +1,4 @@
-"""HydroGrid: validation, integrals and the nodal velocity rules (DESIGN §5, RDAVS)."""
+"""HydroGrid: validation, integrals and the nodal velocity rules (docs/theory/binning.md, RDAVS)."""
 
 from __future__ import annotations
 

@@ -32,6 +32,25 @@ def elastic_model(name: str) -> wall.WallModel:
     return wall.wall_model(name, "al6061-t6", damage=None, spall=False, erosion=False)
 
 
+def one_element(model: wall.WallModel) -> wall.WallSolver:
+    """A solver over one free 0.1-cm brick of ``model``, without bulk viscosity."""
+    grid = WallGrid.uniform((0.0, 0.1), (0.0, 0.1), (0.0, 0.1), (2, 2, 2))
+    mesh = wall.build_mesh(grid, model.density, supports="free")
+    return wall.WallSolver(mesh, model, wall.WallOptions(supports="free", material_model=model.name, q1=0.0, q2=0.0))
+
+
+def drive(s: wall.WallSolver, gradient, steps: int, dt: float = 0.005, stop=None) -> None:
+    """Move the nodes with the homogeneous velocity field v = A x for ``steps`` steps (by hand),
+    until ``stop(s)`` is true."""
+    for _ in range(steps):
+        s.v[:] = s.x @ np.asarray(gradient).T
+        s.x[:] += dt * s.v
+        status, _ = s.element_pass(dt, dt)
+        assert status == 0
+        if stop is not None and stop(s):
+            break
+
+
 def elastic_moduli(model: wall.WallModel) -> tuple[float, float, float]:
     """(ρ₀, K, G) of the elastic models above."""
     if isinstance(model, wall.Mat13Model):

@@ -137,7 +137,7 @@ def test_a_breakdown_while_settling_loses_only_the_permanent_bulge(monkeypatch):
     options = wall.WallOptions(output_interval_us=None, max_time_us=6.0)
     plain = wall.run_wall(GRID, two_records(2e-4), "al6061-t6", options)
     monkeypatch.setattr(_settle, "rebound", broken)
-    result = wall.run_wall(GRID, two_records(2e-4), "al6061-t6", dataclasses.replace(options, settle=True))
+    result = wall.run_wall(GRID, two_records(2e-4), "al6061-t6", options.replaced(settle=True))
     m = result.measures
     assert result.verdict == plain.verdict and m["rear_bulge_cm"] == plain.measures["rear_bulge_cm"]
     assert m["permanent_rear_bulge_cm"] is None and not m["settled"]

@@ -14,6 +14,8 @@ from impactdyn.wall._state import DAMAGE, EPS_P, FAILED, IE, P, RATE
 from impactdyn.wall._step import step_kernels
 from impactdyn.wallgrid import WallDeposition, WallGrid
 
+from .conftest import drive, one_element
+
 
 def test_registry_holds_both_models():
     assert {"mat13", "johnson_cook"} <= set(wall.MODELS)
@@ -58,9 +60,11 @@ def test_registered_model(model_name):
         assert model.wave_speed() == pytest.approx(0.634, abs=1e-3)       # DESIGN §9: c_L = 0.634 cm/µs
         assert not model.erodes
     else:
-        assert model.damage is AL_6061_T6_JC_DAMAGE and model.erodes
+        assert model.damage is AL_6061_T6_JC_DAMAGE and not model.erodes      # failed: kept, compressive p
         assert described["damage"]["D1"] == -0.77 and "UCRL-JC-134118" in described["damage"]["source"]
-        assert described["spall_strength_Mbar"] == AL_6061_T6.spall_strength
+        assert described["damage"]["failure_strain_floor"] == AL_6061_T6_JC_DAMAGE.efmin
+        assert described["spall_law"] == "tuler_butcher" and described["spall_strength_Mbar"] is None
+        assert described["tuler_butcher"]["sigma0_Mbar"] == AL_6061_T6.spall_strength
     # a short run of the solver with the model, by name
     grid = WallGrid.uniform((0.0, 0.4), (0.0, 0.3), (-0.2, 0.2), (5, 4, 5))
     dep = WallDeposition(element=np.array([0, 1, 4, 5]), time=np.zeros(4), impulse=np.array([[0.0, 2e-5, 0.0]] * 4))
@@ -82,31 +86,15 @@ def test_unknown_and_duplicate_models():
 
 def test_failure_criteria_say_what_can_fail_the_wall():
     jc = wall.wall_model("johnson_cook", "al2024-t4")
-    assert jc.failure_criteria() == ("ductile_damage", "ductile_damage_at_floor", "tensile_pressure")
+    assert jc.failure_criteria() == ("ductile_damage", "ductile_damage_at_floor", "spall_damage")
     assert jc.describe()["failure_criteria"] == list(jc.failure_criteria())
-    assert wall.wall_model("johnson_cook", "al6061-t6", damage=None).failure_criteria() == ("tensile_pressure",)
+    assert wall.wall_model("johnson_cook", "al6061-t6", damage=None).failure_criteria() == ("spall_damage",)
+    assert wall.wall_model("johnson_cook", "al6061-t6", damage=None,
+                           spall_law="cutoff").failure_criteria() == ("tensile_pressure",)
     assert wall.wall_model("johnson_cook", "al6061-t6", damage=None, spall=False).failure_criteria() == ()
     # the report's card: ε_f 1.5, and its p_cut −1.2e34 Mbar means no pressure cutoff
     assert wall.wall_model("mat13", "al6061-t6").failure_criteria() == ("plastic_strain",)
     assert wall.wall_model("mat13", "al2024-t4").failure_criteria() == ("plastic_strain", "tensile_pressure")
-
-
-def one_element(model):
-    grid = WallGrid.uniform((0.0, 0.1), (0.0, 0.1), (0.0, 0.1), (2, 2, 2))
-    mesh = wall.build_mesh(grid, model.density, supports="free")
-    s = wall.WallSolver(mesh, model, wall.WallOptions(supports="free", material_model=model.name, q1=0.0, q2=0.0))
-    return s
-
-
-def drive(s, gradient, steps, dt=0.005, stop=None):
-    """Move the nodes with the homogeneous velocity field v = A x for ``steps`` steps (by hand)."""
-    for _ in range(steps):
-        s.v[:] = s.x @ np.asarray(gradient).T
-        s.x[:] += dt * s.v
-        status, _ = s.element_pass(dt, dt)
-        assert status == 0
-        if stop is not None and stop(s):
-            break
 
 
 @pytest.mark.parametrize("material", sorted(JOHNSON_COOK_DAMAGE))
@@ -140,12 +128,14 @@ def test_jc_damage_in_shear_follows_the_formula(material):
 
 
 @pytest.mark.parametrize("with_damage", [True, False, "not at the floor"])
-def test_triaxial_tension_fails_by_damage_before_spall(with_damage):
+def test_unbounded_fit_and_cutoff_reproduce_the_old_failure(with_damage):
+    # the options "unbounded" and "cutoff" are the model before the floor and the Tuler–Butcher law:
     # uniaxial strain in tension: σ* = −p/σ_eq passes 1.35 as the element yields, where the 6061-T6
     # fit gives ε_f ≤ 0: JC damage fails it at once, near −0.45 GPa; without damage, or without its
-    # increments at the floor, the spall criterion fails it at p = −1.2 GPa
+    # increments at the floor, the spall cut-off fails it at p = −1.2 GPa
     kwargs = {True: {}, False: {"damage": None}, "not at the floor": {"damage_at_floor": False}}[with_damage]
-    model = wall.wall_model("johnson_cook", "al6061-t6", erosion=False, **kwargs)
+    model = wall.wall_model("johnson_cook", "al6061-t6", erosion=False, fracture_strain_floor="unbounded",
+                            spall_law="cutoff", **kwargs)
     s = one_element(model)
     pmin = [0.0]
 

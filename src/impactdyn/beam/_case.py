@@ -54,7 +54,7 @@ class ModelSection(Section):
 
 
 class LegacySection(Section):
-    """Behaviour of the 1988 listings where it departs from the model (DESIGN §4)."""
+    """Behaviour of the 1988 listings where it departs from the model (docs/theory/beam.md, the listing's errata)."""
 
     diagonal_centrifugal: bool = False
     modal_damping_sqrt_2km: bool = False

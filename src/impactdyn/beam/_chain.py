@@ -24,7 +24,7 @@ Springs (Hencky bar-chain): k = EI/ℓ between links, the relative rotation of t
 links being the curvature over one link length; at the clamp k₀ = 2EI/ℓ, because
 the root spring carries the curvature of only half a link (the central-difference
 clamp condition w₋₁ = w₁ gives κ₀ = 2ψ₁/ℓ). J_h = IR·ρL(A² + AL + L²/3) is the
-hub's own inertia, as in the modal model (DESIGN §4). Lagrange's equations::
+hub's own inertia, as in the modal model (docs/theory/beam.md, eq. (4)). Lagrange's equations::
 
     Σₗ [Sₖₗ cos(αₖ − αₗ) + Dₖ δₖₗ] α̈ₗ = Qₖ − Σₗ Sₖₗ sin(αₖ − αₗ) α̇ₗ² − (Kα)ₖ − g wₖ cos αₖ,
 

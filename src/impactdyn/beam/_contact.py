@@ -4,7 +4,7 @@ Two kinds:
 
 * **impulsive** laws (``momentum``, IMPACTC) act at an instant: the simulator
   locates g = 0 with ġ < 0 and applies the momentum balance
-  ``M Δv = Jᵀ P``, ``J v⁺ = −e J v⁻`` (DESIGN §4) with the law's restitution e(v);
+  ``M Δv = Jᵀ P``, ``J v⁺ = −e J v⁻`` (docs/theory/beam.md, eq. (7)) with the law's restitution e(v);
 * **compliant** laws (``hertz``, ``hunt_crossley``, ``lankarani_nikravesh``) give a
   force F(δ, δ̇) ≥ 0 of the penetration δ = −g > 0 and its rate δ̇ = −ġ, integrated
   with the equations of motion. Their force kernels are numba functions of

@@ -1,4 +1,4 @@
-"""Equations of motion of the hub–beam system (DESIGN §4; the 1988 report, listing EQNS).
+"""Equations of motion of the hub–beam system (docs/theory/beam.md, eqs. (4), (5); the 1988 report, listing EQNS).
 
 Coordinates: hub angle θ and modal amplitudes q₁…qₙ of ``w(x,t) = Σ φᵢ(x/L) qᵢ(t)``.
 The state vector used everywhere (shape ``(2n + 7,)``)::

@@ -5,7 +5,7 @@ found by Newton's method on the scaled, well-conditioned form
 ``f(β) = cos β + 1/cosh β`` started from the listing's seeds and
 ``(2i − 1)π/2`` beyond the fifth.
 
-Mode shapes, ξ = x/L ∈ [0, 1] (DESIGN §4)::
+Mode shapes, ξ = x/L ∈ [0, 1] (docs/theory/beam.md, eq. (2))::
 
     φᵢ(ξ) = cosh βξ − cos βξ − σᵢ (sinh βξ − sin βξ),
     σᵢ = (cosh β + cos β)/(sinh β + sin β),      ∫₀¹ φᵢ² dξ = 1,  φᵢ(1) = ±2.

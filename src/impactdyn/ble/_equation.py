@@ -16,7 +16,7 @@ km/s, ksi; θ from the target normal.
 
 Obliquity cap: θ is replaced by min(θ, 65°) everywhere, in the regime boundaries too
 (Christiansen 1993 eq. 12 and NASA/TM-2009-214785 eq. 4-26, as cited in
-DESIGN §7; the ballistic limit analysis program of NASA/TM-2009-214789 applies the same cap
+docs/theory/ble.md; the ballistic limit analysis program of NASA/TM-2009-214789 applies the same cap
 to Whipple shields).  Beyond 65° the equations were never fitted, and the uncapped
 (cos θ)^{-2/3} of the hypervelocity limit grows without bound toward 90°.
 

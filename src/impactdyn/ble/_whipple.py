@@ -73,17 +73,21 @@ def critical_diameter(shield: WhippleShield, velocity_km_s, obliquity_deg=0.0,
                       projectile_density=ALUMINIUM_DENSITY_G_CM3, equation=None):
     """Critical projectile diameter d_c (cm) of a Whipple shield; NaN where there is none.
 
-    Parameters
-    ----------
-    shield : WhippleShield
-    velocity_km_s : impact speed V (km/s), > 0; scalar or array
-    obliquity_deg : θ from the target normal (degrees), 0 ≤ θ < 90, capped at 65°
-    projectile_density : ρ_p (g/cm³), > 0; scalar or array
-    equation : registered name, ``None`` for the default
-
     A sphere of diameter d perforates the rear wall when d > d_c (see :func:`perforates`).
     The 2011 form has no fixed point for some shields and speeds: there the result is NaN
     and :func:`ballistic_limit` says why.
+
+    Parameters
+    ----------
+    shield : WhippleShield
+    velocity_km_s : float or array
+        Impact speed V (km/s), > 0.
+    obliquity_deg : float
+        θ from the target normal (degrees), 0 ≤ θ < 90, capped at 65°.
+    projectile_density : float or array
+        ρ_p (g/cm³), > 0.
+    equation : str or None
+        A registered name, ``None`` for the default.
     """
     limit = ballistic_limit(shield, velocity_km_s, obliquity_deg, projectile_density, equation)
     return _check.result(limit.critical_diameter_cm, velocity_km_s, obliquity_deg, projectile_density)

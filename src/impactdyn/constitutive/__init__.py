@@ -9,18 +9,22 @@ packed material table of :mod:`impactdyn.materials` entries.  Units cm, g, µs, 
   indices ``RHO0`` … ``HAS_JC``).
 * :mod:`._strength` — Jaumann rate, von Mises radial return, flow stress
   (perfectly plastic or Johnson–Cook) and a cheap lower bound of it, artificial stress.
+* :mod:`._failure` — failure laws: the Johnson–Cook fracture strain with its floor, the
+  Tuler–Butcher spall-damage increment.
 """
 
 from impactdyn.constitutive._eos import (
     C0, CV, EPS_FAIL, GAMMA0, HAS_JC, JC_A, JC_B, JC_C, JC_M, JC_N, JC_RATE0, JC_TMELT, JC_TROOM, MU_COLD, N_COLD,
     N_PARAMS, P_SPALL, RHO0, SHEAR, SLOPE, T_ROOM, YIELD, pack_materials, pressure, sound_speed, temperature,
     temperature_bound)
+from impactdyn.constitutive._failure import fracture_strain, tuler_butcher_increment, tuler_butcher_rate
 from impactdyn.constitutive._strength import (
     artificial_stress, flow_stress, flow_stress_floor, jaumann_rate, radial_return, spin_terms, von_mises)
 
 __all__ = [
     "C0", "CV", "EPS_FAIL", "GAMMA0", "HAS_JC", "JC_A", "JC_B", "JC_C", "JC_M", "JC_N", "JC_RATE0", "JC_TMELT",
     "JC_TROOM", "MU_COLD", "N_COLD", "N_PARAMS", "P_SPALL", "RHO0", "SHEAR", "SLOPE", "T_ROOM", "YIELD",
-    "artificial_stress", "flow_stress", "flow_stress_floor", "jaumann_rate", "pack_materials", "pressure",
-    "radial_return", "sound_speed", "spin_terms", "temperature", "temperature_bound", "von_mises",
+    "artificial_stress", "flow_stress", "flow_stress_floor", "fracture_strain", "jaumann_rate", "pack_materials",
+    "pressure", "radial_return", "sound_speed", "spin_terms", "temperature", "temperature_bound",
+    "tuler_butcher_increment", "tuler_butcher_rate", "von_mises",
 ]

@@ -11,7 +11,7 @@ fraction φ (fragments), moving with the homologous (self-similar) velocity fiel
 
 i.e. translating at v_c and expanding so that the shell's mid-surface grows at
 v_e.  Units cm, g, µs.  The grid covers the half model x ≥ 0 (the symmetry plane
-of the oblique impact, DESIGN §6).
+of the oblique impact, docs/theory/shield.md).
 
 Cells are filled by sub-sampling: each cell is split into ``subsamples³``
 points; the fraction f inside the shell gives the cell's material, mass

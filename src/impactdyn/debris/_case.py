@@ -192,7 +192,8 @@ whose default it takes (the listing's deviations are off unless asked for)."""
 
 LegacySection = create_model(
     "LegacySection", __base__=Section, __module__=__name__,
-    __doc__="The listing's behaviour where it departs from the model (DESIGN §5), one flag each (:data:`LEGACY_FLAGS`).",
+    __doc__=("The listing's behaviour where it departs from the model (docs/theory/debris.md, the listing's "
+             "errata), one flag each (:data:`LEGACY_FLAGS`)."),
     **{key: (bool, field_of(option, name)) for key, (option, name) in LEGACY_FLAGS.items()})
 
 

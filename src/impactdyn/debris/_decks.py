@@ -27,7 +27,9 @@ class DeckOptions:
     (both decks), or for the LS-DYNA deck a Johnson–Cook library material (then the DYNA3D
     deck carries its type-13 card, :func:`impactdyn.materials.mat13_card`); hourglass (IHQ, QH)
     and bulk_viscosity (Q1, Q2) : the LS-DYNA deck's controls (None: LS-DYNA's defaults);
-    dcpost_factor : DCPOST's scale on the DYNA3D deck's cards; title : the decks' title.
+    dcpost_factor : DCPOST's scale on the DYNA3D deck's cards; title : the decks' title;
+    failure_strain_floor, erode_failed : the Johnson–Cook card's EFMIN and erosion
+    (:func:`impactdyn.io.write_lsdyna_deck`).
     """
 
     lsdyna: bool = True
@@ -40,6 +42,8 @@ class DeckOptions:
     bulk_viscosity: tuple[float, float] | None = None
     dcpost_factor: float = 1.0
     title: str = ""
+    failure_strain_floor: float | None = None
+    erode_failed: bool = True
 
     @classmethod
     def of(cls, case, dcpost_factor: float = 1.0) -> "DeckOptions":
@@ -61,7 +65,8 @@ def write_decks(folder: FolderWriter, wall: WallGrid, deposition: WallDeposition
         write_lsdyna_deck(folder.file("wall.k"), wall, o.material, deposition, pulse_width=o.pulse_width_us,
                           end_time=end, clamped_edges=o.clamped_edges,
                           title=o.title or "impactdyn rear wall under debris-cloud deposition",
-                          hourglass=o.hourglass, bulk_viscosity=o.bulk_viscosity)
+                          hourglass=o.hourglass, bulk_viscosity=o.bulk_viscosity,
+                          failure_strain_floor=o.failure_strain_floor, erode_failed=o.erode_failed)
         written.append("wall.k")
     if o.dyna3d:
         from impactdyn.io import write_dyna3d_deck

@@ -1,4 +1,4 @@
-"""Momentum deposited on the rear wall (DC3D DYNOUT, DCPOST; DESIGN §5).
+"""Momentum deposited on the rear wall (DC3D DYNOUT, DCPOST; docs/theory/debris.md, eq. (5)).
 
 At its arrival time a particle's four vertices and its centroid,
 

@@ -1,4 +1,4 @@
-"""Per-particle failure codes of the integrators, and the check of a state (DESIGN §5)."""
+"""Per-particle failure codes of the integrators, and the check of a state (docs/theory/debris.md)."""
 
 from __future__ import annotations
 

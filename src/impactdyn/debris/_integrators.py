@@ -1,4 +1,4 @@
-"""Integrators of the particle state equations: their options and :func:`propagate` (DESIGN §5).
+"""Integrators of the particle state equations: their options and :func:`propagate` (docs/theory/debris.md).
 
 Every particle is an independent 33-dimensional ODE (:mod:`._particle`)
 integrated from t = 0 to its own end time (its arrival time at the wall). Each

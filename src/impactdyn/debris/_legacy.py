@@ -4,7 +4,7 @@ The dc3din records become a :class:`DebrisCase` (written as ``config.resolved.to
 next to ``handoff_grid.h5``, so the run can be repeated with ``debris run``):
 
 * material μ, λ, ρ_ref, η, ζ (records 13–14).  The listing's η is per unit volume
-  (``legacy.eta_per_volume``, DESIGN §5), so that flag is set: the number in dc3din
+  (``legacy.eta_per_volume``, docs/theory/debris.md, the listing's errata), so that flag is set: the number in dc3din
   means what DC3D made of it.
 * filters tcut, tmin, dencut (record 8); the wall grid (records 9–12); the new
   wall grid as ``wall.remap`` when it differs from the old one; integrator eps and

@@ -1,4 +1,4 @@
-"""State equations of one DC3D deformable tetrahedral particle (Fahrenthold 1994, DESIGN §5).
+"""State equations of one DC3D deformable tetrahedral particle (Fahrenthold 1994; docs/theory/debris.md, eqs. (2), (3)).
 
 A particle is a tetrahedron of mass m in homogeneous deformation (paper eq. 1)::
 
@@ -53,7 +53,7 @@ Listing deviations (the default is the model; each is behind an explicit option)
   JCALC maps the reference inertia with g⁻ᵀ J_ref g⁻¹ where the model needs
   g J_ref gᵀ.
 * Left out, not an option: FCN multiplies the bulk-viscosity term by a power of
-  ½|D|² that the OCR text garbles (DESIGN §5); the term here is the linear one.
+  ½|D|² that the OCR text garbles (docs/theory/debris.md, the listing's errata); the term here is the linear one.
 """
 
 from __future__ import annotations

@@ -214,7 +214,7 @@ def run_debris(grid: HydroGrid, wall: WallGrid, material: ParticleMaterial, *,
                window: ArrivalWindow = ArrivalWindow(), integrator: IntegratorOptions = IntegratorOptions(),
                compute: ComputeOptions = ComputeOptions(), deposition: DepositionOptions = DepositionOptions(),
                progress: Callable[[str, int, int], None] | None = None) -> DebrisResult:
-    """Seed, propagate to the wall plane y = wall.y[0], deposit (DC3D's main loop, DESIGN §5).
+    """Seed, propagate to the wall plane y = wall.y[0], deposit (DC3D's main loop, docs/theory/debris.md).
 
     ``progress(stage, done, total)`` is called as work advances (stages
     ``seed``, ``propagate``, ``deposit``).

@@ -1,4 +1,4 @@
-"""The integrator interface and registry: what an integrator receives and returns (DESIGN §5).
+"""The integrator interface and registry: what an integrator receives and returns (docs/theory/debris.md, eq. (3)).
 
 An integrator is a function ``(batch, control) -> (states, t_reached, counts)``
 (:data:`IntegratorFn`) registered under a name in :data:`INTEGRATORS`

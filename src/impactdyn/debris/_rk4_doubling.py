@@ -1,4 +1,4 @@
-"""``legacy``: the listing's IVDCRK, classical RK4 with step doubling (DC3D, DESIGN §5).
+"""``legacy``: the listing's IVDCRK, classical RK4 with step doubling (DC3D; docs/theory/debris.md).
 
 One step of h against two of h/2, the two half steps kept; the error norm, the
 step control and where this departs from the listing are stated in

@@ -1,4 +1,4 @@
-"""HydroGrid cells → deformable tetrahedral particles (DC3D DCELEM, ELDATA, NDDATA; DESIGN §5).
+"""HydroGrid cells → deformable tetrahedral particles (DC3D DCELEM, ELDATA, NDDATA; docs/theory/debris.md, seeding).
 
 Every cell that passes the material filters becomes five tetrahedra
 (:mod:`._tets`). A tetrahedron's vertices carry the grid's nodal velocities
@@ -23,7 +23,7 @@ nodes on the grid's upper planes have no velocity component normal to them
 stencils.
 
 Legacy option ``legacy_nddata_swap``: NDDATA gives vertices n7 and n8 each
-other's velocity (DESIGN §5, listing errata).
+other's velocity (docs/theory/debris.md, the listing's errata).
 """
 
 from __future__ import annotations

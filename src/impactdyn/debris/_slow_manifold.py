@@ -1,4 +1,4 @@
-"""``slow``: a slow-manifold integrator that steps over the particles' elastic ringing (DESIGN §5).
+"""``slow``: a slow-manifold integrator that steps over the particles' elastic ringing (docs/theory/debris.md).
 
 Why not an implicit scheme on (F, H).  A debris particle rings elastically with
 ω ≈ ω̂ ~ 200/µs while its slow motion — the rigid rotation of a tetrahedron of

@@ -1,4 +1,4 @@
-"""Splitting integrators of the particle state equations, vectorised across particles (DESIGN §5).
+"""Splitting integrators of the particle state equations, vectorised across particles (docs/theory/debris.md, eq. (3)).
 
 The state equations of :mod:`._particle` split as f = f_A + f_B into two flows
 that are solved exactly:

@@ -1,6 +1,6 @@
 """Five tetrahedra per rectilinear cell and their initial particle state (DC3D NDDATA, JCALC, IVCALC).
 
-Cell (i, j, k) has the lower corner node (i, j, k) and the nodes (DESIGN §5)::
+Cell (i, j, k) has the lower corner node (i, j, k) and the nodes (docs/theory/debris.md, seeding)::
 
     n1 = (i, j, k)      n2 = (i+1, j, k)      n3 = (i+1, j+1, k)      n4 = (i, j+1, k)
     n5 = (i, j, k+1)    n6 = (i+1, j, k+1)    n7 = (i+1, j+1, k+1)    n8 = (i, j+1, k+1)
@@ -120,7 +120,7 @@ def affine_velocity_fit(x, v):
 
 def initial_state(x, v, m, *, legacy_fdot_scaling: bool = False, density_ratio=None,
                   legacy_inertia_transform: bool = False):
-    """Initial particle states of tetrahedra (JCALC, INITLZ, IVCALC; DESIGN §5).
+    """Initial particle states of tetrahedra (JCALC, INITLZ, IVCALC; docs/theory/debris.md, eq. (1)).
 
     F(0) = I,  H(0) = Ḟ(0) J = L J,  Eₚ(0) = 0,  p = m v_c,  c = ¼ Σₖ xₖ,
     with L, v_c from :func:`affine_velocity_fit` and J from :func:`inertia_tensor`.

@@ -20,7 +20,7 @@ The deck, in order:
    6 z x, 7 all, from :meth:`WallGrid.constrained_dofs` (``clamped_edges``: 7 on
    the three outer edges).  In the OCR a ``go to 761`` stands before the edge
    codes without a comment mark; the same OCR drops the ``c`` of commented-out
-   debug lines elsewhere (DCELEM's single-cell filter), and DESIGN §5 and the
+   debug lines elsewhere (DCELEM's single-cell filter), and docs/theory/debris.md and the
    report's half model (symmetry plane x = xdmin) want the edge codes, so they
    are written.  Then the 8 nodes of the
    backing element, code 0: the 1 cm cube x ∈ [xd, xd + 1], y ∈ [yd − 2, yd − 1],

@@ -31,7 +31,8 @@ rec   fields                                       Fmt    meaning, unit
 ====  ===========================================  =====  ===============================================
 
 η: the model's η (paper eq. 10a) is a viscosity, Mbar·µs; the listing divides
-V₀·2μ(E' − Eₚ) by it, so a listing η is per volume (Mbar·cm³·µs; DESIGN §5).
+V₀·2μ(E' − Eₚ) by it, so a listing η is per volume (Mbar·cm³·µs; docs/theory/debris.md, the
+listing's errata).
 
 The factor record: DCPOST reads it with ``(////e15.3)`` right after the ζ record,
 i.e. on the next line, while App. C shows a comment line before it.  Both are

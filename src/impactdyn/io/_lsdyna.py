@@ -28,7 +28,9 @@ CP PC SPALL IT D1–D4; D5 — with PC = −p_spall and SPALL = 3 (the element s
 the pressure falls below PC, the wall stage's criterion), the JC damage constants of
 :data:`impactdyn.materials.JOHNSON_COOK_DAMAGE` in Johnson & Cook's convention (σ* the
 mean stress over the effective stress; LS-DYNA's D1–D5 are entered as in their paper),
-failed elements eroded (EROD 0, as the wall stage's default erosion); and *EOS_GRUNEISEN
+EROD and EFMIN the wall stage's (failed elements keep compressive pressure, EROD 1, and the
+fracture strain its floor, :mod:`impactdyn.wall._johnson_cook`); the wall stage's default
+Tuler–Butcher spall law has no *MAT_015 form, so the deck's spall is the cut-off PC; and *EOS_GRUNEISEN
 (MAT_015 needs an EOS): C = c₀, S1 = s, S2 = S3 = 0, GAMA0 = Γ₀, A = 0, E0 = 0, V0 = 1 —
 the shield stage's Mie–Grüneisen form p = p_H(μ) + Γ₀ρ₀e referred to the Hugoniot.
 
@@ -49,6 +51,10 @@ deposited impulse exactly (to the ordinates' ~14 digits).  Each curve starts and
 ends with a flat zero segment, so LS-DYNA's extrapolation past its ends stays 0.
 ``pulse_width`` should be of the order of a debris particle's contact time
 (size / speed: 0.03 cm / 0.6 cm/µs ≈ 0.05 µs, the default).
+
+The wall may be any :class:`WallGrid` with the deposition on its own face cells: the case's
+grid, or the mesh the wall stage ran (:func:`impactdyn.wall.solver_mesh` returns its grid
+``mesh.grid`` and the records re-binned onto it), so the deck carries the wall stage's mesh.
 
 :func:`read_lsdyna_deck` reads back what this module writes (nodes, solids,
 SPCs, curves, point loads), for tests and checks.
@@ -102,11 +108,15 @@ def write_lsdyna_deck(path: str | Path, wall: WallGrid, material: Mat13Card | Ma
                       end_time: Positive = 30.0, clamped_edges: bool = True,
                       title: str = "impactdyn rear wall under debris-cloud deposition",
                       hourglass: tuple[int, float] | None = None,
-                      bulk_viscosity: tuple[float, float] | None = None) -> None:
+                      bulk_viscosity: tuple[float, float] | None = None,
+                      failure_strain_floor: float | None = None, erode_failed: bool = True) -> None:
     """Write the keyword deck (module docstring), atomically.  Times in µs.
 
     hourglass : (IHQ, QH) of *CONTROL_HOURGLASS; bulk_viscosity : (Q1, Q2) of
     *CONTROL_BULK_VISCOSITY (quadratic, linear); None leaves LS-DYNA's defaults.
+    failure_strain_floor, erode_failed : *MAT_JOHNSON_COOK's EFMIN (None: LS-DYNA's 1e-6) and
+    EROD (0: failed elements erode, 1: they keep compressive pressure), the wall stage's
+    fracture-strain floor and erosion (a type-13 card ignores them).
     """
     if deposition is not None:
         deposition.check_fits(wall)
@@ -118,7 +128,7 @@ def write_lsdyna_deck(path: str | Path, wall: WallGrid, material: Mat13Card | Ma
     if bulk_viscosity is not None:
         lines += ["*CONTROL_BULK_VISCOSITY", "$       Q1        Q2", _row([float(q) for q in bulk_viscosity])]
     lines += ["*DATABASE_BINARY_D3PLOT", _row([end_time / 100.0])]
-    lines += _material_cards(material) + ["*NODE"]
+    lines += _material_cards(material, failure_strain_floor, erode_failed) + ["*NODE"]
     xyz = wall.node_coordinates()
     lines += [_field(n, 8) + "".join(_field(c, 16) for c in p) for n, p in enumerate(xyz, start=1)]
     lines.append("*ELEMENT_SOLID")
@@ -134,7 +144,7 @@ def write_lsdyna_deck(path: str | Path, wall: WallGrid, material: Mat13Card | Ma
         tmp.write_text("\n".join(lines) + "\n", encoding="ascii")
 
 
-def _material_cards(m: Mat13Card | Material) -> list[str]:
+def _material_cards(m: Mat13Card | Material, efmin: float | None = None, erode: bool = True) -> list[str]:
     """*PART, *SECTION_SOLID and the material (module docstring): MAT_013 for a type-13 card,
     MAT_015 with *EOS_GRUNEISEN for a Johnson–Cook library material."""
     cards = ["*SECTION_SOLID", _row([1, 1])]
@@ -159,8 +169,8 @@ def _material_cards(m: Mat13Card | Material) -> list[str]:
         _row([jc.A, jc.B, jc.n, jc.C, jc.m, jc.t_melt, jc.t_room, jc.reference_strain_rate]),
         "$       CP        PC     SPALL        IT        D1        D2        D3        D4",
         _row([m.specific_heat, pc, 3.0 if pc is not None else None, 0.0, *damage]),
-        "$       D5",
-        _row([d.D5 if d is not None else None]),
+        "$       D5      C2/P      EROD     EFMIN",
+        _row([d.D5 if d is not None else None, None, 0.0 if erode else 1.0, efmin]),
         "*EOS_GRUNEISEN",
         "$    EOSID         C        S1        S2        S3     GAMA0         A        E0",
         _row([1, m.c0, m.s, 0.0, 0.0, m.gamma0, 0.0, 0.0]),

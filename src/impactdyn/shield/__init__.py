@@ -1,4 +1,4 @@
-"""Built-in shield-impact stage: 3-D SPH for a sphere striking a plate (DESIGN §6).
+"""Built-in shield-impact stage: 3-D SPH for a sphere striking a plate (docs/theory/shield.md).
 
 Updated-Lagrangian SPH with a Mie–Grüneisen EOS, elastic–plastic deviatoric
 stress (Jaumann rate, von Mises radial return, Johnson–Cook optional), Monaghan

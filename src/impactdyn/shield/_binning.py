@@ -1,4 +1,4 @@
-"""Binning of SPH particles onto a cell-centred HydroGrid (the hand-off to the debris stage, DESIGN §5–6).
+"""Binning of SPH particles onto a cell-centred HydroGrid (the hand-off to the debris stage, docs/theory/binning.md).
 
 Each particle p deposits its mass and the quantities it carries on the cells c
 with weights w_pc, Σ_c w_pc = 1. Two assignments (``method``):

@@ -1,6 +1,6 @@
 """Problem set-ups of the shield stage: sphere on plate (half model) and the planar-impact column.
 
-Axes (consistent with the debris stage, DESIGN §5): the debris flies toward the
+Axes (consistent with the debris stage, docs/theory/debris.md): the debris flies toward the
 rear wall along +y; the plate is normal to y with its front face at y = 0 and its
 back face at y = thickness; x = 0 is the symmetry plane of the half model (the
 impact plane is y–z), particles have x > 0. A projectile at obliquity θ moves
@@ -82,7 +82,7 @@ def _axis(lo: float, hi: float, step: float) -> np.ndarray:
 def sphere_on_plate(projectile: str | Material, plate: str | Material, diameter_cm: float, velocity_km_s: float,
                     obliquity_deg: float, plate_thickness_cm: float, spacing_cm: float,
                     plate_radius_cm: float | None = None, lattice: str = "cubic") -> Problem:
-    """Half model of a sphere striking a plate (DESIGN §6).
+    """Half model of a sphere striking a plate (docs/theory/shield.md).
 
     Plate: the half disc x > 0, x² + z² ≤ R_p² (default R_p = 2 d), y ∈ [0, t], on
     a cubic lattice of pitch Δ in x and z and t/round(t/Δ) through the thickness

@@ -11,7 +11,7 @@ from numba import njit
 from impactdyn.wall._hex import BLOCK, N_GEOMETRY_ROWS, ROW_B, ROW_G, ROW_LE, ROW_VOL, ROW_X
 from impactdyn.wall._state import N_SHG
 
-#: Rows of the per-thread flat block array ``A`` of :func:`._step.element_pass`; row r of brick k of the
+#: Rows of the per-thread flat block array ``A`` of :func:`._step._element_pass`; row r of brick k of the
 #: block is A[r·BLOCK + k].  First the geometry rows of :mod:`._hex` (end coordinates R_X + 8i + a: component i
 #: at local node a; volume gradient ∂V/∂x R_B + 8i + a; hourglass shape vectors γ R_G + 8α + a; volume; 4 rows
 #: of work space; characteristic length), then per brick: velocities (R_V + 8i + a), nodal forces

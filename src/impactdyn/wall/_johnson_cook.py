@@ -22,31 +22,63 @@ the trapezoidal energy equation
 
 is solved for eⁿ⁺¹ exactly with pⁿ⁺¹ = A_MG(ρⁿ⁺¹) + Γ₀ρ₀eⁿ⁺¹ (A_MG = p_MG(ρ, 0)).
 
-Damage (Johnson & Cook, Eng. Fract. Mech. 21 (1985) 31), accumulated on plastic steps::
+Damage (Johnson & Cook, Eng. Fract. Mech. 21 (1985) 31), accumulated on plastic steps
+(:func:`impactdyn.constitutive.fracture_strain`)::
 
     D ← D + Δεₚ/ε_f,   ε_f = max(D1 + D2 exp(D3 σ*), ε_f,min) [1 + D4 ln max(ε̇/ε̇₀, 1)] [1 + D5 T*]
 
-σ* = −p/σ_eq (mean stress over von Mises stress).  ε_f,min = 1e-6 is a numerical floor,
-not a material constant: where the fit gives ε_f ≤ 0 (for the 6061-T6 constants, σ* > 1.35,
-beyond the triaxialities of the tests it was fitted to) any plastic increment fails the
-element (``damage_at_floor=False`` skips those increments instead).  Constants:
+σ* = −p/σ_eq (mean stress over von Mises stress).  ε_f,min is the fracture-strain floor
+(``fracture_strain_floor``): ``"library"`` (the default) takes the material library's
+:attr:`~impactdyn.materials.JohnsonCookDamage.efmin` (6061-T6: the fit held at its value at the
+largest notched-bar triaxiality, 0.125; uncertain, see :mod:`impactdyn.materials`), or the
+numerical 1e-6 where the library has none (a fit bounded below by D1 > 0 by itself);
+``"unbounded"`` takes 1e-6 everywhere: the fit as published, extrapolated beyond its data,
+where for the 6061-T6 constants (D1 < 0) ε_f vanishes for σ* > 1.35 and any plastic increment
+in mean tension above ≈ 0.45 GPa fails the element (the behaviour before the floor; it decided the
+``table2_7a`` verdict, 99 % of its failed mass, and made it mesh-dependent: benchmarks/BENCHMARKS.md,
+"what fails the 7a wall").  ``damage_at_floor=False`` skips the increments on steps where the fit
+is at or below the floor instead (a study switch).  Constants:
 :data:`impactdyn.materials.JOHNSON_COOK_DAMAGE` (6061-T6: Lesuer, Kay & LeBlanc 2001; 2024-T351 as
 widely quoted; OFHC copper: Johnson & Cook 1985); a material without an entry runs without
 ductile damage and fails by spall alone (``failure_criteria`` in :meth:`describe` says which apply).
 
-Spall: p < −p_spall (the library material's spall strength; Kanel et al. 2004) fails the
-element.  Each failed element records which criterion failed it (``flags[e, FAILED]``, codes of
-:data:`impactdyn.wall._state.FAILURE_CAUSES`): ductile damage; ductile damage completed on a step
-at the floor (the fit's D1 + D2 exp(D3 σ*) ≤ ε_f,min: for 6061-T6 σ* > 1.35, a mean tension
-above 1.35 times the flow stress, ≈ 0.45 GPa, less than half the spall strength, where any
-plastic increment fails the element); or the spall pressure.  The split is reported as
-``failed_mass_by_cause_g`` (:mod:`._verdict`): on the ``table2_7a`` wall 99 % of the failed mass
-failed at the floor, at the default mesh and at 2×, and no element reached the 1.2-GPa spall
-pressure (benchmarks/BENCHMARKS.md, "what fails the 7a wall").
+Spall (``spall_law``): ``"tuler_butcher"`` (the default; Tuler & Butcher, Int. J. Fract. Mech. 4
+(1968) 431, :func:`impactdyn.constitutive.tuler_butcher_increment`)::
 
-Failure is for good; a failed element is eroded — removed from the force computation — at
-once (``erosion=True``, the default).  Without erosion it keeps only compressive pressure
-(S = 0, p = max(p, 0)), as the type-13 model.
+    ∫ max(0, σ_t − σ₀)^λ dt ≥ K,   σ_t = −p (the mean tension)
+
+integrated by the trapezoidal rule over each step from the pressures at its start and end
+(per-element column ``SPALL_DAMAGE`` of ``es``), constants
+:data:`impactdyn.materials.TULER_BUTCHER` (a documented fallback scaled from the spall
+strengths, not published Tuler–Butcher constants: uncertain).  The mean tension, not the largest
+principal stress: the spall strengths the constants scale from are the pressure cut-offs of this
+model and of type 13 (the cut-off law is the limit K → 0 of this one); void growth, the mechanism
+of ductile spall, is driven by the mean stress (deviatoric, shear-driven failure is the
+Johnson–Cook damage's part); in the uniaxial strain of spall tests the two differ by ⅔Y ≈ 0.2 GPa
+only; and it needs no eigenvalues in the hot loop.  ``"cutoff"``: p < −p_spall (the library
+material's spall strength; Kanel et al. 2004) fails the element at once, with no time scale
+(the behaviour before the Tuler–Butcher law).
+
+Each failed element records which criterion failed it (``flags[e, FAILED]``, codes of
+:data:`impactdyn.wall._state.FAILURE_CAUSES`): ductile damage; ductile damage completed on a step
+at the floor (the fit's D1 + D2 exp(D3 σ*) ≤ ε_f,min); the spall pressure (cut-off) or the spall
+damage (Tuler–Butcher).  The split is reported as ``failed_mass_by_cause_g`` (:mod:`._verdict`).
+
+Failure is for good.  A failed element carries no deviatoric stress and no tension but keeps its
+compressive pressure (S = 0, p = max(p, 0)): failed material is rubble, which still pushes back
+when squeezed.  By default (``erosion=False``) it stays in the force computation and is removed
+only by the solver's geometric criteria (its step collapses below ``erosion_step_fraction`` of the
+initial one, or its volume inverts, :mod:`impactdyn.wall._step`): eroding it at once
+(``erosion=True``) deletes the mass and the support of the material around a crater, so that
+debris behind the first failed layer meets no resistance, and the rubble's momentum leaves the
+mesh (the energy balance books it as eroded).  LS-DYNA's *MAT_JOHNSON_COOK keeps failed solids
+the same way with EROD = 1 (pressure only after failure).  Measured on a 1 × 0.2 × 1-cm clamped
+wall of 20 × 4 × 20 bricks, a central 4 × 4 patch of face elements each loaded by four impulses
+of 1e-5 to 5e-5 g·cm/µs over 0.75 µs, 8 µs (the default laws otherwise): the same verdict with
+and without erosion at all four loads (no perforation at the lowest, perforation above); without
+erosion 1.1–3.5× more failed mass (the rubble passes compression on to the material behind it,
+which the eroded hole does not), deeper damage at the lowest load (0.15 against 0.05 cm), and
+no mass leaves the mesh.
 
 Sound speed: c² = c_b² + 4G/(3ρ), c_b the isentropic bulk sound speed of the EOS
 (:func:`impactdyn.constitutive.sound_speed`).
@@ -64,17 +96,26 @@ from numba import njit
 
 from impactdyn._errors import InputError
 from impactdyn.constitutive import (
-    C0, GAMMA0, JC_TMELT, JC_TROOM, JC_RATE0, P_SPALL, RHO0, SHEAR, SLOPE, flow_stress, flow_stress_floor, jaumann_rate,
-    pack_materials, pressure, radial_return, sound_speed, temperature, temperature_bound, von_mises)
-from impactdyn.materials import JOHNSON_COOK_DAMAGE, JohnsonCookDamage, Material, get_material
+    C0, GAMMA0, JC_TMELT, JC_TROOM, JC_RATE0, P_SPALL, RHO0, SHEAR, SLOPE, flow_stress, flow_stress_floor,
+    fracture_strain, jaumann_rate, pack_materials, pressure, radial_return, sound_speed, temperature,
+    temperature_bound, tuler_butcher_increment, von_mises)
+from impactdyn.materials import (
+    JOHNSON_COOK_DAMAGE, TULER_BUTCHER, JohnsonCookDamage, Material, TulerButcher, get_material)
 from impactdyn.wall._models import WallModel, register_model
 from impactdyn.wall._state import (
-    DAMAGE, EPS_P, FAIL_DAMAGE, FAIL_DAMAGE_FLOOR, FAIL_TENSION, FAILED, IE, P, RATE, stress_power)
+    DAMAGE, EPS_P, FAIL_DAMAGE, FAIL_DAMAGE_FLOOR, FAIL_SPALL, FAIL_TENSION, FAILED, IE, P, RATE, SPALL_DAMAGE,
+    stress_power)
 
-(J_DAMAGE, J_D1, J_D2, J_D3, J_D4, J_D5, J_EFMIN, J_SPALL, J_FLOOR) = range(9)
+(J_DAMAGE, J_D1, J_D2, J_D3, J_D4, J_D5, J_EFMIN, J_SPALL, J_FLOOR, J_TB_SIGMA0, J_TB_LAMBDA, J_TB_K) = range(12)
 
-#: Numerical floor on the JC fracture strain (module docstring).
+#: Numerical floor on the JC fracture strain, so that ε_f > 0 (module docstring); not a material constant.
 FAILURE_STRAIN_FLOOR = 1.0e-6
+
+#: The spall laws (``spall_law``) and their codes in the kernel's parameters (0: no spall criterion).
+SPALL_LAWS = ("tuler_butcher", "cutoff")
+SPALL_TB, SPALL_CUTOFF = 1, 2
+#: The fracture-strain floors (``fracture_strain_floor``): the library's, or the fit unbounded.
+FRACTURE_STRAIN_FLOORS = ("library", "unbounded")
 
 #: The elastic shortcut of :func:`jc_update` takes trial stresses below this fraction of the flow stress's
 #: lower bound, so that round-off in the bound can never skip a plastic step.
@@ -91,26 +132,40 @@ class JohnsonCookModel(WallModel):
 
     material : Material with Johnson–Cook constants.
     damage : JohnsonCookDamage or None (no ductile damage).
-    spall : apply the spall criterion p < −p_spall (needs the material's spall strength).
-    erosion : erode failed elements.
+    spall : apply a spall criterion (needs the material's spall strength, or its Tuler–Butcher constants).
+    erosion : erode failed elements at once (False, the default: they keep compressive pressure and
+        are removed by the solver's geometric criteria only; module docstring).
     damage_at_floor : accumulate damage on steps where the fit's fracture strain is at the floor
-        (True, the default: the fit as published, any plastic increment there fails the element);
-        False: no ductile damage beyond the fit's zero, tension there left to the spall criterion
-        (an alternative for the study in benchmarks/BENCHMARKS.md, "what fails the 7a wall"; not
-        a case key, and the LS-DYNA deck cannot carry it).
+        (True, the default); False: no ductile damage there, tension left to the spall criterion
+        (the study in benchmarks/BENCHMARKS.md, "what fails the 7a wall"; not a case key).
+    spall_law : one of :data:`SPALL_LAWS`: "tuler_butcher" (default) or "cutoff".
+    fracture_strain_floor : one of :data:`FRACTURE_STRAIN_FLOORS`: "library" (default) or "unbounded".
+    tuler_butcher : the Tuler–Butcher constants (None: none known; required by that spall law).
     """
 
     material: Material
     damage: JohnsonCookDamage | None = None
     spall: bool = True
-    erosion: bool = True
+    erosion: bool = False
     damage_at_floor: bool = True
+    spall_law: str = "tuler_butcher"
+    fracture_strain_floor: str = "library"
+    tuler_butcher: TulerButcher | None = None
 
     name = "johnson_cook"
+    option_keys = ("spall_law", "fracture_strain_floor")
 
     def __post_init__(self) -> None:
         if self.material.johnson_cook is None:
             raise InputError(f"johnson_cook: material {self.material.name!r} has no Johnson-Cook constants")
+        if self.spall_law not in SPALL_LAWS:
+            raise InputError(f"spall_law: {self.spall_law!r} is not one of {', '.join(SPALL_LAWS)}")
+        if self.fracture_strain_floor not in FRACTURE_STRAIN_FLOORS:
+            raise InputError(f"fracture_strain_floor: {self.fracture_strain_floor!r} is not one of "
+                             f"{', '.join(FRACTURE_STRAIN_FLOORS)}")
+        if self.spall and self.spall_law == "tuler_butcher" and self.tuler_butcher is None:
+            raise InputError(f"spall_law: no Tuler-Butcher constants for material {self.material.name!r}; "
+                             f"use 'cutoff' or pass tuler_butcher=")
 
     @property
     def density(self) -> float:
@@ -136,14 +191,36 @@ class JohnsonCookModel(WallModel):
         t = self.kernel_table()[0]
         return t[RHO0] * t[C0] ** 2, t[SHEAR]
 
+    @property
+    def deck_failure_strain_floor(self) -> float | None:
+        return self.efmin if self.damage is not None else None
+
+    @property
+    def efmin(self) -> float:
+        """The fracture-strain floor ε_f,min in effect (module docstring)."""
+        d = self.damage
+        if self.fracture_strain_floor == "library" and d is not None and d.efmin is not None:
+            return d.efmin
+        return FAILURE_STRAIN_FLOOR
+
+    def _spall_code(self) -> int:
+        if not self.spall:
+            return 0
+        if self.spall_law == "tuler_butcher":
+            return SPALL_TB
+        return SPALL_CUTOFF if self.material.spall_strength is not None else 0
+
     def kernel_params(self) -> np.ndarray:
         d = self.damage
-        prm = np.zeros(9)
+        prm = np.zeros(12)
         if d is not None:
             prm[[J_DAMAGE, J_D1, J_D2, J_D3, J_D4, J_D5]] = (1.0, d.D1, d.D2, d.D3, d.D4, d.D5)
-        prm[J_EFMIN] = FAILURE_STRAIN_FLOOR
-        prm[J_SPALL] = 1.0 if self.spall and self.material.spall_strength is not None else 0.0
+        prm[J_EFMIN] = self.efmin
+        prm[J_SPALL] = self._spall_code()
         prm[J_FLOOR] = 1.0 if self.damage_at_floor else 0.0
+        if prm[J_SPALL] == SPALL_TB:
+            tb = self.tuler_butcher
+            prm[[J_TB_SIGMA0, J_TB_LAMBDA, J_TB_K]] = (tb.sigma0, tb.lam, tb.K)
         return prm
 
     def kernel_table(self) -> np.ndarray:
@@ -151,10 +228,14 @@ class JohnsonCookModel(WallModel):
 
     def failure_criteria(self) -> tuple[str, ...]:
         ductile = () if self.damage is None else ("ductile_damage", "ductile_damage_at_floor")
-        return ductile + (("tensile_pressure",) if self.kernel_params()[J_SPALL] != 0.0 else ())
+        spall = {0: (), SPALL_TB: ("spall_damage",), SPALL_CUTOFF: ("tensile_pressure",)}[self._spall_code()]
+        return ductile + spall
 
     def describe(self) -> dict[str, Any]:
-        m, jc, d = self.material, self.material.johnson_cook, self.damage
+        m, jc, d, tb = self.material, self.material.johnson_cook, self.damage, self.tuler_butcher
+        spall_code = self._spall_code()
+        floor_source = (d.efmin_source if d is not None and self.efmin != FAILURE_STRAIN_FLOOR
+                        else "numerical floor (the fit unbounded)")
         return {"model": self.name, "material": m.name, "source": m.source,
                 "density_g_cm3": m.rho0, "c0_cm_us": m.c0, "s": m.s, "gamma0": m.gamma0,
                 "shear_modulus_Mbar": m.shear_modulus,
@@ -162,22 +243,32 @@ class JohnsonCookModel(WallModel):
                                  "t_melt_K": jc.t_melt, "t_room_K": jc.t_room,
                                  "reference_strain_rate_per_us": jc.reference_strain_rate},
                 "damage": None if d is None else {"D1": d.D1, "D2": d.D2, "D3": d.D3, "D4": d.D4, "D5": d.D5,
-                                                  "failure_strain_floor": FAILURE_STRAIN_FLOOR,
-                                                  "source": d.source},
-                "spall_strength_Mbar": m.spall_strength if self.spall else None,
+                                                  "source": d.source,
+                                                  "fracture_strain_floor": self.fracture_strain_floor,
+                                                  "failure_strain_floor": self.efmin,
+                                                  "failure_strain_floor_source": floor_source},
+                "spall_law": None if spall_code == 0 else self.spall_law,
+                "spall_strength_Mbar": m.spall_strength if spall_code == SPALL_CUTOFF else None,
+                "tuler_butcher": None if spall_code != SPALL_TB else {
+                    "sigma0_Mbar": tb.sigma0, "lambda": tb.lam, "K_Mbar_lambda_us": tb.K, "source": tb.source},
                 "erosion": self.erosion, "damage_at_floor": self.damage_at_floor,
                 "failure_criteria": list(self.failure_criteria())}
 
     @classmethod
     def from_material(cls, material: Any = "al6061-t6", damage: Any = LIBRARY, spall: bool = True,
-                      erosion: bool = True, damage_at_floor: bool = True) -> "JohnsonCookModel":
-        """The model of a library material; ``damage`` defaults to the library's constants (or none)."""
+                      erosion: bool = False, damage_at_floor: bool = True, spall_law: str = "tuler_butcher",
+                      fracture_strain_floor: str = "library", tuler_butcher: Any = LIBRARY) -> "JohnsonCookModel":
+        """The model of a library material; ``damage`` and ``tuler_butcher`` default to the library's
+        constants (or none)."""
         if not isinstance(material, (str, Material)):
             raise InputError(f"johnson_cook: material must be a library name or Material, got {material!r}")
         m = get_material(material)
         if isinstance(damage, str) and damage == LIBRARY:
             damage = JOHNSON_COOK_DAMAGE.get(m.name)
-        return cls(m, damage=damage, spall=spall, erosion=erosion, damage_at_floor=damage_at_floor)
+        if isinstance(tuler_butcher, str) and tuler_butcher == LIBRARY:
+            tuler_butcher = TULER_BUTCHER.get(m.name)
+        return cls(m, damage=damage, spall=spall, erosion=erosion, damage_at_floor=damage_at_floor,
+                   spall_law=spall_law, fracture_strain_floor=fracture_strain_floor, tuler_butcher=tuler_butcher)
 
 
 @njit(cache=True, inline="always")
@@ -192,7 +283,8 @@ def jc_update(e, L, dt, vbar, mass, rho, q, S, es, flags, table, prm):
     """Stress, pressure, energy and damage update of element e over Δt (module docstring).
 
     Arguments as :func:`impactdyn.wall._mat13.mat13_update`; ``table`` the packed material
-    (row 0), ``prm`` the damage/spall switches.  Returns (c, ΔW_σ, ΔW_p).
+    (row 0), ``prm`` the damage and spall constants and switches (:meth:`JohnsonCookModel.kernel_params`).
+    Returns (c, ΔW_σ, ΔW_p).
     """
     wfac = vbar * dt
     G = table[0, SHEAR]
@@ -227,20 +319,23 @@ def jc_update(e, L, dt, vbar, mass, rho, q, S, es, flags, table, prm):
     if not failed:
         at_floor = False
         if dep > 0.0 and prm[J_DAMAGE] != 0.0:
-            seq = von_mises(S, e)
             tstar = min(max((temperature(rho, e_new, table, 0) - table[0, JC_TROOM])
                             / (table[0, JC_TMELT] - table[0, JC_TROOM]), 0.0), 1.0)
-            fit = prm[J_D1] + prm[J_D2] * math.exp(prm[J_D3] * (-p_new / seq))
-            at_floor = fit <= prm[J_EFMIN]
-            eps_f = (max(fit, prm[J_EFMIN])
-                     * (1.0 + prm[J_D4] * math.log(max(es[e, RATE] / table[0, JC_RATE0], 1.0)))
-                     * (1.0 + prm[J_D5] * tstar))
+            eps_f, at_floor = fracture_strain(prm[J_D1], prm[J_D2], prm[J_D3], prm[J_D4], prm[J_D5],
+                                              -p_new / von_mises(S, e), es[e, RATE] / table[0, JC_RATE0], tstar,
+                                              prm[J_EFMIN])
             if prm[J_FLOOR] != 0.0 or not at_floor:
-                es[e, DAMAGE] += dep / max(eps_f, prm[J_EFMIN])
+                es[e, DAMAGE] += dep / eps_f
+        spall = prm[J_SPALL]
+        if spall == SPALL_TB:  # σ_t = −p, the mean tension
+            es[e, SPALL_DAMAGE] += tuler_butcher_increment(-p_old, -p_new, prm[J_TB_SIGMA0], prm[J_TB_LAMBDA], dt)
         if es[e, DAMAGE] >= 1.0:
             flags[e, FAILED] = FAIL_DAMAGE_FLOOR if at_floor else FAIL_DAMAGE
             failed = True
-        elif prm[J_SPALL] != 0.0 and p_new < -table[0, P_SPALL]:
+        elif spall == SPALL_TB and es[e, SPALL_DAMAGE] >= prm[J_TB_K]:
+            flags[e, FAILED] = FAIL_SPALL
+            failed = True
+        elif spall == SPALL_CUTOFF and p_new < -table[0, P_SPALL]:
             flags[e, FAILED] = FAIL_TENSION
             failed = True
     if failed and p_new < 0.0:  # a failed element carries no tension

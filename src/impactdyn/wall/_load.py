@@ -1,13 +1,15 @@
 """The deposited momentum as nodal impulses: records → (node, weight) lists, sorted by arrival time.
 
-Each deposition record (face element ``e = i + nx k`` of the case's grid, arrival time t,
-impulse I, :class:`~impactdyn.wallgrid.WallDeposition`) becomes a velocity jump of the
-front-face nodes under that element at the first solver time t^n ≥ t (never early; at most
+Each deposition record (face element ``e = i + nx k`` of the mesh's load grid
+:attr:`~._mesh.WallMesh.load_grid` — the case's grid on a ``"report"`` mesh, the solver grid
+itself on a ``"graded"`` one, whose records :func:`~._grading.rebin_deposition` re-bins —
+arrival time t, impulse I, :class:`~impactdyn.wallgrid.WallDeposition`) becomes a velocity
+jump of the front-face nodes under that element at the first solver time t^n ≥ t (never early; at most
 one step late).  The impulse is shared among the nodes by weights w_a ≥ 0 with Σ_a w_a = 1,
 so the impulse put on the wall is I exactly (to round-off):
 
 * ``"corners"`` — I/4 on each of the element's four corner nodes (at in-plane refinement
-  r_p, the corners of the parent element; the nodes between them get nothing).  At
+  r_p of a report mesh, the corners of the parent element; the nodes between them get nothing).  At
   r_p = 1 this is DYNA3D/LS-DYNA's nodal split of an element load.
 * ``"area"`` — each of the r_p × r_p sub-faces under the element takes the share of its
   area, split in quarters to its corners: the bilinear (tributary-area) weights of a
@@ -73,9 +75,9 @@ class NodalLoad:
 
 
 def _face_stencil(mesh: WallMesh, spread: str) -> tuple[np.ndarray, np.ndarray]:
-    """Per parent face element: the refined front-face nodes (nf, m) and their weights (nf, m)."""
-    rp = mesh.refinement[1]
-    nx, _, nz = mesh.parent.shape
+    """Per face element of the load grid: the solver grid's front-face nodes (nf, m) and their weights (nf, m)."""
+    nx, _, nz = mesh.load_grid.shape
+    rp = mesh.shape[0] // nx            # in-plane refinement of the grid over the load grid (1 when graded)
     ni = mesh.grid.x.size
     k_f, i_f = np.divmod(np.arange(nx * nz), nx)
     if spread == "corners":
@@ -107,7 +109,10 @@ def _face_stencil(mesh: WallMesh, spread: str) -> tuple[np.ndarray, np.ndarray]:
 
 
 def default_depth(mesh: WallMesh) -> float:
-    """Half the first element layer of the case's grid (``mesh.parent``), cm: the default δ."""
+    """Half the first element layer of the case's grid (``mesh.parent``), cm: the default δ.
+
+    The case's grid on every kind of mesh, so that the energy the load brings does not change
+    with the mesh (module docstring)."""
     return 0.5 * float(mesh.parent.y[1] - mesh.parent.y[0])
 
 
@@ -132,10 +137,14 @@ def depth_weights(mesh: WallMesh, depth: float) -> np.ndarray:
 def nodal_load(mesh: WallMesh, deposition: WallDeposition, spread: str = "corners",
                depth: float | None = None) -> NodalLoad:
     """The deposition on ``mesh``'s nodes with the ``spread`` on the front face, carried to the
-    ``depth`` below it (None: :func:`default_depth`; module docstring)."""
+    ``depth`` below it (None: :func:`default_depth`; module docstring).
+
+    ``deposition`` lies on ``mesh.load_grid``'s face cells: on a graded mesh the records
+    :func:`~._grading.solver_mesh` returns re-binned, not the case's (their element numbers
+    would fit the finer grid too, on the wrong cells)."""
     if spread not in SPREADS:
         raise InputError(f"spread: {spread!r}, expected one of {SPREADS}")
-    deposition.check_fits(mesh.parent)
+    deposition.check_fits(mesh.load_grid)
     order = np.argsort(deposition.time, kind="stable")
     elem = deposition.element[order]
     nodes, weights = _face_stencil(mesh, spread)

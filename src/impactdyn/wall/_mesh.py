@@ -1,26 +1,31 @@
-"""The wall's finite-element mesh: refined brick mesh, lumped masses, supports, node→element map.
+"""The wall's finite-element mesh: brick mesh, lumped masses, supports, node→element map.
 
-The mesh is the case's :class:`~impactdyn.wallgrid.WallGrid` with every element cut into
-``r_t`` layers through the thickness (y) and ``r_p × r_p`` pieces in the plane (x, z),
-equal parts of the parent element.  The refined mesh is itself a WallGrid, so it keeps
-DYNGEN's numbering (:mod:`impactdyn.wallgrid`), 0-based here:
+Two kinds of mesh (:data:`MESH_KINDS`), both a rectilinear :class:`~impactdyn.wallgrid.WallGrid`:
 
-    node (i, j, k)    → i + NI k + NI NK j            (NI = nx·r_p + 1, NK = nz·r_p + 1)
-    element (i, j, k) → i + nx' k + nx' nz' j         (nx' = nx·r_p, nz' = nz·r_p)
+* ``"report"`` (:func:`build_mesh`) — the case's grid with every element cut into ``r_t``
+  layers through the thickness (y) and ``r_p × r_p`` pieces in the plane (x, z), equal parts
+  of the parent element; the deposition records stay on the parent's face cells.
+* ``"graded"`` (:mod:`._grading`) — near-cubic elements where the debris load is
+  concentrated, growing away from it; the records are re-binned onto its own face cells.
+
+The solver grid keeps DYNGEN's numbering (:mod:`impactdyn.wallgrid`), 0-based here:
+
+    node (i, j, k)    → i + NI k + NI NK j            (NI, NK: the grid's nodes along x, z)
+    element (i, j, k) → i + nx k + nx nz j            (nx, nz: the grid's elements along x, z)
 
 and the element's eight nodes in DYNGEN's order: the back face (j+1) n5 n6 n7 n8, then
 the front face (j) n1 n2 n3 n4.  That order is the isoparametric order of the 8-node
 brick with ξ along x, η along z and ζ along −y (local node a at (ξ, η, ζ) = (∓1, ∓1, −1)
 for a = 0…3 and the same at ζ = +1 for a = 4…7), a right-handed, positive-volume
-numbering, and also VTK's hexahedron order.  At refinement 1 the numbers are DYNGEN's
-minus one.
+numbering, and also VTK's hexahedron order.  On the report mesh at refinement 1 the
+numbers are DYNGEN's minus one.
 
 Lumped mass: each element gives ρ₀V₀/8 to each of its nodes (the row sum of the
 consistent mass matrix of a parallelepiped; Belytschko, Liu & Moran 2000, §6.3).
 
 Supports (``supports``), by node, per translation:
 
-* ``"dyngen"`` — :meth:`WallGrid.constrained_dofs` of the refined grid: the plane
+* ``"dyngen"`` — :meth:`WallGrid.constrained_dofs` of the solver grid: the plane
   x = x[0] is the symmetry plane of the half model (x fixed); the edge x = x[-1]
   fixes x and y; the edges z = z[0] and z = z[-1] fix y and z (DYNA3D codes 1, 4, 5 and
   7 at the corners, as DYNGEN writes them).  Every node through the thickness of an
@@ -43,20 +48,24 @@ from impactdyn.wall._hex import element_volumes
 from impactdyn.wallgrid import WallGrid
 
 SUPPORTS = ("dyngen", "clamped", "free", "uniaxial")
+#: The kinds of solver mesh (module docstring); the first is the default of :func:`~._grading.solver_mesh`.
+MESH_KINDS = ("graded", "report")
 
 
 @dataclass(frozen=True, eq=False)
 class WallMesh:
-    """The refined brick mesh of a wall, ready for the solver (units cm, g).
+    """The brick mesh of a wall, ready for the solver (units cm, g).
 
     Attributes
     ----------
     parent : WallGrid
-        The case's grid (the deposition grid is its front face).
+        The case's grid (the debris stage's deposition grid is its front face; the load's
+        default depth is half its first layer, :func:`~._load.default_depth`).
     grid : WallGrid
-        The refined grid; its node and element numbering is the mesh's.
+        The solver grid; its node and element numbering is the mesh's.
     refinement : (int, int)
-        (through the thickness, in the plane).
+        (through the thickness, in the plane): every element of the case's grid (``"report"``) or of
+        the graded grid (``"graded"``) cut into that many layers and pieces along each in-plane axis.
     coordinates : (n_nodes, 3)
         Initial node coordinates, cm.
     connectivity : (n_elements, 8) int64
@@ -76,6 +85,9 @@ class WallMesh:
         of node I are ``node_element_entry[node_element_ptr[I]:node_element_ptr[I + 1]]``.
     density : float
         ρ₀, g/cm³.
+    kind : str
+        One of :data:`MESH_KINDS`: on a ``"report"`` mesh the load's records lie on the
+        parent's face cells, on a ``"graded"`` one on the grid's own (:attr:`load_grid`).
     """
 
     parent: WallGrid
@@ -91,6 +103,12 @@ class WallMesh:
     node_element_ptr: np.ndarray
     node_element_entry: np.ndarray
     density: float
+    kind: str = "report"
+
+    @property
+    def load_grid(self) -> WallGrid:
+        """The grid whose face cells the load's records are on: the parent (report) or the grid (graded)."""
+        return self.parent if self.kind == "report" else self.grid
 
     @property
     def shape(self) -> tuple[int, int, int]:
@@ -137,6 +155,18 @@ class WallMesh:
         nx, _, nz = self.shape
         return (np.arange(nx)[None, :] + nx * np.arange(nz)[:, None] + nx * nz * j).astype(np.int64)
 
+    def describe(self) -> dict:
+        """The mesh in words and numbers, JSON-ready (the wall stage's record): kind, elements
+        (nx, ny, nz), counts, the in-plane element sizes' range and the layer thicknesses' range, cm."""
+        plane = np.concatenate([np.diff(self.grid.x), np.diff(self.grid.z)])
+        layers = np.diff(self.grid.y)
+        return {"kind": self.kind, "elements": list(self.shape), "n_elements": self.n_elements,
+                "n_nodes": self.n_nodes,
+                "refinement": list(self.refinement),
+                "element_size_plane_cm": [float(plane.min()), float(plane.max())],
+                "layer_thickness_cm": [float(layers.min()), float(layers.max())],
+                "supports": self.supports}
+
 
 def refine(a: np.ndarray, r: int) -> np.ndarray:
     """Node coordinates with every interval of ``a`` cut into ``r`` equal parts."""
@@ -145,22 +175,38 @@ def refine(a: np.ndarray, r: int) -> np.ndarray:
     return np.concatenate([inner.ravel(), a[-1:]])
 
 
-def build_mesh(wall: WallGrid, density: float, refinement_thickness: int = 1, refinement_plane: int = 1,
-               supports: str = "dyngen") -> WallMesh:
-    """The solver mesh of ``wall`` (module docstring), ρ₀ = ``density`` g/cm³.
-
-    Raises :class:`InputError` naming the argument for a non-positive or non-integer
-    refinement, a non-positive density or an unknown support condition.
-    """
-    for name, r in (("refinement_thickness", refinement_thickness), ("refinement_plane", refinement_plane)):
-        if isinstance(r, bool) or not isinstance(r, (int, np.integer)) or r < 1:
-            raise InputError(f"{name}: must be a positive integer, got {r!r}")
+def check_density_supports(density: float, supports: str) -> None:
+    """InputError naming the argument for a non-positive density or an unknown support condition."""
     if not (np.isfinite(density) and density > 0):
         raise InputError(f"density: must be > 0, got {density!r}")
     if supports not in SUPPORTS:
         raise InputError(f"supports: {supports!r}, expected one of {SUPPORTS}")
-    rt, rp = int(refinement_thickness), int(refinement_plane)
+
+
+def check_refinements(refinement_thickness: int, refinement_plane: int) -> tuple[int, int]:
+    """(r_t, r_p) as ints, or an InputError naming the argument that is not a positive integer."""
+    for name, r in (("refinement_thickness", refinement_thickness), ("refinement_plane", refinement_plane)):
+        if isinstance(r, bool) or not isinstance(r, (int, np.integer)) or r < 1:
+            raise InputError(f"{name}: must be a positive integer, got {r!r}")
+    return int(refinement_thickness), int(refinement_plane)
+
+
+def build_mesh(wall: WallGrid, density: float, refinement_thickness: int = 1, refinement_plane: int = 1,
+               supports: str = "dyngen") -> WallMesh:
+    """The ``"report"`` solver mesh of ``wall`` (module docstring), ρ₀ = ``density`` g/cm³.
+
+    Raises :class:`InputError` naming the argument for a non-positive or non-integer
+    refinement, a non-positive density or an unknown support condition.
+    """
+    rt, rp = check_refinements(refinement_thickness, refinement_plane)
+    check_density_supports(density, supports)
     grid = WallGrid(refine(wall.x, rp), refine(wall.y, rt), refine(wall.z, rp))
+    return assemble_mesh(wall, grid, density, supports, refinement=(rt, rp), kind="report")
+
+
+def assemble_mesh(parent: WallGrid, grid: WallGrid, density: float, supports: str,
+                  refinement: tuple[int, int], kind: str) -> WallMesh:
+    """The :class:`WallMesh` of the solver grid ``grid`` (checked arguments): masses, supports, node map."""
     coords = np.ascontiguousarray(grid.node_coordinates(), dtype=np.float64)
     conn = np.ascontiguousarray(grid.element_nodes() - 1, dtype=np.int64)
     volume = element_volumes(coords, conn)
@@ -180,9 +226,10 @@ def build_mesh(wall: WallGrid, density: float, refinement_thickness: int = 1, re
     order = np.argsort(entries, kind="stable")
     ptr = np.zeros(coords.shape[0] + 1, dtype=np.int64)
     ptr[1:] = np.cumsum(np.bincount(entries, minlength=coords.shape[0]))
-    for name, a in (("coordinates", coords), ("connectivity", conn), ("volume", volume)):
+    for a in (coords, conn, volume):
         a.flags.writeable = False
-    return WallMesh(parent=wall, grid=grid, refinement=(rt, rp), coordinates=coords, connectivity=conn,
+    return WallMesh(parent=parent, grid=grid, refinement=refinement, coordinates=coords, connectivity=conn,
                     volume=volume, element_mass=element_mass, node_mass=node_mass,
                     fixed=np.ascontiguousarray(fixed, dtype=bool), supports=supports,
-                    node_element_ptr=ptr, node_element_entry=order.astype(np.int64), density=float(density))
+                    node_element_ptr=ptr, node_element_entry=order.astype(np.int64), density=float(density),
+                    kind=kind)

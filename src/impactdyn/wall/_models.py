@@ -31,10 +31,13 @@ MODELS: dict[str, type["WallModel"]] = {}
 class WallModel(ABC):
     """Base of the wall material models (each a frozen dataclass).
 
-    Subclasses set ``name`` (the registry key) and implement the abstract members below.
+    Subclasses set ``name`` (the registry key) and ``option_keys`` (the case keys they take),
+    and implement the abstract members below.
     """
 
     name: ClassVar[str] = ""
+    #: The :class:`~impactdyn.wall.WallOptions` keys this model takes (keywords of :meth:`from_material`).
+    option_keys: ClassVar[tuple[str, ...]] = ()
 
     @property
     @abstractmethod
@@ -52,6 +55,11 @@ class WallModel(ABC):
         """What an LS-DYNA deck writes for this model (:func:`impactdyn.io.write_lsdyna_deck`):
         a :class:`~impactdyn.materials.Mat13Card` (``*MAT_013``) or a library
         :class:`~impactdyn.materials.Material` (``*MAT_015`` with ``*EOS_GRUNEISEN``)."""
+
+    @property
+    def deck_failure_strain_floor(self) -> float | None:
+        """The fracture-strain floor an LS-DYNA deck writes (*MAT_JOHNSON_COOK's EFMIN); None: none."""
+        return None
 
     @abstractmethod
     def wave_speed(self) -> float:

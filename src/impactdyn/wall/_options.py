@@ -1,13 +1,18 @@
-"""Options of the wall solver, checked when made, and its breakdown error."""
+"""Options of the wall solver (a config section: the one home of their defaults and bounds, which a
+case's ``[wall_solver]`` table takes over), and the solver's breakdown error."""
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
+from typing import Annotated, Literal
 
+from pydantic import Field, field_validator
+
+from impactdyn._config import NonNegative, Positive, Section
 from impactdyn._errors import InputError, SimulationError
+from impactdyn.wall._grading import GRADING_RATIO, MAX_GRADING_RATIO
+from impactdyn.wall._johnson_cook import FRACTURE_STRAIN_FLOORS, SPALL_LAWS
 from impactdyn.wall._load import SPREADS
-from impactdyn.wall._mesh import SUPPORTS
+from impactdyn.wall._mesh import MESH_KINDS, SUPPORTS
 from impactdyn.wall._models import check_model_name
 
 HOURGLASS_FORMS = ("viscous", "stiffness", "assumed_strain")
@@ -24,12 +29,26 @@ class WallSolverError(SimulationError):
     """
 
 
-@dataclass(frozen=True)
-class WallOptions:
+#: A number in (0, 1].
+Fraction = Annotated[float, Field(gt=0, le=1)]
+
+
+class WallOptions(Section):
     """Numerical and physical options of :func:`impactdyn.wall.run_wall` (units µs, km/s).
 
-    refinement_thickness, refinement_plane : elements per parent element through the
-        thickness and along each in-plane axis (:mod:`._mesh`).
+    mesh : "graded" (default; :mod:`._grading`): near-cubic elements of the core size in the region
+        the debris load is densest, growing by at most ``grading_ratio`` per element to the case
+        grid's cell, with every record's impulse re-binned onto the mesh exactly; or "report": the
+        case's grid as the report's DYNA3D model had it (51 × 5 × 101 nodes for Table 2), for
+        comparison with the 1994 results.
+    element_size_cm : the core element's edge; None (default): the rule of
+        :func:`impactdyn.wall.core_element_size` (8 layers through the thickness at least, and 4
+        elements across the crater of a 0.06-cm fragment at 6 km/s).
+    grading_ratio : the largest ratio of neighbouring element sizes of the graded mesh (1.2).
+    max_element_size_cm : the largest in-plane element of the graded mesh; None: the case grid's.
+    refinement_thickness, refinement_plane : every element of the mesh (either kind) cut into
+        that many layers and pieces along each in-plane axis (:mod:`._mesh`): the convergence
+        study's "2×" is 2 and 2.
     material_model : a registered model name (:data:`impactdyn.wall.MODELS`): "johnson_cook"
         (default: Johnson–Cook strength, Mie–Grüneisen EOS, JC damage, spall and erosion) or
         "mat13" (the report's DYNA3D type 13).  Why the default: chosen by a rule fixed before
@@ -95,6 +114,13 @@ class WallOptions:
         nodes below this fraction of the element forces that balance there (Euclidean norms;
         1e-3: the 7a bulge to 0.01 %, BENCHMARKS.md).
     max_settle_steps : the most steps the settling may take; if reached, ``settled`` is false.
+    spall_law : the Johnson–Cook wall's spall law (:mod:`._johnson_cook`, docs/wall.md): "tuler_butcher"
+        (default: Tuler–Butcher cumulative damage of the mean tension over a threshold, a failure
+        with a time scale) or "cutoff" (the instantaneous pressure cut-off p < −p_spall).
+    fracture_strain_floor : the Johnson–Cook wall's floor on the fracture strain: "library" (default:
+        the alloy's ε_f,min from :data:`impactdyn.materials.JOHNSON_COOK_DAMAGE`, where its fit falls
+        to zero beyond its data) or "unbounded" (the fit as published, an extrapolation: any plastic
+        increment beyond its zero fails the element).
     escape_velocity_km_s : the speed above which rear-face material attached to failed
         material is leaving the wall (verdict, :mod:`._verdict`).
     erosion_step_fraction : a failed element is eroded when its step falls below this
@@ -103,59 +129,47 @@ class WallOptions:
         the initial step is a breakdown (:class:`WallSolverError`).
     """
 
-    refinement_thickness: int = 1
-    refinement_plane: int = 1
+    mesh: Literal[MESH_KINDS] = "graded"
+    element_size_cm: Positive | None = None
+    grading_ratio: Annotated[float, Field(gt=1, le=MAX_GRADING_RATIO)] = GRADING_RATIO
+    max_element_size_cm: Positive | None = None
+    refinement_thickness: Annotated[int, Field(ge=1)] = 1
+    refinement_plane: Annotated[int, Field(ge=1)] = 1
     material_model: str = "johnson_cook"
-    supports: str = "dyngen"
-    hourglass: str = "assumed_strain"
-    hourglass_coefficient: float = 0.1
-    q1: float = 1.5
-    q2: float = 0.06
-    courant: float = 0.9
-    end_time_us: float | None = None
-    decay_fraction: float = 0.05
-    max_time_us: float = 100.0
-    output_interval_us: float | None = 1.0
-    history_interval_us: float = 0.2
-    spread: str = "area"
-    deposition_depth_cm: float | None = None
+    supports: Literal[SUPPORTS] = "dyngen"
+    hourglass: Literal[HOURGLASS_FORMS] = "assumed_strain"
+    hourglass_coefficient: NonNegative = 0.1
+    q1: NonNegative = 1.5
+    q2: NonNegative = 0.06
+    courant: Fraction = 0.9
+    end_time_us: Positive | None = None
+    decay_fraction: Fraction = 0.05
+    max_time_us: Positive = 100.0
+    output_interval_us: Positive | None = 1.0
+    history_interval_us: Positive = 0.2
+    spread: Literal[SPREADS] = "area"
+    deposition_depth_cm: NonNegative | None = None
     settle: bool = False
-    settle_tolerance: float = 1.0e-3
-    max_settle_steps: int = 200_000
-    escape_velocity_km_s: float = 1.0
-    erosion_step_fraction: float = 0.1
-    min_step_fraction: float = 1.0e-3
+    settle_tolerance: Fraction = 1.0e-3
+    max_settle_steps: Annotated[int, Field(ge=1)] = 200_000
+    spall_law: Literal[SPALL_LAWS] = "tuler_butcher"
+    fracture_strain_floor: Literal[FRACTURE_STRAIN_FLOORS] = "library"
+    escape_velocity_km_s: Positive = 1.0
+    erosion_step_fraction: Annotated[float, Field(ge=0, le=1)] = 0.1
+    min_step_fraction: Fraction = 1.0e-3
 
-    def __post_init__(self) -> None:
-        for name in ("refinement_thickness", "refinement_plane", "max_settle_steps"):
-            r = getattr(self, name)
-            if isinstance(r, bool) or not isinstance(r, int) or r < 1:
-                raise InputError(f"{name}: must be a positive integer, got {r!r}")
-        check_model_name(self.material_model)
-        if not isinstance(self.settle, bool):
-            raise InputError(f"settle: must be true or false, got {self.settle!r}")
-        _check("settle_tolerance", self.settle_tolerance, lo=0.0, lo_open=True, hi=1.0)
-        if self.supports not in SUPPORTS:
-            raise InputError(f"supports: {self.supports!r}, expected one of {SUPPORTS}")
-        if self.hourglass not in HOURGLASS_FORMS:
-            raise InputError(f"hourglass: {self.hourglass!r}, expected one of {HOURGLASS_FORMS}")
-        if self.spread not in SPREADS:
-            raise InputError(f"spread: {self.spread!r}, expected one of {SPREADS}")
-        for name in ("hourglass_coefficient", "q1", "q2"):
-            _check(name, getattr(self, name), lo=0.0)
-        _check("courant", self.courant, lo=0.0, lo_open=True, hi=1.0)
-        _check("decay_fraction", self.decay_fraction, lo=0.0, lo_open=True, hi=1.0)
-        _check("max_time_us", self.max_time_us, lo=0.0, lo_open=True)
-        _check("history_interval_us", self.history_interval_us, lo=0.0, lo_open=True)
-        _check("escape_velocity_km_s", self.escape_velocity_km_s, lo=0.0, lo_open=True)
-        _check("erosion_step_fraction", self.erosion_step_fraction, lo=0.0, hi=1.0)
-        _check("min_step_fraction", self.min_step_fraction, lo=0.0, lo_open=True, hi=1.0)
-        if self.end_time_us is not None:
-            _check("end_time_us", self.end_time_us, lo=0.0, lo_open=True)
-        if self.deposition_depth_cm is not None:
-            _check("deposition_depth_cm", self.deposition_depth_cm, lo=0.0)
-        if self.output_interval_us is not None:
-            _check("output_interval_us", self.output_interval_us, lo=0.0, lo_open=True)
+    @field_validator("material_model")
+    @classmethod
+    def _registered(cls, name: str) -> str:
+        try:
+            return check_model_name(name)
+        except InputError as err:
+            raise ValueError(str(err).removeprefix("material_model: ")) from None
+
+    def mesh_settings(self) -> dict:
+        """The keywords of :func:`impactdyn.wall.solver_mesh` these options set."""
+        return {key: getattr(self, key) for key in ("mesh", "element_size_cm", "grading_ratio", "max_element_size_cm",
+                                                    "refinement_thickness", "refinement_plane", "supports")}
 
     @property
     def hourglass_form(self) -> int:
@@ -169,12 +183,3 @@ class WallOptions:
         return ihq, 1.0 if ihq == 6 else self.hourglass_coefficient
 
 
-def _check(name: str, value, lo: float | None = None, hi: float | None = None, lo_open: bool = False) -> None:
-    ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
-    if ok and lo is not None:
-        ok = value > lo if lo_open else value >= lo
-    if ok and hi is not None:
-        ok = value <= hi
-    if not ok:
-        rng = f"{'(' if lo_open else '['}{lo if lo is not None else '-inf'}, {hi if hi is not None else 'inf'}]"
-        raise InputError(f"{name}: must be a finite number in {rng}, got {value!r}")

@@ -9,7 +9,7 @@
   :data:`impactdyn.wall.FAILURE_CAUSES`), ``pressure`` (Mbar) and ``von_mises`` (Mbar); eroded
   elements stay in the mesh, flagged (threshold on ``eroded`` to hide them);
 * ``wall.json`` — verdict, evidence, measures, energy and momentum balance, model constants,
-  mesh and options;
+  the mesh (:meth:`WallMesh.describe`: kind, elements, counts, element-size ranges) and options;
 
 and into ``plots`` (default ``folder/plots``):
 
@@ -24,7 +24,6 @@ and into ``plots`` (default ``folder/plots``):
 
 from __future__ import annotations
 
-import dataclasses
 import json
 import os
 import xml.etree.ElementTree as ET
@@ -102,7 +101,7 @@ def _json_default(obj):
 def write_measures(result: WallResult, path: str | os.PathLike) -> Path:
     """Verdict, measures, model and options as JSON."""
     path = Path(path)
-    doc = {**result.summary(), "options": dataclasses.asdict(result.options),
+    doc = {**result.summary(), "options": result.options.model_dump(),
            "units": {"length": "cm", "time": "us", "mass": "g", "velocity": "cm/us (km/s where named)",
                      "energy": "g cm^2/us^2 = 1e5 J", "impulse": "g cm/us", "pressure": "Mbar"}}
     with atomic_output(path) as tmp:

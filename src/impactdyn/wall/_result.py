@@ -80,8 +80,5 @@ class WallResult:
 
     def summary(self) -> dict[str, Any]:
         """Verdict, evidence, measures and the model, JSON-ready (for stage files)."""
-        nx, ny, nz = self.mesh.shape
         return {"verdict": self.verdict, "evidence": self.evidence, "measures": self.measures,
-                "mesh": {"elements": [nx, ny, nz], "refinement": list(self.mesh.refinement),
-                         "supports": self.mesh.supports},
-                "model": self.model}
+                "mesh": self.mesh.describe(), "model": self.model}

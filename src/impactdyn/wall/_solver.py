@@ -39,7 +39,8 @@ from impactdyn.wall import _settle, _step
 from impactdyn.wall._blocks import hourglass_stress_array, work_arrays
 from impactdyn.wall._diagnostics import energy_sums, nodal_energy
 from impactdyn.wall._load import NodalLoad, nodal_load
-from impactdyn.wall._mesh import WallMesh, build_mesh
+from impactdyn.wall._grading import solver_mesh
+from impactdyn.wall._mesh import WallMesh
 from impactdyn.wall._models import MODELS, WallModel
 from impactdyn.wall._options import WallOptions, WallSolverError
 from impactdyn.wall._result import (
@@ -54,14 +55,16 @@ _BREAKDOWN = {_step.BAD_VOLUME: "non-positive volume", _step.BAD_STEP: "time ste
 
 
 def resolve_model(model: Any, options: WallOptions) -> WallModel:
-    """The model instance: ``model`` itself, or ``options.material_model`` built from a material."""
+    """The model instance: ``model`` itself, or ``options.material_model`` built from a material with the
+    options' settings the model takes (its ``option_keys``)."""
     if isinstance(model, WallModel):
         if model.name != options.material_model:
             raise InputError(f"material_model: {options.material_model!r} does not match the model given "
                              f"({model.name!r})")
         return model
     if isinstance(model, (str, Material, Mat13Card)):
-        return MODELS[options.material_model].from_material(model)
+        kind = MODELS[options.material_model]
+        return kind.from_material(model, **{key: getattr(options, key) for key in kind.option_keys})
     raise InputError(f"model: expected a wall model, a library material name, Material or Mat13Card, got {model!r}")
 
 
@@ -392,8 +395,8 @@ def run_wall(wall: WallGrid, deposition: WallDeposition, model: Any = "al6061-t6
     m = resolve_model(model, options)
     if wall.y[-1] - wall.y[0] <= 0:
         raise InputError("wall: thickness must be > 0")
-    mesh = build_mesh(wall, m.density, options.refinement_thickness, options.refinement_plane, options.supports)
-    load = nodal_load(mesh, deposition, options.spread, options.deposition_depth_cm)
+    mesh, on_mesh = solver_mesh(wall, deposition, m.density, **options.mesh_settings())
+    load = nodal_load(mesh, on_mesh, options.spread, options.deposition_depth_cm)
     t_start = float(load.time.min()) if load.time.size else 0.0
     last = float(load.time.max()) if load.time.size else 0.0
     if options.end_time_us is not None and options.end_time_us < last:

@@ -34,9 +34,11 @@ from numba import njit
 #: work accumulated by the element's stress (σ = S − pI), bulk viscosity, hourglass forces and
 #: plastic flow (g·cm²/µs²), its stable time step Δt_e (µs), and the powers f·v^{n−½} of its
 #: current stress, bulk-viscosity and hourglass forces on the velocities they were computed with
-#: (g·cm²/µs³, the first half of the next work increment, :mod:`._step`).
-(P, Q, IE, EPS_P, DAMAGE, RATE, C, VOL, W_SIGMA, W_Q, W_HG, W_PLASTIC, DT_E, P1_SIGMA, P1_Q, P1_HG) = range(16)
-N_ES = 16
+#: (g·cm²/µs³, the first half of the next work increment, :mod:`._step`), and the spall damage
+#: integral ∫ max(0, σ_t − σ₀)^λ dt of the Tuler–Butcher law (Mbar^λ·µs, :mod:`._johnson_cook`).
+(P, Q, IE, EPS_P, DAMAGE, RATE, C, VOL, W_SIGMA, W_Q, W_HG, W_PLASTIC, DT_E, P1_SIGMA, P1_Q, P1_HG,
+ SPALL_DAMAGE) = range(17)
+N_ES = 17
 
 #: Columns of ``Shg``: σ_k at SHG_PLANE + 6k (6 components each), s_k at SHG_MODE4 + k.
 SHG_PLANE, SHG_MODE4 = 0, 18
@@ -48,11 +50,13 @@ FAILED, ERODED = 0, 1
 #: The criteria that fail an element: ``flags[e, FAILED]`` = 1 + their index here.
 #: ``ductile_damage``: Johnson–Cook damage reached 1; ``ductile_damage_at_floor``: the same, on a
 #: step where the fit's fracture strain D1 + D2 exp(D3 σ*) was at or below the numerical floor
-#: ε_f,min (a triaxiality beyond the fit's zero, where any plastic increment fails the element);
-#: ``tensile_pressure``: p below the model's tensile limit (Johnson–Cook: −p_spall; type 13: the
-#: card's failure pressure); ``plastic_strain``: εₚ reached the type-13 card's failure strain.
-FAILURE_CAUSES = ("ductile_damage", "ductile_damage_at_floor", "tensile_pressure", "plastic_strain")
-FAIL_DAMAGE, FAIL_DAMAGE_FLOOR, FAIL_TENSION, FAIL_STRAIN = (1 + i for i in range(len(FAILURE_CAUSES)))
+#: ε_f,min (a triaxiality beyond the fit's data: the floor of the material library, or with the
+#: unbounded option the numerical 1e-6, where any plastic increment fails the element);
+#: ``tensile_pressure``: p below the model's tensile limit (Johnson–Cook's cut-off spall law:
+#: −p_spall; type 13: the card's failure pressure); ``plastic_strain``: εₚ reached the type-13
+#: card's failure strain; ``spall_damage``: the Tuler–Butcher spall integral reached K.
+FAILURE_CAUSES = ("ductile_damage", "ductile_damage_at_floor", "tensile_pressure", "plastic_strain", "spall_damage")
+FAIL_DAMAGE, FAIL_DAMAGE_FLOOR, FAIL_TENSION, FAIL_STRAIN, FAIL_SPALL = (1 + i for i in range(len(FAILURE_CAUSES)))
 
 
 @njit(cache=True, inline="always")

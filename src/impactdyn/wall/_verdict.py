@@ -4,7 +4,16 @@ Definitions (elements are face-connected when they share a face: 6-connectivity 
 brick grid; the front layer is j = 0, the rear layer j = ny − 1; y points from the front
 face into the wall and out of the rear face):
 
-* **damaged** element: failed or eroded.
+* **failed** element: one that a failure criterion of its material model has failed
+  (``flags[e, FAILED]`` ≠ 0, the criterion's code of :data:`impactdyn.wall._state.FAILURE_CAUSES`:
+  ductile damage, ductile damage at the fracture-strain floor, tensile pressure, plastic strain,
+  spall damage).  Failure is for good.  A failed element carries no deviatoric stress and no
+  tension, only compressive pressure; it holds no material together across it.  **eroded**:
+  removed from the force computation (at once on failure when the model erodes, else when its
+  step collapses or its volume inverts, :mod:`._step`).
+* **damaged** element: failed or eroded.  The verdict treats both alike: a failed element that
+  still pushes back in compression is rubble, not wall — material held only through it is not
+  held.
 * **anchored** material: the intact (not damaged) elements face-connected, through intact
   elements, to an intact element with a node whose y translation is fixed (the supported
   edges).  Without such supports (``"free"``, ``"uniaxial"``), the largest face-connected
@@ -19,8 +28,13 @@ face into the wall and out of the rear face):
   aluminium plates, whose free surfaces move at a few hundred m/s) at the end of the run.
 * **detached spall** when there is no perforation and rear-face material has separated: a
   rear-face node that is not a wall node (it is held by failed, eroded or cut-off material
-  only) moves outward (v_y > 0) at the end of the run.
-* **no perforation** otherwise.
+  only) moves outward (v_y > 0) at the end of the run.  This is the stage's own criterion, not
+  a solver's: LS-DYNA, like this solver, does not delete solids that spall (they keep
+  compressive pressure), so a spall layer is "detached" here by topology (no intact
+  face-connected path to the supports) and motion (moving away), not by a gap opening in the
+  mesh.
+* **no perforation** otherwise.  Failed material inside the wall (an internal spall plane, a
+  damaged crater floor) with intact material holding the whole rear face is no perforation.
 
 Continuous measures (end of the run unless said otherwise; displacements u = x − X₀):
 

@@ -1,4 +1,4 @@
-"""The end-to-end Whipple-shield pipeline (DESIGN §5–7).
+"""The end-to-end Whipple-shield pipeline (docs/theory/).
 
 A case file (:class:`WhippleCase`) describes a shot: sphere, bumper, rear wall and
 the numerics of each stage. :func:`run_whipple` runs the SPH shield impact to the

@@ -32,7 +32,7 @@ from impactdyn.debris import (
 from impactdyn.debris import WallSection as DebrisWallSection
 from impactdyn.materials import REPORT_MATERIAL, Material, MaterialName, get_material
 from impactdyn.shield import BinningMethod, SPHOptions, bin_to_hydrogrid
-from impactdyn.wall import WallOptions, wall_model
+from impactdyn.wall import WallOptions, check_mesh_sizes, resolve_model
 
 
 class ProjectileSection(Section):
@@ -191,10 +191,16 @@ class WhippleCase(Section):
         check_wave_speed(debris["lambda_Mbar"], debris["mu_Mbar"], debris["rho_ref_g_cm3"],
                          (*names, f"the density of projectile.material = {p.material!r}"))
         try:
-            wall_model(self.wall_solver.material_model, w.material)
+            resolve_model(w.material, self.wall_solver.options(w.clamped_edges))
         except InputError as err:
             raise ValueError(f"wall.material = {w.material!r} with wall_solver.material_model = "
                              f"{self.wall_solver.material_model!r}: {err}") from None
+        solver = self.wall_solver
+        try:
+            check_mesh_sizes(min(w.x_cm[1] - w.x_cm[0], w.z_cm[1] - w.z_cm[0]), solver.element_size_cm,
+                             solver.max_element_size_cm)
+        except InputError as err:
+            raise ValueError(f"wall_solver.{err}") from None
         depth = self.wall_solver.deposition_depth_cm
         if depth is not None and depth > w.thickness_cm:
             raise ValueError(f"wall_solver.deposition_depth_cm = {depth} exceeds the wall's thickness "

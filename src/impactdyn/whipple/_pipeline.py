@@ -1,4 +1,4 @@
-"""The end-to-end Whipple pipeline: shield → binning → debris → wall → decks → report (DESIGN §5–9).
+"""The end-to-end Whipple pipeline: shield → binning → debris → wall → decks → report (docs/theory/).
 
 Each stage reads the artifacts of the stages before it from the run folder and
 writes its own into a subfolder with a ``stage.json`` record (its numbers, its
@@ -154,13 +154,23 @@ def _wall(s: StageContext) -> dict:
 
 
 def _decks(s: StageContext) -> dict:
-    from impactdyn.debris import read_deposition, write_decks
+    """The decks of the mesh the wall stage runs, with the records re-binned onto it (the same mesh
+    and load as the wall stage: :func:`impactdyn.wall.solver_mesh`)."""
+    from impactdyn.debris import element_impulse, read_deposition, write_decks
+    from impactdyn.wall import rebin_deposition, resolve_model, solver_mesh
 
     s.report("decks", 0, 1)
-    wall, deposition, impulse = read_deposition(s.folder.path / "debris" / "debris.h5")
-    files = write_decks(s.folder.sub("decks"), wall, deposition, impulse, deck_options(s.case))
+    wall, deposition, _ = read_deposition(s.folder.path / "debris" / "debris.h5")
+    options = s.case.wall_solver.options(s.case.wall.clamped_edges)
+    mesh, on_mesh = solver_mesh(wall, deposition, resolve_model(s.case.wall.material, options).density,
+                                **options.mesh_settings())
+    if mesh.load_grid is not mesh.grid:  # a refined report mesh: its records onto its own face cells
+        on_mesh = rebin_deposition(on_mesh, mesh.load_grid, mesh.grid)
+    impulse = element_impulse(on_mesh, mesh.grid)
+    files = write_decks(s.folder.sub("decks"), mesh.grid, on_mesh, impulse, deck_options(s.case))
     s.report("decks", 1, 1)
-    return {"files": [f"decks/{name}" for name in files], "n_records": int(deposition.element.size),
+    return {"files": [f"decks/{name}" for name in files], "mesh": mesh.describe(),
+            "n_records": int(on_mesh.element.size),
             "n_loaded_elements": int(np.count_nonzero(np.abs(impulse).sum(axis=-1)))}
 
 
@@ -169,11 +179,13 @@ def deck_options(case: WhippleCase):
     its EOS for ``johnson_cook``), hourglass type and bulk viscosity, besides the case's
     output table (:meth:`impactdyn.debris.DeckOptions.of`)."""
     from impactdyn.debris import DeckOptions
-    from impactdyn.wall import wall_model
+    from impactdyn.wall import resolve_model
 
     options = case.wall_solver.options(case.wall.clamped_edges)
-    return replace(DeckOptions.of(case), material=wall_model(options.material_model, case.wall.material).deck_material,
-                   hourglass=options.lsdyna_hourglass, bulk_viscosity=(options.q1, options.q2))
+    model = resolve_model(case.wall.material, options)
+    return replace(DeckOptions.of(case), material=model.deck_material, hourglass=options.lsdyna_hourglass,
+                   bulk_viscosity=(options.q1, options.q2), failure_strain_floor=model.deck_failure_strain_floor,
+                   erode_failed=model.erodes)
 
 
 def _report(s: StageContext) -> dict:
