@@ -8,9 +8,9 @@ After a warm-up that compiles the kernels (or loads them from numba's cache) the
 timed over a fixed number of steps, at the default mesh and at 2× refinement (through the
 thickness and in the plane), with the steps driven two ways:
 
-* ``compiled`` — the whole step loop in compiled code (:func:`impactdyn.wall._step.advance`
-  called once for all the timed steps; what :func:`impactdyn.wall.run_wall` does between
-  history samples);
+* ``compiled`` — the whole step loop in compiled code (the model's ``advance`` of
+  :func:`impactdyn.wall._step.step_kernels` called once for all the timed steps; what
+  :func:`impactdyn.wall.run_wall` does between history samples);
 * ``python`` — a Python loop calling ``advance`` for one step at a time (the cost of the
   Python-side call per step).
 
@@ -92,11 +92,11 @@ def triad_bandwidth(n: int = 8_000_000, repeat: int = 20) -> float:
 
 def state_bytes_per_element(solver: wall.WallSolver) -> float:
     """The solver's per-element and per-node arrays, in bytes per element."""
-    mesh = solver.mesh
-    element = (solver.x, solver.v, solver.F, solver.S, solver.es, solver.flags, solver.Lbuf, solver.Qhg, solver.Shg,
-               mesh.connectivity, mesh.volume, mesh.element_mass, mesh.node_mass, solver.free, solver.rear,
-               mesh.node_element_ptr, mesh.node_element_entry)
-    return sum(a.nbytes for a in element) / mesh.n_elements
+    nodes, elements = solver.nodes, solver.elements
+    state = (nodes.x, nodes.v, nodes.mass, nodes.free, nodes.rear, elements.conn, elements.vol0, elements.mass,
+             elements.S, elements.es, elements.flags, elements.Lbuf, elements.Qhg, elements.Shg, elements.F,
+             elements.node_ptr, elements.node_entry)
+    return sum(a.nbytes for a in state) / solver.mesh.n_elements
 
 
 def bench_solver(refinement: int, hourglass: str | None = None, material_model: str = "mat13") -> wall.WallSolver:

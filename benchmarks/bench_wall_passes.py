@@ -5,7 +5,7 @@ The wall of :mod:`bench_wall` (the report's 50 × 4 × 100 elements, refined ``-
 through the thickness and in the plane) under its synthetic deposition, advanced ``--advance`` µs
 past the first arrival so that some elements yield; then, per hourglass form:
 
-* ``element_pass`` and ``node_pass`` called alone ``--repeat`` times each (:mod:`impactdyn.wall._step`;
+* the element pass and ``node_pass`` called alone ``--repeat`` times each (:mod:`impactdyn.wall._step`;
   the element pass with the current step, the node pass with a zero step so that nothing moves),
   median and fastest, in ns per element;
 * with ``--kernels``, once after the forms: each block kernel of the element pass called 5,000 times
@@ -31,34 +31,34 @@ from _machine import describe_machine
 from bench_wall import bench_solver
 from impactdyn import wall
 from impactdyn.materials import get_material
-from impactdyn.wall import _hex, _step
+from impactdyn.wall import _blocks, _hex, _hourglass, _kinematics, _step
 from impactdyn.wall._state import EPS_P
 
 #: The block kernels, in the element pass's order, and the row each one's nudge goes to (one of its inputs).
-KERNELS = (("volume_gradient", _step.R_X), ("hourglass_shapes", _step.R_B), ("reciprocal_vectors", _step.R_B),
-           ("velocity_gradients", _step.R_V), ("midstep_gradients", _step.R_LB),
-           ("characteristic_lengths", _step.R_X), ("assumed_strain_forces", _step.R_QD),
-           ("nodal_forces", _step.R_SIG), ("stable_steps", _step.R_C))
+KERNELS = (("volume_gradient", _blocks.R_X), ("hourglass_shapes", _blocks.R_B), ("reciprocal_vectors", _blocks.R_B),
+           ("velocity_gradients", _blocks.R_V), ("midstep_gradients", _blocks.R_LB),
+           ("characteristic_lengths", _blocks.R_X), ("assumed_strain_forces", _blocks.R_QD),
+           ("nodal_forces", _blocks.R_SIG), ("stable_steps", _blocks.R_C))
 
 
 @numba.njit
 def _repeat_kernel(A, which, calls, nudge_row, dt, lam, shear):
     for it in range(calls):
-        A[nudge_row * _step.BLOCK] += 1e-300 * it
+        A[nudge_row * _hex.BLOCK] += 1e-300 * it
         if which == 0:
             _hex.volume_gradient(A)
         elif which == 1:
             _hex.hourglass_shapes(A)
         elif which == 2:
-            _step.reciprocal_vectors(A)
+            _kinematics.reciprocal_vectors(A)
         elif which == 3:
-            _step.velocity_gradients(A)
+            _kinematics.velocity_gradients(A)
         elif which == 4:
-            _step.midstep_gradients(A, 0.5 * dt)
+            _kinematics.midstep_gradients(A, 0.5 * dt)
         elif which == 5:
             _hex.characteristic_lengths(A)
         elif which == 6:
-            _step.assumed_strain_forces(A, dt, lam, shear)
+            _hourglass.assumed_strain_forces(A, dt, lam, shear)
         elif which == 7:
             _step.nodal_forces(A)
         else:
@@ -75,7 +75,6 @@ def solver_after_load(refinement: int, model_name: str, form: str, advance_us: f
 def time_passes(solver: wall.WallSolver, repeat: int) -> tuple[list[float], list[float]]:
     """Seconds per call of the element pass and of the node pass, ``repeat`` calls each."""
     dt = float(solver.clock[_step.DT_NEXT])
-    m = solver.mesh
     element, node = [], []
     for _ in range(repeat):
         t0 = time.perf_counter()
@@ -83,8 +82,7 @@ def time_passes(solver: wall.WallSolver, repeat: int) -> tuple[list[float], list
         element.append(time.perf_counter() - t0)
     for _ in range(repeat):
         t0 = time.perf_counter()
-        _step.node_pass(solver.x, solver.v, m.node_mass, solver.free, solver.pext, False, solver.Fflat,
-                        m.node_element_ptr, m.node_element_entry, solver.rear, 0.0, 0.0)
+        _step.node_pass(solver.nodes, solver.elements, False, 0.0, 0.0)
         node.append(time.perf_counter() - t0)
     return element, node
 
@@ -104,7 +102,7 @@ def time_kernels(solver: wall.WallSolver, calls: int = 5000) -> dict[str, float]
             t0 = time.perf_counter()
             _repeat_kernel(A, which, calls, row, dt, lam, shear)
             runs.append(time.perf_counter() - t0)
-        out[name] = statistics.median(runs[1:]) / (calls * _step.BLOCK) * 1e9
+        out[name] = statistics.median(runs[1:]) / (calls * _hex.BLOCK) * 1e9
     return out
 
 

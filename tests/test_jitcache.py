@@ -11,7 +11,7 @@ CHECK = """
 import numba.core.caching as caching
 from impactdyn.wall import _step
 names = [c.__name__ for c in caching.CacheImpl._locator_classes]
-locator = _step.element_pass._cache._impl._locator
+locator = _step.node_pass._cache._impl._locator
 print(names[:3] == ["PackageUserProvidedCacheLocator", "PackageInTreeCacheLocator", "PackageUserWideCacheLocator"],
       type(locator).__name__.startswith("Package"), names.count("PackageInTreeCacheLocator"))
 """
@@ -35,7 +35,7 @@ def test_stamp_changes_with_any_package_source(monkeypatch):
     from impactdyn.wall import _step
 
     _jitcache.install()
-    locator = _step.element_pass._cache._impl._locator
+    locator = _step.node_pass._cache._impl._locator
     stamp = locator.get_source_stamp()
     assert stamp[1] == _jitcache.package_digest()
     # an edit of another file of the package (here: a different digest) makes the kernel's stamp stale

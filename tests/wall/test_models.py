@@ -11,6 +11,7 @@ from impactdyn.constitutive import temperature
 from impactdyn.materials import (AL_6061_T6, AL_6061_T6_JC_DAMAGE, AL_6061_T6_MAT13, JOHNSON_COOK_DAMAGE,
                                  JohnsonCookDamage)
 from impactdyn.wall._state import DAMAGE, EPS_P, FAILED, IE, P, RATE
+from impactdyn.wall._step import step_kernels
 from impactdyn.wallgrid import WallDeposition, WallGrid
 
 from .conftest import drive, one_element
@@ -18,6 +19,30 @@ from .conftest import drive, one_element
 
 def test_registry_holds_both_models():
     assert {"mat13", "johnson_cook"} <= set(wall.MODELS)
+
+
+def test_a_model_without_its_own_update_kernel_cannot_be_built():
+    """The element pass runs the model's own kernel (WallModel.update_kernel, abstract): a model that
+    brings none fails when it is built, instead of running another model's update."""
+    members = {name: getattr(wall.Mat13Model, name) for name in wall.WallModel.__abstractmethods__}
+    del members["update_kernel"]
+    bare = type("Bare", (wall.WallModel,), members)
+    with pytest.raises(TypeError, match="update_kernel"):
+        bare()
+
+
+def test_each_model_has_its_own_cached_element_pass():
+    """step_kernels compiles the element pass and the step loop per update kernel, each cached on
+    disk under a name of its own (numba's cache keys a kernel passed as an argument or closed
+    over by a dispatcher that is new in every process, and never hits)."""
+    names = set()
+    for model_name in wall.MODELS:
+        kernels = step_kernels(wall.wall_model(model_name, "al6061-t6").update_kernel)
+        for kernel in kernels:
+            assert type(kernel._cache).__name__ == "FunctionCache"
+            assert type(kernel._cache._impl._locator).__name__.startswith("Package")
+            names.add(kernel._cache._cache_file._index_name)
+    assert len(names) == 2 * len(wall.MODELS)
 
 
 def test_registered_model(model_name):

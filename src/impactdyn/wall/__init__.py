@@ -4,7 +4,8 @@ The modern counterpart of the report's DYNA3D analysis: 8-node hexahedra with on
 integration and hourglass control (Belytschko–Bindeman assumed strain by default, or the
 Flanagan–Belytschko stiffness and viscous forms), lumped mass, central differences with
 the element Courant step, bulk viscosity, Jaumann stress rate with radial return, in compiled
-parallel kernels (:mod:`._step`, :mod:`._hex`); material models in one registry
+parallel kernels (:mod:`._step`: the step; :mod:`._hex`, :mod:`._kinematics`, :mod:`._hourglass`: the
+element; :mod:`._settle`: bringing the wall to rest); material models in one registry
 (:data:`MODELS`: the report's type-13 card ``"mat13"``, and ``"johnson_cook"`` with the
 Mie–Grüneisen EOS, JC damage, spall and erosion); the solver mesh, the report's refined grid or one graded
 to resolve the debris load (:mod:`._mesh`, :mod:`._grading`); the deposition records as nodal velocity

@@ -75,7 +75,7 @@ FACES = np.array([[0, 1, 2, 3], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3,
 #: Rows of a flat block array that the kernels below read and write; row r of brick k of the block is
 #: A[r·BLOCK + k]: coordinates (ROW_X + 8i + a: component i at local node a), volume gradient ∂V/∂x
 #: (ROW_B + 8i + a), hourglass shape vectors γ (ROW_G + 8α + a), volume, 4 rows of work space, characteristic
-#: length.  The element pass (:mod:`._step`) puts its own rows after these, N_GEOMETRY_ROWS on.  One flat
+#: length.  The element pass puts its own rows after these, N_GEOMETRY_ROWS on (:mod:`._blocks`).  One flat
 #: array with rows a compile-time multiple of BLOCK apart, and loops over all BLOCK bricks (a compile-time
 #: trip count), are what let LLVM see that the rows never overlap and vectorise the loops over the bricks.
 (ROW_X, ROW_B, ROW_G, ROW_VOL, ROW_TMP, ROW_LE) = (0, 24, 48, 80, 81, 85)

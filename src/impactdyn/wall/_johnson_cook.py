@@ -87,6 +87,7 @@ Sound speed: c² = c_b² + 4G/(3ρ), c_b the isentropic bulk sound speed of the 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -105,7 +106,6 @@ from impactdyn.wall._state import (
     DAMAGE, EPS_P, FAIL_DAMAGE, FAIL_DAMAGE_FLOOR, FAIL_SPALL, FAIL_TENSION, FAILED, IE, P, RATE, SPALL_DAMAGE,
     stress_power)
 
-KIND = 1
 (J_DAMAGE, J_D1, J_D2, J_D3, J_D4, J_D5, J_EFMIN, J_SPALL, J_FLOOR, J_TB_SIGMA0, J_TB_LAMBDA, J_TB_K) = range(12)
 
 #: Numerical floor on the JC fracture strain, so that ε_f > 0 (module docstring); not a material constant.
@@ -153,7 +153,6 @@ class JohnsonCookModel(WallModel):
     tuler_butcher: TulerButcher | None = None
 
     name = "johnson_cook"
-    kind = KIND
     option_keys = ("spall_law", "fracture_strain_floor")
 
     def __post_init__(self) -> None:
@@ -183,6 +182,14 @@ class JohnsonCookModel(WallModel):
     def wave_speed(self) -> float:
         m = self.material
         return math.sqrt(m.c0 ** 2 + 4.0 * m.shear_modulus / (3.0 * m.rho0))
+
+    @property
+    def update_kernel(self) -> Callable:
+        return jc_element_update
+
+    def reference_moduli(self) -> tuple[float, float]:
+        t = self.kernel_table()[0]
+        return t[RHO0] * t[C0] ** 2, t[SHEAR]
 
     @property
     def deck_failure_strain_floor(self) -> float | None:
@@ -262,6 +269,13 @@ class JohnsonCookModel(WallModel):
             tuler_butcher = TULER_BUTCHER.get(m.name)
         return cls(m, damage=damage, spall=spall, erosion=erosion, damage_at_floor=damage_at_floor,
                    spall_law=spall_law, fracture_strain_floor=fracture_strain_floor, tuler_butcher=tuler_butcher)
+
+
+@njit(cache=True, inline="always")
+def jc_element_update(e, L, dt, vbar, mass, rho, vratio, q, S, es, flags, table, prm):
+    """:func:`jc_update` in the element pass's convention (:func:`impactdyn.wall._step.material_update`):
+    the EOS takes the density, not the volume ratio."""
+    return jc_update(e, L, dt, vbar, mass, rho, q, S, es, flags, table, prm)
 
 
 @njit(cache=True, inline="always")

@@ -33,6 +33,7 @@ Damage output: εₚ/ε_f (0 without ε_f).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -45,7 +46,6 @@ from impactdyn.materials import Mat13Card, Material, get_material, mat13_card
 from impactdyn.wall._models import WallModel, register_model
 from impactdyn.wall._state import DAMAGE, EPS_P, FAIL_STRAIN, FAIL_TENSION, FAILED, IE, P, RATE, stress_power
 
-KIND = 0
 (M_RHO, M_G, M_K, M_SIGY, M_EH, M_EPSF, M_PCUT) = range(7)
 
 
@@ -58,7 +58,6 @@ class Mat13Model(WallModel):
     source: str = ""
 
     name = "mat13"
-    kind = KIND
 
     @property
     def density(self) -> float:
@@ -75,6 +74,13 @@ class Mat13Model(WallModel):
     def wave_speed(self) -> float:
         c = self.card
         return math.sqrt((c.bulk_modulus + 4.0 * c.shear_modulus / 3.0) / c.density)
+
+    @property
+    def update_kernel(self) -> Callable:
+        return mat13_element_update
+
+    def reference_moduli(self) -> tuple[float, float]:
+        return self.card.bulk_modulus, self.card.shear_modulus
 
     def kernel_params(self) -> np.ndarray:
         c = self.card
@@ -155,3 +161,10 @@ def mat13_update(e, L, dt, vbar, mass, rho, vratio, q, S, es, flags, prm):
     es[e, IE] += (dw - q * trd * wfac) / mass
     es[e, P] = p_new
     return math.sqrt((K + 4.0 * G / 3.0) / rho), dw, yld * dep * vbar
+
+
+@njit(cache=True, inline="always")
+def mat13_element_update(e, L, dt, vbar, mass, rho, vratio, q, S, es, flags, table, prm):
+    """:func:`mat13_update` in the element pass's convention (:func:`impactdyn.wall._step.material_update`):
+    the type-13 card has no EOS table."""
+    return mat13_update(e, L, dt, vbar, mass, rho, vratio, q, S, es, flags, prm)

@@ -1,9 +1,9 @@
 """The registry of wall material models.
 
 A model is a frozen dataclass deriving from :class:`WallModel`; its module registers it
-with :func:`register_model` (a class decorator) and provides the compiled stress update
-the element kernel calls for its ``kind`` (:mod:`._step` dispatches on ``kind``, so a new
-model adds its module here and one branch there).  Registered models:
+with :func:`register_model` (a class decorator) and brings its own compiled stress update,
+:attr:`WallModel.update_kernel`, which :func:`._step.step_kernels` compiles into the element
+pass (a class without one is abstract and cannot be built).  Registered models:
 
 * ``"mat13"`` — :class:`~impactdyn.wall._mat13.Mat13Model`, DYNA3D type 13 / LS-DYNA
   ``*MAT_013``, the report's wall card;
@@ -17,6 +17,7 @@ model adds its module here and one branch there).  Registered models:
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
+from collections.abc import Callable
 from typing import Any, ClassVar
 
 import numpy as np
@@ -30,12 +31,11 @@ MODELS: dict[str, type["WallModel"]] = {}
 class WallModel(ABC):
     """Base of the wall material models (each a frozen dataclass).
 
-    Subclasses set ``name`` (the registry key), ``kind`` (the kernel's dispatch code) and
-    ``option_keys`` (the case keys they take), and implement the abstract members below.
+    Subclasses set ``name`` (the registry key) and ``option_keys`` (the case keys they take),
+    and implement the abstract members below.
     """
 
     name: ClassVar[str] = ""
-    kind: ClassVar[int] = -1
     #: The :class:`~impactdyn.wall.WallOptions` keys this model takes (keywords of :meth:`from_material`).
     option_keys: ClassVar[tuple[str, ...]] = ()
 
@@ -68,6 +68,17 @@ class WallModel(ABC):
     @abstractmethod
     def kernel_params(self) -> np.ndarray:
         """The model's parameter vector for the compiled update (float64, model's own columns)."""
+
+    @property
+    @abstractmethod
+    def update_kernel(self) -> Callable:
+        """The model's ``@njit`` stress update of one element, called by the element pass with the
+        convention of :func:`impactdyn.wall._step.material_update`."""
+
+    @abstractmethod
+    def reference_moduli(self) -> tuple[float, float]:
+        """(K₀, G), Mbar: the undeformed material's bulk and shear moduli, the elastic constants of
+        the assumed-strain hourglass form (:mod:`._hourglass`)."""
 
     def kernel_table(self) -> np.ndarray:
         """A :func:`impactdyn.constitutive.pack_materials` table (a dummy row where unused)."""

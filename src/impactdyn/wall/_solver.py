@@ -1,6 +1,6 @@
 """The wall solver's driver: state set-up, the run loop over compiled steps, histories, verdict.
 
-The time loop is :func:`impactdyn.wall._step.advance`, compiled, called once per history
+The time loop is the compiled step loop of the model (:func:`impactdyn.wall._step.step_kernels`), called once per history
 sample (``history_interval_us``): between calls Python samples the energies, updates the
 node categories of :mod:`._verdict` (only when the set of failed elements changed), takes
 output frames and checks the end of the run.  With the report's wall the compiled loop
@@ -35,7 +35,9 @@ import numpy as np
 from impactdyn._errors import InputError
 from impactdyn.materials import Mat13Card, Material
 from impactdyn.units import CM_US_PER_KM_S, KM_S_PER_CM_US
-from impactdyn.wall import _step
+from impactdyn.wall import _settle, _step
+from impactdyn.wall._blocks import hourglass_stress_array, work_arrays
+from impactdyn.wall._diagnostics import energy_sums, nodal_energy
 from impactdyn.wall._load import NodalLoad, nodal_load
 from impactdyn.wall._grading import solver_mesh
 from impactdyn.wall._mesh import WallMesh
@@ -43,17 +45,10 @@ from impactdyn.wall._models import MODELS, WallModel
 from impactdyn.wall._options import WallOptions, WallSolverError
 from impactdyn.wall._result import (
     ENDED_AT_CEILING, ENDED_AT_END_TIME, ENDED_BY_DECAY, HISTORY_KEYS, WallFrame, WallResult)
-from impactdyn.wall._state import C, DAMAGE, EPS_P, ERODED, FAILED, N_ES, N_SHG, P, VOL
+from impactdyn.wall._state import (
+    C, DAMAGE, EPS_P, ERODED, FAILED, N_ES, N_SHG, P, VOL, Controls, Elements, Loads, MaterialConstants, Nodes)
 from impactdyn.wall._verdict import WALL, classify, failed_mass_by_cause, measures, node_categories
 from impactdyn.wallgrid import WallDeposition, WallGrid
-
-#: The largest Courant factor of :meth:`WallSolver.settle` (its docstring): central differences
-#: are stable at the run's factor 0.9, so Δt_e ω_max < 2/0.9 and at 0.35 θ = Δt ω_max < 0.78.
-SETTLE_COURANT = 0.35
-
-#: A swing of the wall turns (:meth:`WallSolver.settle`, the rebound) when its momentum along y has
-#: passed this fraction of its largest magnitude in the other direction.
-SWING_HYSTERESIS = 0.05
 
 _BREAKDOWN = {_step.BAD_VOLUME: "non-positive volume", _step.BAD_STEP: "time step collapsed",
               _step.BAD_FORCE: "non-finite force"}
@@ -86,76 +81,76 @@ class WallSolver:
         self.mesh, self.model, self.options = mesh, model, options
         nn, ne = mesh.n_nodes, mesh.n_elements
         self.x0 = mesh.coordinates.copy()
-        self.x = mesh.coordinates.copy()
-        self.v = np.zeros((nn, 3))
-        self.free = (~mesh.fixed).astype(np.float64)
+        free = (~mesh.fixed).astype(np.float64)
+        v = np.zeros((nn, 3))
         if velocity is not None:
-            self.v[:] = np.asarray(velocity, dtype=np.float64) * self.free
-        self.fixed = np.ascontiguousarray(mesh.fixed)
-        self.pext = np.zeros((nn, 3))
-        self.category = np.zeros(nn, dtype=np.int8)
+            v[:] = np.asarray(velocity, dtype=np.float64) * free
         self.rear_nodes = mesh.face_nodes("rear").ravel()
         self.front_nodes = mesh.face_nodes("front").ravel()
-        self.rear = np.zeros(nn, dtype=np.uint8)
-        self.rear[self.rear_nodes] = 1
-        self.F = np.zeros((ne, 8, 3))
-        self.Fflat = self.F.reshape(ne * 8, 3)
-        self.S = np.zeros((ne, 6))
-        self.es = np.zeros((ne, N_ES))
-        self.es[:, VOL] = mesh.volume
-        self.es[:, C] = model.wave_speed()
-        self.flags = np.zeros((ne, 2), dtype=np.uint8)
-        self.bad = np.zeros(ne, dtype=np.int8)
-        self.Lbuf = np.zeros((ne, 3, 3))
-        self.Qhg = np.zeros((ne, 4, 3))
-        # the assumed-strain form's stored hourglass stresses, blocked (:func:`._step.hourglass_stress_array`)
-        self.Shg = _step.hourglass_stress_array(ne if options.hourglass == "assumed_strain" else 0)
-        self.work = _step.work_arrays(numba.config.NUMBA_NUM_THREADS)
-        self.mprm = np.ascontiguousarray(model.kernel_params(), dtype=np.float64)
-        self.table = np.ascontiguousarray(model.kernel_table(), dtype=np.float64)
+        rear = np.zeros(nn, dtype=np.uint8)
+        rear[self.rear_nodes] = 1
+        self.nodes = Nodes(x=mesh.coordinates.copy(), v=v, mass=mesh.node_mass, free=free,
+                           fixed=np.ascontiguousarray(mesh.fixed), pext=np.zeros((nn, 3)), rear=rear,
+                           category=np.zeros(nn, dtype=np.int8))
+        F = np.zeros((ne, 8, 3))
+        es = np.zeros((ne, N_ES))
+        es[:, VOL] = mesh.volume
+        es[:, C] = model.wave_speed()
+        self.elements = Elements(
+            conn=mesh.connectivity, vol0=mesh.volume, mass=mesh.element_mass, S=np.zeros((ne, 6)), es=es,
+            flags=np.zeros((ne, 2), dtype=np.uint8), bad=np.zeros(ne, dtype=np.int8), Lbuf=np.zeros((ne, 3, 3)),
+            Qhg=np.zeros((ne, 4, 3)),
+            # the assumed-strain form's stored hourglass stresses, blocked (:func:`._blocks.hourglass_stress_array`)
+            Shg=hourglass_stress_array(ne if options.hourglass == "assumed_strain" else 0),
+            F=F, F_flat=F.reshape(ne * 8, 3), node_ptr=mesh.node_element_ptr, node_entry=mesh.node_element_entry)
+        bulk, shear = model.reference_moduli()
+        self.material = MaterialConstants(
+            params=np.ascontiguousarray(model.kernel_params(), dtype=np.float64),
+            table=np.ascontiguousarray(model.kernel_table(), dtype=np.float64),
+            bulk=float(bulk), shear=float(shear))
+        self.controls = Controls(hg_form=options.hourglass_form, qh=float(options.hourglass_coefficient),
+                                 q1=float(options.q1), q2=float(options.q2), courant=float(options.courant),
+                                 erode_failed=bool(model.erodes), erode_dt=0.0, min_dt=0.0)
+        self.kernels = _step.step_kernels(model.update_kernel)
+        self.work = work_arrays(numba.config.NUMBA_NUM_THREADS)
         self.acc = np.zeros(_step.N_ACC)
         self.acc[_step.A_REAR_VMAX] = -np.inf
         self.load = load if load is not None else nodal_load_empty()
-        self.erode_dt = 0.0
-        self.min_dt = 0.0
+        ld = self.load
+        self.loads = Loads(time=ld.time, impulse=ld.impulse, ptr=ld.ptr, node=ld.node, weight=ld.weight)
         status, dtmin = self.element_pass(0.0)
         if status or not math.isfinite(dtmin):
             raise WallSolverError(f"wall solver: the initial mesh is not valid ({_BREAKDOWN.get(status, status)})")
         self.dt_element0 = dtmin
-        self.erode_dt = options.erosion_step_fraction * dtmin
-        self.min_dt = options.min_step_fraction * dtmin
+        self.controls = self.controls._replace(erode_dt=options.erosion_step_fraction * dtmin,
+                                               min_dt=options.min_step_fraction * dtmin)
+        # the settling steps' controls (:mod:`._settle`): a smaller Courant factor, no bulk viscosity
+        self.settling_controls = self.controls._replace(q1=0.0, q2=0.0,
+                                                        courant=min(options.courant, _settle.SETTLE_COURANT))
         self.clock = np.array([t_start, 0.0, options.courant * dtmin, 0.0, 0.0, 0.0])
         self._damaged_count = 0
         self.k0 = None
 
     # -- compiled passes ------------------------------------------------------------------------------
     def element_pass(self, dt: float, dt_full_prev: float = 0.0) -> tuple[int, float]:
-        """One element pass over the current x, v (:func:`impactdyn.wall._step.element_pass`), for
+        """One element pass over the current x, v (:func:`impactdyn.wall._step.step_kernels`), for
         stepping by hand (verification); returns (status, min Δt_e)."""
-        o = self.options
-        return _step.element_pass(self.x, self.v, self.mesh.connectivity, self.mesh.volume, self.mesh.element_mass,
-                                  self.S, self.es, self.flags, self.bad, self.Lbuf, self.Qhg, self.Shg, self.F,
-                                  self.work, self.model.kind, self.mprm, self.table, o.hourglass_form,
-                                  o.hourglass_coefficient, o.q1, o.q2, self.model.erodes, self.erode_dt, self.min_dt,
-                                  dt, dt_full_prev)
+        return self.kernels.element_pass(self.nodes, self.elements, self.material, self.controls, self.work, dt,
+                                         dt_full_prev)
 
     def advance(self, t_stop: float, max_steps: int = 2**62, settling: bool = False) -> int:
         """Step until t ≥ ``t_stop`` (or ``max_steps`` steps); returns the steps taken.  ``settling``:
-        the steps of :meth:`settle` (Courant factor at most :data:`SETTLE_COURANT`, no bulk viscosity).
+        the steps of :meth:`settle` (Courant factor at most :data:`._settle.SETTLE_COURANT`, no bulk
+        viscosity).
 
         Raises :class:`WallSolverError` on a breakdown.
         """
-        o, m, ld = self.options, self.mesh, self.load
-        status, steps = _step.advance(
-            t_stop, max_steps, self.clock, self.acc, self.x, self.v, m.node_mass, self.free, self.fixed, self.pext,
-            self.rear, self.Fflat, m.node_element_ptr, m.node_element_entry, m.connectivity, m.volume,
-            m.element_mass, self.S, self.es, self.flags, self.bad, self.Lbuf, self.Qhg, self.Shg, self.F, self.work,
-            self.model.kind, self.mprm, self.table, o.hourglass_form, o.hourglass_coefficient,
-            0.0 if settling else o.q1, 0.0 if settling else o.q2,
-            min(o.courant, SETTLE_COURANT) if settling else o.courant, self.model.erodes, self.erode_dt,
-            self.min_dt, ld.time, ld.ptr, ld.node, ld.weight, ld.impulse)
+        m = self.mesh
+        status, steps = self.kernels.advance(t_stop, max_steps, self.clock, self.acc, self.nodes, self.elements,
+                                             self.material, self.settling_controls if settling else self.controls,
+                                             self.loads, self.work)
         if status:
-            bad = np.flatnonzero(self.bad)
+            bad = np.flatnonzero(self.elements.bad)
             ijk = m.element_ijk()[bad[0]] if bad.size else None
             raise WallSolverError(
                 f"wall solver broke down at t = {self.time:.4g} us: {_BREAKDOWN.get(status, status)} in "
@@ -164,6 +159,30 @@ class WallSolver:
         return steps
 
     # -- state views ----------------------------------------------------------------------------------
+    @property
+    def x(self) -> np.ndarray:
+        return self.nodes.x
+
+    @property
+    def v(self) -> np.ndarray:
+        return self.nodes.v
+
+    @property
+    def category(self) -> np.ndarray:
+        return self.nodes.category
+
+    @property
+    def S(self) -> np.ndarray:
+        return self.elements.S
+
+    @property
+    def es(self) -> np.ndarray:
+        return self.elements.es
+
+    @property
+    def flags(self) -> np.ndarray:
+        return self.elements.flags
+
     @property
     def time(self) -> float:
         return float(self.clock[_step.T_NOW])
@@ -176,7 +195,7 @@ class WallSolver:
     def hourglass_stress(self) -> np.ndarray:
         """The assumed-strain form's stored hourglass stresses per element, (n_elements, N_SHG) (a new
         array; columns in :mod:`._state`); (0, N_SHG) with the other forms."""
-        return self.Shg.transpose(0, 2, 1).reshape(-1, N_SHG)[:self.mesh.n_elements]
+        return self.elements.Shg.transpose(0, 2, 1).reshape(-1, N_SHG)[:self.mesh.n_elements]
 
     @property
     def failed(self) -> np.ndarray:
@@ -195,18 +214,15 @@ class WallSolver:
         n = int(np.count_nonzero(self.flags))
         if n != self._damaged_count:
             self._damaged_count = n
-            self.category[:] = node_categories(self.mesh, self.failed, self.eroded)
+            self.nodes.category[:] = node_categories(self.mesh, self.failed, self.eroded)
 
     def energies(self) -> dict[str, float]:
         """The energy balance at the current time (module docstring)."""
         dt_full = 0.5 * (self.clock[_step.DT_PREV] + self.clock[_step.DT_NEXT])
-        m = self.mesh
-        kin, kin_wall, kin_orphan, kin_cross, mom = _step.nodal_energy(
-            self.v, m.node_mass, self.free, self.Fflat, m.node_element_ptr, m.node_element_entry, self.category,
-            dt_full)
+        kin, kin_wall, kin_orphan, kin_cross, mom = nodal_energy(self.nodes, self.elements, dt_full)
         if self.k0 is None:
             self.k0 = kin
-        live, gone = _step.energy_sums(self.es, self.flags)      # (W_σ, W_p, W_hg, W_q)
+        live, gone = energy_sums(self.elements)      # (W_σ, W_p, W_hg, W_q)
         out = {
             "load_work": float(self.acc[_step.A_LOAD_WORK]),
             "initial_kinetic": float(self.k0),
@@ -226,131 +242,10 @@ class WallSolver:
         out["balance_error"] = (e_in - held) / e_in if e_in > 0 else 0.0
         return out
 
-    def _wall_kinetic(self) -> float:
-        """½ Σ m |v|² over the wall nodes (category WALL), now."""
-        m = self.mesh
-        return float(_step.nodal_energy(self.v, m.node_mass, self.free, self.Fflat, m.node_element_ptr,
-                                        m.node_element_entry, self.category, 0.0)[1])
-
     def settle(self, progress: Callable[[float, float], None] | None = None) -> dict[str, Any]:
-        """Let the wall swing back, bring it to rest by kinetic damping and measure its permanent bulge.
-
-        1. The rebound: the run's own steps (no load left, bulk viscosity and Courant factor as in
-           the run) go on until the wall has swung back from its outward deflection and turns
-           outward again — until its momentum along y (outward), having been negative, turns
-           positive (past :data:`SWING_HYSTERESIS` of its largest magnitude each way, so that the
-           higher modes' flicker about zero at a turning point does not count).  The plastic work
-           of the rest of the first swing and the reverse yielding of the rebound are computed, as
-           the run computes them.  Without this phase the first reset came at the run's end, where
-           the kinetic energy of a wall still swinging out is falling: it took away the energy of
-           the swing's remaining plastic work (a clamped plate settled from 3 µs, mid-swing, kept
-           0.059 cm against the 0.105 about which it rings once yielding is over; settled at its
-           first turning point, 0.109, +4 %, the rebound's reverse yielding missed; after the
-           rebound 0.1045, −0.4 %, from any start in the first swing; BENCHMARKS.md).
-        2. Kinetic damping (Cundall 1976; Barnes, Int. J. Space Structures 14 (1999) 89, "form
-           finding and analysis of tension structures by dynamic relaxation"): the steps go on;
-           whenever the kinetic energy of the wall nodes passes a peak (a rise, then a fall), every
-           wall node's velocity is set to zero.  Each reset removes the energy of the motion then
-           dominant, so the wall creeps to static equilibrium with its plastic state (further
-           yielding on the way is computed as usual) without a damping constant.  It stops at a
-           reset where the wall is in equilibrium (``settled``): the out-of-balance force on its
-           free nodes below ``settle_tolerance`` of the element forces that balance there (norms
-           over the nodes and over the elements' corners, :func:`._step.force_balance`; the
-           latter the largest seen at a reset, so that a wall springing back to no stress at all
-           settles too).  Not on the kinetic energy: after 7a's rebound the first peak came from
-           a local mode (6e-4 of it three resets later, bulge 0.373 cm), and the plate's bending
-           mode, slower, then rose to 5 times it and carried the bulge to 0.657 cm (BENCHMARKS.md).
-
-        Reverse yielding in later swings is left out: a wall at rest after one swing out and back
-        is the model's permanent shape.  Both phases together take at most ``max_settle_steps``
-        steps (else ``settled`` is false).  The energy balance is not kept through it: call it
-        after the run's measures are taken.  The damping steps take a Courant factor of at most
-        :data:`SETTLE_COURANT`: the positions are not moved back to the peak (the stresses are
-        incremental and would no longer match them), so a mode of frequency ω whose kinetic energy
-        peaks every second step is reset every third, and each such cycle multiplies its amplitude
-        by |1 − 6θ² + 5θ⁴ − θ⁶|, θ = Δt ω (central differences, from rest), more than 1 for
-        θ > 0.78: at the run's factor 0.9, where θ reaches ~1.8, a wall of a few elements drifted
-        away instead of settling.  The bulk viscosity is off while damping: on the way to rest it
-        only turned each reset's motion into heat, which the Mie–Grüneisen pressure turned into an
-        expansion the resets then kept.
-
-        ``progress(done, 1)`` is called at the start, at every reset and at the end, with ``done``
-        how far the out-of-balance force has come from the first reset's to the tolerance (on a
-        log scale).
-
-        Returns ``permanent_rear_bulge_cm`` (the largest outward u_y of a rear-face wall node at
-        rest), ``settled``, ``settle_steps`` (both phases), ``rebound_end_us`` (the time phase 1
-        ended) and ``settle_resets``.  A breakdown of the solver on the way (the wall's free swing
-        goes on far past the run) does not raise: the run's own measures stand, and
-        ``permanent_rear_bulge_cm`` is None with the message in ``settle_error``.
-        """
-        report = progress if progress is not None else (lambda done, total: None)
-        report(0.0, 1.0)
-        first_step = self.steps
-        try:
-            out = self._settle(report)
-        except WallSolverError as err:  # the run's measures stand; only the permanent bulge is lost
-            out = {"permanent_rear_bulge_cm": None, "settled": False, "settle_steps": self.steps - first_step,
-                   "rebound_end_us": None, "settle_resets": None, "settle_error": str(err)}
-        report(1.0, 1.0)
-        return out
-
-    def _settle(self, report: Callable[[float, float], None]) -> dict[str, Any]:
-        """The two phases of :meth:`settle`."""
-        o = self.options
-        steps = self._rebound(o.max_settle_steps)
-        rebound_end = self.time
-        self.clock[_step.DT_NEXT] *= min(o.courant, SETTLE_COURANT) / o.courant
-        self.update_categories()
-        last = self._wall_kinetic()
-        rising = False
-        resets = 0
-        largest = 0.0
-        first_ratio = None
-        settled = last == 0.0 and steps < o.max_settle_steps
-        while not settled and steps < o.max_settle_steps:
-            self.advance(math.inf, 1, settling=True)
-            steps += 1
-            k = self._wall_kinetic()
-            if rising and k < last:          # a peak has passed: stop every wall node
-                self.update_categories()
-                self.v[self.category == WALL] = 0.0
-                resets += 1
-                k = 0.0
-                residual, corners = _step.force_balance(self.Fflat, self.mesh.node_element_ptr,
-                                                        self.mesh.node_element_entry, self.free, self.category)
-                largest = max(largest, corners)
-                settled = residual <= o.settle_tolerance ** 2 * largest
-                ratio = math.sqrt(residual / largest) if largest > 0.0 else 0.0
-                first_ratio = ratio if first_ratio is None else first_ratio
-                if 0.0 < ratio < first_ratio and first_ratio > o.settle_tolerance:
-                    report(min(1.0, math.log(first_ratio / ratio) / math.log(first_ratio / o.settle_tolerance)), 1.0)
-            rising = k > last
-            last = k
-        bulge, _ = self._surface()
-        return {"permanent_rear_bulge_cm": bulge, "settled": bool(settled), "settle_steps": steps,
-                "rebound_end_us": rebound_end, "settle_resets": resets}
-
-    def _rebound(self, max_steps: int) -> int:
-        """Phase 1 of :meth:`settle`: step until the wall's outward momentum turns from negative to
-        positive; returns the steps taken."""
-        swing = 0.0          # sign of the current swing: +1 out, −1 back, 0 not yet known
-        largest = 0.0
-        steps = 0
-        self.update_categories()
-        if self._wall_kinetic() == 0.0:  # at rest already: no swing to finish
-            return 0
-        while steps < max_steps:
-            p = _step.wall_momentum_y(self.mesh.node_mass, self.v, self.category)
-            largest = max(largest, abs(p))
-            if abs(p) > SWING_HYSTERESIS * largest:
-                if swing < 0.0 < p:
-                    break
-                swing = math.copysign(1.0, p)
-            self.advance(math.inf, 1)
-            steps += 1
-            self.update_categories()
-        return steps
+        """Let the wall swing back, bring it to rest by kinetic damping and measure its permanent bulge
+        (:func:`impactdyn.wall._settle.settle`, which says how and what it returns)."""
+        return _settle.settle(self, progress)
 
     def frame(self) -> WallFrame:
         """The current state as an output frame."""
@@ -362,7 +257,7 @@ class WallSolver:
                          pressure=es[:, P].astype(f4), von_mises=vm.astype(f4),
                          failure_cause=self.flags[:, FAILED].copy(), eroded=self.eroded.copy())
 
-    def _surface(self) -> tuple[float, float]:
+    def surface(self) -> tuple[float, float]:
         """(rear bulge, front dent) of the wall nodes now, cm."""
         out = []
         for nodes in (self.rear_nodes, self.front_nodes):
@@ -389,7 +284,7 @@ class WallSolver:
         def sample() -> dict[str, float]:
             nonlocal rear_peak
             en = self.energies()
-            bulge, dent = self._surface()
+            bulge, dent = self.surface()
             vr = float(self.acc[_step.A_REAR_VMAX])
             rear_peak = max(rear_peak, vr)
             self.acc[_step.A_REAR_VMAX] = -np.inf

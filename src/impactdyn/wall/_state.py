@@ -10,16 +10,22 @@ reads and writes one row at a time):
 * ``Lbuf`` (n_elements, 3, 3) — the midstep velocity gradient ∂v_i/∂x_j, 1/µs;
 * ``Qhg`` (n_elements, 4, 3) — generalised hourglass forces Q_αi of the last step;
 * ``Shg`` (n_blocks, N_SHG, BLOCK), element e at [e // BLOCK, :, e % BLOCK] (blocked like the element
-  pass, :func:`impactdyn.wall._step.hourglass_stress_array`) — the assumed-strain form's hourglass
+  pass, :func:`impactdyn.wall._blocks.hourglass_stress_array`) — the assumed-strain form's hourglass
   stresses (Mbar), columns
   SHG_PLANE + 6k … SHG_PLANE + 6k + 5: the plane-stress tensor σ_k of group k = 0, 1, 2 in
   global axes (xx, yy, zz, xy, yz, zx), SHG_MODE4 + k: the uniaxial stress s_k of mode ξηζ
-  along j_k (:func:`impactdyn.wall._step.assumed_strain_forces`); no blocks with the other
+  along j_k (:func:`impactdyn.wall._hourglass.assumed_strain_forces`); no blocks with the other
   hourglass forms, which keep no stress.
 
-and :func:`stress_power`, the rates the material models' energy updates share.
+The kernels take the state grouped in records (NamedTuples of arrays, which numba passes and
+caches like arrays): :class:`Nodes`, :class:`Elements`, the model's :class:`MaterialConstants`,
+the run's :class:`Controls` and the :class:`Loads` still to come; and :func:`stress_power`, the
+rates the material models' energy updates share.
 """
 
+from typing import NamedTuple
+
+import numpy as np
 from numba import njit
 
 #: Columns of ``es``: pressure p (Mbar), bulk viscosity q (Mbar), specific internal energy e
@@ -69,3 +75,82 @@ def stress_power(L, e, S, s0, s1, s2, s3, s4, s5):
     sd_new = (S[e, 0] * dxx + S[e, 1] * dyy + S[e, 2] * dzz
               + 2.0 * (S[e, 3] * dxy + S[e, 4] * dyz + S[e, 5] * dzx))
     return dxx + dyy + dzz, sd_old, sd_new
+
+
+class Nodes(NamedTuple):
+    """The nodes: positions x and velocities v (n_nodes, 3), cm and cm/µs; lumped mass (n_nodes,), g;
+    free (n_nodes, 3) 1.0 on free and 0.0 on fixed translations and fixed, the same as bool; pext
+    (n_nodes, 3) the impulses due now, g·cm/µs; rear (n_nodes,) uint8, 1 on the rear face; category
+    (n_nodes,) int8, the verdict's node categories (:mod:`._verdict`: 0 wall, 2 orphan)."""
+
+    x: np.ndarray
+    v: np.ndarray
+    mass: np.ndarray
+    free: np.ndarray
+    fixed: np.ndarray
+    pext: np.ndarray
+    rear: np.ndarray
+    category: np.ndarray
+
+
+class Elements(NamedTuple):
+    """The elements: connectivity conn (n_elements, 8), undeformed volume vol0 (cm³) and mass (g)
+    (n_elements,); the state S, es, flags, Lbuf, Qhg, Shg (module docstring) and the breakdown
+    marks ``bad`` (n_elements,) int8; the corner forces F (n_elements, 8, 3) and the same memory
+    as F_flat (8 n_elements, 3), which the node → (element, corner) CSR map ``node_ptr`` /
+    ``node_entry`` indexes: node n's corners are F_flat[node_entry[node_ptr[n]:node_ptr[n + 1]]]."""
+
+    conn: np.ndarray
+    vol0: np.ndarray
+    mass: np.ndarray
+    S: np.ndarray
+    es: np.ndarray
+    flags: np.ndarray
+    bad: np.ndarray
+    Lbuf: np.ndarray
+    Qhg: np.ndarray
+    Shg: np.ndarray
+    F: np.ndarray
+    F_flat: np.ndarray
+    node_ptr: np.ndarray
+    node_entry: np.ndarray
+
+
+class MaterialConstants(NamedTuple):
+    """The wall model's constants as its update kernel reads them (``params``, ``table``:
+    :meth:`impactdyn.wall.WallModel.kernel_params`, ``kernel_table``) and the reference elastic
+    moduli of the assumed-strain hourglass form, K₀ and G, Mbar
+    (:meth:`~impactdyn.wall.WallModel.reference_moduli`)."""
+
+    params: np.ndarray
+    table: np.ndarray
+    bulk: float
+    shear: float
+
+
+class Controls(NamedTuple):
+    """The run's numerical settings: hourglass form code ``hg_form`` (:mod:`._hourglass`) and QH
+    ``qh``; bulk-viscosity coefficients q1, q2; Courant factor; whether failed elements are eroded
+    at once (``erode_failed``), the step below which a failed element is eroded (``erode_dt``) and
+    below which a live one is a breakdown (``min_dt``), µs."""
+
+    hg_form: int
+    qh: float
+    q1: float
+    q2: float
+    courant: float
+    erode_failed: bool
+    erode_dt: float
+    min_dt: float
+
+
+class Loads(NamedTuple):
+    """The deposition records as the step loop applies them (:class:`._load.NodalLoad`): arrival
+    time (n,) µs, impulse (n, 3) g·cm/µs, and record r's nodes and weights
+    node[ptr[r]:ptr[r + 1]], weight[ptr[r]:ptr[r + 1]]."""
+
+    time: np.ndarray
+    impulse: np.ndarray
+    ptr: np.ndarray
+    node: np.ndarray
+    weight: np.ndarray
