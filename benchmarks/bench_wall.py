@@ -109,7 +109,7 @@ def bench_solver(refinement: int, hourglass: str | None = None, material_model: 
         options = options.replaced(hourglass=hourglass)
     model = wall.wall_model(material_model, "al6061-t6")
     mesh = wall.build_mesh(grid, model.density, refinement, refinement)
-    load = wall.nodal_load(mesh, synthetic_deposition(grid))
+    load = wall.nodal_load(mesh, synthetic_deposition(grid), options.spread)
     return wall.WallSolver(mesh, model, options, load=load, t_start=float(load.time.min()))
 
 

@@ -292,12 +292,13 @@ def test_curve_points_in_one_pass_are_the_point_cards():
 def test_decks_carry_the_graded_mesh(tmp_path):
     """The decks of the mesh the wall stage ran: the graded grid's nodes and solids, and its re-binned
     records, whose load curves integrate to the case's deposited impulse."""
-    from impactdyn.wall import solver_mesh
+    from impactdyn.wall import rebin_deposition, solver_mesh
     from impactdyn.wallgrid import sphere_deposition
 
     case = WallGrid.uniform((0.0, 1.6), (0.0, 0.3175), (-1.6, 1.6), (11, 5, 21))
     dep = sphere_deposition(case, 0.3, 0.6, 2.7, t0_us=5.0)
-    mesh, on_mesh = solver_mesh(case, dep, 2.703)
+    mesh = solver_mesh(case, dep, 2.703)
+    on_mesh = rebin_deposition(dep, case, mesh.grid)
     assert mesh.grid.n_elements > case.n_elements and on_mesh.element.size > dep.element.size
     p = tmp_path / "wall.k"
     write_lsdyna_deck(p, mesh.grid, deposition=on_mesh)

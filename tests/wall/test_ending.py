@@ -18,7 +18,7 @@ DEP = two_records()
 
 
 def _run(**options):
-    return wall.run_wall(GRID, DEP, "al6061-t6", wall.WallOptions(output_interval_us=None, **options)).measures
+    return wall.run_wall(GRID, DEP, "al6061-t6", wall.WallOptions(mesh="report", output_interval_us=None, **options)).measures
 
 
 @pytest.mark.parametrize("options, ended_by, t_end", [
@@ -50,7 +50,7 @@ def test_peak_bulge_bounds_the_bulge_at_the_end():
 
 
 def _settled(model, impulse):
-    return wall.run_wall(GRID, two_records(impulse), model, wall.WallOptions(output_interval_us=None, max_time_us=6.0,
+    return wall.run_wall(GRID, two_records(impulse), model, wall.WallOptions(mesh="report", output_interval_us=None, max_time_us=6.0,
                                                             settle=True)).measures
 
 
@@ -116,7 +116,7 @@ def test_the_settled_bulge_is_the_mean_the_ringing_plate_swings_about(ringing_me
 
 def test_settling_reports_its_progress_from_0_to_1():
     calls = []
-    m = wall.run_wall(GRID, two_records(2e-4), "al6061-t6", wall.WallOptions(output_interval_us=None, max_time_us=6.0,
+    m = wall.run_wall(GRID, two_records(2e-4), "al6061-t6", wall.WallOptions(mesh="report", output_interval_us=None, max_time_us=6.0,
                                                                              settle=True),
                       settle_progress=lambda done, total: calls.append((done, total))).measures
     assert m["settled"] and len(calls) > 2
@@ -134,7 +134,7 @@ def test_a_breakdown_while_settling_loses_only_the_permanent_bulge(monkeypatch):
         solver.advance(solver.time + 0.5)
         raise wall.WallSolverError("wall solver broke down at t = 6.5 us: non-positive volume in 1 element(s)")
 
-    options = wall.WallOptions(output_interval_us=None, max_time_us=6.0)
+    options = wall.WallOptions(mesh="report", output_interval_us=None, max_time_us=6.0)
     plain = wall.run_wall(GRID, two_records(2e-4), "al6061-t6", options)
     monkeypatch.setattr(_settle, "rebound", broken)
     result = wall.run_wall(GRID, two_records(2e-4), "al6061-t6", options.replaced(settle=True))

@@ -158,7 +158,7 @@ def test_old_options_reproduce_the_model_before_the_floor_and_tuler_butcher():
     model = wall.wall_model("johnson_cook", "al6061-t6", fracture_strain_floor="unbounded", spall_law="cutoff",
                             erosion=True)
     r = wall.run_wall(grid, dep, model, wall.WallOptions(material_model="johnson_cook", end_time_us=8.0,
-                                                         output_interval_us=None))
+                                                         output_interval_us=None, mesh="report"))
     m = r.measures
     assert r.verdict == wall.PERFORATION
     assert m["damaged_mass_g"] == pytest.approx(0.08480662500000002, rel=1e-12)

@@ -57,7 +57,7 @@ def test_core_element_size_rule():
 def test_bounds_on_the_table2_and_thin_walls(grid, load):
     dep = (sphere_deposition(grid, 0.5, 0.6, 2.7, centre_xz=(0.0, 4.0)) if load == "sphere"
            else cloud(grid, 2.0))
-    mesh, on_mesh = wall.solver_mesh(grid, dep, 2.703)
+    mesh = wall.solver_mesh(grid, dep, 2.703)
     g, t = mesh.grid, mesh.thickness
     h_core = wall.core_element_size(t)
     assert mesh.kind == "graded" and mesh.parent is grid and mesh.refinement == (1, 1)
@@ -85,8 +85,8 @@ def test_bounds_on_the_table2_and_thin_walls(grid, load):
     assert (mesh.n_elements * steps <= _grading.ELEMENT_STEPS_BUDGET
             or np.allclose(wall.resolving_region(grid, dep, _grading.REGION_FRACTIONS[-1]), ((x0, x1), (z0, z1))))
     assert mesh.n_elements <= {0.3175: 85_000, 0.16: 140_000}[round(t, 4)]     # the counts of the _grading docstring
-    np.testing.assert_allclose(on_mesh.impulse.sum(axis=0), dep.impulse.sum(axis=0), rtol=1e-12,
-                               atol=1e-14 * np.abs(dep.impulse).sum())
+    np.testing.assert_allclose(nodal_impulse(wall.nodal_load(mesh, dep, "area"), mesh.n_nodes).sum(axis=0),
+                               dep.impulse.sum(axis=0), rtol=1e-12, atol=1e-14 * np.abs(dep.impulse).sum())
 
 
 @settings(max_examples=200, deadline=None)
@@ -121,7 +121,7 @@ def test_graded_nodes_on_the_case_lines_hold_their_bounds(cells, a, b, h, ratio)
 def test_far_field_is_the_case_grid():
     """Beyond the grading, the node lines are the case grid's: its records there are not split."""
     dep = sphere_deposition(TABLE2, 0.5, 0.6, 2.7, centre_xz=(0.0, 4.0))
-    mesh, _ = wall.solver_mesh(TABLE2, dep, 2.703)
+    mesh = wall.solver_mesh(TABLE2, dep, 2.703)
     far = mesh.grid.z[mesh.grid.z > 7.0]
     assert far.size > 10 and np.all(np.isin(np.round(far, 9), np.round(TABLE2.z, 9)))
 
@@ -163,20 +163,40 @@ def test_rebinning_follows_the_overlap_areas():
 
 @pytest.mark.parametrize("spread", wall.SPREADS)
 def test_load_on_the_graded_mesh_is_the_deposited_impulse(spread):
-    """Re-binned and spread, the load is the same total as on the report mesh; δ is the case grid's."""
-    grid = WallGrid.uniform((0.0, 1.6), (0.0, 0.3175), (-1.6, 1.6), (11, 5, 21))
+    """Shared over the graded mesh's face cells and spread, every record's impulse is kept and the
+    total is the report mesh's; δ is the case grid's; one stencil per loaded cell of the case's grid."""
+    grid = WallGrid.uniform((0.0, 1.6), (0.0, 0.3175), (2.4, 5.6), (11, 5, 21))     # about the cloud's core
     dep = cloud(grid, 0.4)
-    mesh, on_mesh = wall.solver_mesh(grid, dep, 2.703)
-    report, same = wall.solver_mesh(grid, dep, 2.703, mesh="report", refinement_thickness=2, refinement_plane=2)
-    assert same is dep and report.kind == "report" and report.refinement == (2, 2)
-    graded = wall.nodal_load(mesh, on_mesh, spread)
+    assert dep.element.size > 100
+    mesh = wall.solver_mesh(grid, dep, 2.703)
+    report = wall.solver_mesh(grid, dep, 2.703, mesh="report", refinement_thickness=2, refinement_plane=2)
+    assert report.kind == "report" and report.refinement == (2, 2)
+    graded = wall.nodal_load(mesh, dep, spread)
     coarse = wall.nodal_load(report, dep, spread)
     assert graded.depth == coarse.depth == pytest.approx(0.5 * 0.3175 / 4)
+    assert graded.ptr.size - 1 == np.unique(dep.element).size
     np.testing.assert_allclose(np.add.reduceat(graded.weight, graded.ptr[:-1]), 1.0, rtol=1e-14)
     np.testing.assert_allclose(graded.total_impulse, coarse.total_impulse, rtol=1e-12)
-    # applied to the nodes: Σ weight × impulse per direction is the deposited impulse
-    per_entry = np.repeat(graded.impulse, np.diff(graded.ptr), axis=0) * graded.weight[:, None]
-    np.testing.assert_allclose(per_entry.sum(axis=0), dep.impulse.sum(axis=0), rtol=1e-12)
+    # applied to the nodes: Σ weight × impulse per record and direction is the record's impulse
+    record, _, weight = graded.entries()
+    per_record = np.zeros_like(graded.impulse)
+    np.add.at(per_record, record, graded.impulse[record] * weight[:, None])
+    np.testing.assert_allclose(per_record, graded.impulse, rtol=1e-12, atol=1e-15 * np.abs(dep.impulse).max())
+    # the same nodal impulses as the records re-binned onto the mesh's own face cells and spread there
+    on_mesh = wall.rebin_deposition(dep, grid, mesh.grid)
+    fine_mesh = wall.solver_mesh(mesh.grid, on_mesh, 2.703, mesh="report")
+    fine = wall.nodal_load(fine_mesh, on_mesh, spread, graded.depth)
+    assert np.array_equal(fine_mesh.coordinates, mesh.coordinates)
+    np.testing.assert_allclose(nodal_impulse(graded, mesh.n_nodes), nodal_impulse(fine, mesh.n_nodes),
+                               rtol=1e-12, atol=1e-12 * np.abs(dep.impulse).sum())
+
+
+def nodal_impulse(load, n_nodes):
+    """Σ over records of each node's share of the record's impulse, (n_nodes, 3)."""
+    record, node, weight = load.entries()
+    total = np.zeros((n_nodes, 3))
+    np.add.at(total, node, load.impulse[record] * weight[:, None])
+    return total
 
 
 def rear_bulge(mesh, dep, t_end):
@@ -204,12 +224,12 @@ def test_graded_bulge_is_the_refined_report_bulge():
     impulse = np.zeros((element.size, 3))
     impulse[:, 1] = 0.0123 * 0.16 * 0.16                 # 7a's peak areal momentum, 0.123 N·s/cm²
     dep = WallDeposition(element=element, time=np.zeros(element.size), impulse=impulse)
-    graded, on_graded = wall.solver_mesh(grid, dep, 2.703, supports="clamped")
-    report, _ = wall.solver_mesh(grid, dep, 2.703, mesh="report", refinement_thickness=2, refinement_plane=4,
-                                 supports="clamped")
+    graded = wall.solver_mesh(grid, dep, 2.703, supports="clamped")
+    report = wall.solver_mesh(grid, dep, 2.703, mesh="report", refinement_thickness=2, refinement_plane=4,
+                              supports="clamped")
     assert graded.n_elements < report.n_elements
     t_end = 4.0
-    u_g = rear_bulge(graded, on_graded, t_end)
+    u_g = rear_bulge(graded, dep, t_end)
     u_r = rear_bulge(report, dep, t_end)
     centre_g, centre_r = u_g[np.argmin(np.abs(graded.grid.z)), 0], u_r[np.argmin(np.abs(report.grid.z)), 0]
     assert centre_r > 0.04
@@ -250,7 +270,7 @@ def test_density_and_records_off_the_grid():
 
 def test_without_records_the_mesh_is_the_case_grid_in_layers():
     empty = WallDeposition(element=np.zeros(0, dtype=np.int64), time=np.zeros(0), impulse=np.zeros((0, 3)))
-    mesh, dep = wall.solver_mesh(TABLE2, empty, 2.703)
+    mesh = wall.solver_mesh(TABLE2, empty, 2.703)
     np.testing.assert_array_equal(mesh.grid.x, TABLE2.x)
     np.testing.assert_array_equal(mesh.grid.z, TABLE2.z)
-    assert mesh.shape[1] == 8 and dep.element.size == 0
+    assert mesh.shape[1] == 8 and wall.nodal_load(mesh, empty, "area").time.size == 0

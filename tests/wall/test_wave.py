@@ -28,7 +28,7 @@ def run_column(model):
                          impulse=np.tile([0.0, FORCE * dt_rec, 0.0], (times.size, 1)))
     options = wall.WallOptions(supports="uniaxial", material_model=model.name)
     mesh = wall.build_mesh(GRID, model.density, supports="uniaxial")
-    s = wall.WallSolver(mesh, model, options, load=wall.nodal_load(mesh, dep), t_start=0.0)
+    s = wall.WallSolver(mesh, model, options, load=wall.nodal_load(mesh, dep, options.spread), t_start=0.0)
     stations = {y: 4 * int(round(y / THICKNESS * N)) for y in (0.5, 1.5)}
     probe = int(round(1.65 / THICKNESS * N))           # element 0.35 cm from the rear face
     t, v, syy = [], {y: [] for y in stations}, []

@@ -95,6 +95,7 @@ import numpy as np
 
 from impactdyn._errors import InputError
 from impactdyn.ble import SingleWall, penetration_depth
+from impactdyn.wall._load import cell_overlaps
 from impactdyn.wall._mesh import (
     MESH_KINDS, WallMesh, assemble_mesh, build_mesh, check_density_supports, check_refinements, refine)
 from impactdyn.wallgrid import WallDeposition, WallGrid, check_nodes
@@ -236,17 +237,12 @@ def rebin_deposition(deposition: WallDeposition, source: WallGrid, target: WallG
         if not np.allclose([t[0], t[-1]], [s[0], s[-1]], rtol=0.0, atol=1e-12 * (s[-1] - s[0])):
             raise InputError(f"wall.{name}: the mesh spans [{t[0]:g}, {t[-1]:g}], the case's grid "
                              f"[{s[0]:g}, {s[-1]:g}]")
-    share_x = _overlap_shares(source.x, target.x)       # (nx_s, nx_t), rows sum to 1
-    share_z = _overlap_shares(source.z, target.z)
-    nx_s, nx_t = source.shape[0], target.shape[0]
     cells, inverse = np.unique(deposition.element, return_inverse=True)
     pieces_element, pieces_share, counts = [], [], np.zeros(cells.size, dtype=np.int64)
-    for c, e in enumerate(cells):
-        k, i = divmod(int(e), nx_s)
-        ix, iz = np.flatnonzero(share_x[i]), np.flatnonzero(share_z[k])
-        pieces_element.append((ix[None, :] + nx_t * iz[:, None]).ravel())
-        pieces_share.append(np.outer(share_z[k, iz], share_x[i, ix]).ravel())
-        counts[c] = ix.size * iz.size
+    for c, (fine, share) in enumerate(cell_overlaps(source, target, cells)):
+        pieces_element.append(fine)
+        pieces_share.append(share)
+        counts[c] = fine.size
     start = np.concatenate([[0], np.cumsum(counts)])
     element_of = np.concatenate(pieces_element) if cells.size else np.zeros(0, dtype=np.int64)
     share_of = np.concatenate(pieces_share) if cells.size else np.zeros(0)
@@ -257,18 +253,11 @@ def rebin_deposition(deposition: WallDeposition, source: WallGrid, target: WallG
                           impulse=deposition.impulse[record] * share_of[piece][:, None])
 
 
-def _overlap_shares(source: np.ndarray, target: np.ndarray) -> np.ndarray:
-    """Share of each source interval's length that each target interval covers, (ns, nt), rows sum to 1."""
-    overlap = np.clip(np.minimum(source[1:, None], target[None, 1:])
-                      - np.maximum(source[:-1, None], target[None, :-1]), 0.0, None)
-    return overlap / overlap.sum(axis=1, keepdims=True)
-
-
 def solver_mesh(wall: WallGrid, deposition: WallDeposition, density: float, *, mesh: str = "graded",
                 element_size_cm: float | None = None, grading_ratio: float = GRADING_RATIO,
                 max_element_size_cm: float | None = None, refinement_thickness: int = 1,
-                refinement_plane: int = 1, supports: str = "dyngen") -> tuple[WallMesh, WallDeposition]:
-    """The wall stage's mesh of the case's grid ``wall`` and the deposition on its load grid.
+                refinement_plane: int = 1, supports: str = "dyngen") -> WallMesh:
+    """The wall stage's mesh of the case's grid ``wall`` under ``deposition`` (on that grid).
 
     ``mesh`` one of :data:`MESH_KINDS`:
 
@@ -278,18 +267,18 @@ def solver_mesh(wall: WallGrid, deposition: WallDeposition, density: float, *, m
       ``max_element_size_cm`` (None: the largest in-plane cell of ``wall``, or h if that is
       smaller); then every element cut into ``refinement_thickness`` layers and
       ``refinement_plane`` × ``refinement_plane`` pieces in the plane, the same mesh refined
-      uniformly (the convergence study's "2×").  The deposition is re-binned onto the mesh's
-      face cells (:func:`rebin_deposition`).
-    * ``"report"``: :func:`~._mesh.build_mesh` with the refinements; the deposition as given.
+      uniformly (the convergence study's "2×").
+    * ``"report"``: :func:`~._mesh.build_mesh` with the refinements.
 
-    Returns (mesh, deposition on ``mesh.load_grid``), ready for :func:`~._load.nodal_load` and for
-    the deck writers (``mesh.grid`` and that deposition).  Raises :class:`InputError` naming the key.
+    :func:`~._load.nodal_load` takes the deposition on ``wall`` to the mesh's nodes; the deck writers
+    take ``mesh.grid`` and the records re-binned onto it (:func:`rebin_deposition`).  Raises
+    :class:`InputError` naming the key.
     """
     if mesh not in MESH_KINDS:
         raise InputError(f"mesh: {mesh!r}, expected one of {MESH_KINDS}")
     deposition.check_fits(wall)
     if mesh == "report":
-        return build_mesh(wall, density, refinement_thickness, refinement_plane, supports), deposition
+        return build_mesh(wall, density, refinement_thickness, refinement_plane, supports)
     check_density_supports(density, supports)
     thickness = float(wall.y[-1] - wall.y[0])
     check_mesh_sizes(min(wall.x[-1] - wall.x[0], wall.z[-1] - wall.z[0]), element_size_cm, max_element_size_cm)
@@ -306,8 +295,7 @@ def solver_mesh(wall: WallGrid, deposition: WallDeposition, density: float, *, m
     grid, _ = graded_grid(wall, deposition, h_core, grading_ratio, h_max)
     rt, rp = check_refinements(refinement_thickness, refinement_plane)
     grid = WallGrid(refine(grid.x, rp), refine(grid.y, rt), refine(grid.z, rp))
-    return (assemble_mesh(wall, grid, density, supports, refinement=(rt, rp), kind="graded"),
-            rebin_deposition(deposition, wall, grid))
+    return assemble_mesh(wall, grid, density, supports, refinement=(rt, rp), kind="graded")
 
 
 def check_mesh_sizes(extent_cm: float, element_size_cm: float | None, max_element_size_cm: float | None) -> None:

@@ -1,11 +1,12 @@
 """The deposited momentum as nodal impulses: records → (node, weight) lists, sorted by arrival time.
 
-Each deposition record (face element ``e = i + nx k`` of the mesh's load grid
-:attr:`~._mesh.WallMesh.load_grid` — the case's grid on a ``"report"`` mesh, the solver grid
-itself on a ``"graded"`` one, whose records :func:`~._grading.rebin_deposition` re-bins —
-arrival time t, impulse I, :class:`~impactdyn.wallgrid.WallDeposition`) becomes a velocity
-jump of the front-face nodes under that element at the first solver time t^n ≥ t (never early; at most
-one step late).  The impulse is shared among the nodes by weights w_a ≥ 0 with Σ_a w_a = 1,
+Each deposition record (face element ``e = i + nx k`` of the case's grid, arrival time t,
+impulse I, :class:`~impactdyn.wallgrid.WallDeposition`) becomes a velocity jump of the
+front-face nodes under that element at the first solver time t^n ≥ t (never early; at most
+one step late).  The spreads below act on the face cells of the mesh's load grid
+(:attr:`~._mesh.WallMesh.load_grid`): the case's grid on a ``"report"`` mesh; on a ``"graded"``
+one the solver grid itself, each case cell's impulse shared among the solver's face cells it
+overlaps by area (a uniform areal impulse over the cell, :func:`cell_overlaps`) before the spread.  The impulse is shared among the nodes by weights w_a ≥ 0 with Σ_a w_a = 1,
 so the impulse put on the wall is I exactly (to round-off):
 
 * ``"corners"`` — I/4 on each of the element's four corner nodes (at in-plane refinement
@@ -41,13 +42,14 @@ summed in the support impulse and does no work.  So
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
 
 from impactdyn._errors import InputError
 from impactdyn.wall._mesh import WallMesh
-from impactdyn.wallgrid import WallDeposition
+from impactdyn.wallgrid import WallDeposition, WallGrid
 
 SPREADS = ("corners", "area", "mass")
 
@@ -56,13 +58,17 @@ SPREADS = ("corners", "area", "mass")
 class NodalLoad:
     """Deposition records on the mesh's nodes, sorted by arrival time.
 
-    time (n,) µs; impulse (n, 3) g·cm/µs; the nodes and weights of record r are
-    ``node[ptr[r]:ptr[r + 1]]``, ``weight[ptr[r]:ptr[r + 1]]`` (weights sum to 1); depth (cm)
-    the depth δ below the front face the impulses are spread over (module docstring).
+    time (n,) µs; impulse (n, 3) g·cm/µs; the records of one face cell of the case's grid share
+    its stencil: record r's nodes and weights are ``node[ptr[s]:ptr[s + 1]]``,
+    ``weight[ptr[s]:ptr[s + 1]]`` with s = ``stencil[r]`` (weights sum to 1; a stencil per loaded
+    cell, not per record: a cell of the case's grid covers up to ~100 nodes of a graded mesh's
+    core through the load's depth, and a shot deposits ~10⁶ records on a few thousand cells);
+    depth (cm) the depth δ below the front face the impulses are spread over (module docstring).
     """
 
     time: np.ndarray
     impulse: np.ndarray
+    stencil: np.ndarray
     ptr: np.ndarray
     node: np.ndarray
     weight: np.ndarray
@@ -72,6 +78,14 @@ class NodalLoad:
     def total_impulse(self) -> np.ndarray:
         """Σ I of the records, (3,), g·cm/µs."""
         return self.impulse.sum(axis=0) if self.impulse.size else np.zeros(3)
+
+    def entries(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(record, node, weight) of every node share of every record (for checks: one row per share)."""
+        counts = np.diff(self.ptr)[self.stencil]
+        record = np.repeat(np.arange(self.stencil.size), counts)
+        first = np.repeat(self.ptr[self.stencil] - (np.cumsum(counts) - counts), counts)
+        k = first + np.arange(record.size)
+        return record, self.node[k], self.weight[k]
 
 
 def _face_stencil(mesh: WallMesh, spread: str) -> tuple[np.ndarray, np.ndarray]:
@@ -134,28 +148,61 @@ def depth_weights(mesh: WallMesh, depth: float) -> np.ndarray:
     return inside / inside.sum()
 
 
-def nodal_load(mesh: WallMesh, deposition: WallDeposition, spread: str = "corners",
-               depth: float | None = None) -> NodalLoad:
+def cell_overlaps(source: WallGrid, target: WallGrid, cells: np.ndarray) -> Iterator[tuple[np.ndarray, np.ndarray]]:
+    """For each of ``source``'s face ``cells``: ``target``'s face cells it overlaps (in target element
+    order) and the shares of its area they cover (rectilinear grids: products of 1-D overlaps; sum 1)."""
+    share_x, share_z = _overlap_shares(source.x, target.x), _overlap_shares(source.z, target.z)
+    nx_s, nx_t = source.shape[0], target.shape[0]
+    for c in cells:
+        k, i = divmod(int(c), nx_s)
+        ix, iz = np.flatnonzero(share_x[i]), np.flatnonzero(share_z[k])
+        yield (ix[None, :] + nx_t * iz[:, None]).ravel(), np.outer(share_z[k, iz], share_x[i, ix]).ravel()
+
+
+def _overlap_shares(source: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """Share of each source interval's length that each target interval covers, (ns, nt), rows sum to 1."""
+    overlap = np.clip(np.minimum(source[1:, None], target[None, 1:])
+                      - np.maximum(source[:-1, None], target[None, :-1]), 0.0, None)
+    return overlap / overlap.sum(axis=1, keepdims=True)
+
+
+def _cell_stencils(mesh: WallMesh, cells: np.ndarray, spread: str) -> list[tuple[np.ndarray, np.ndarray]]:
+    """(front-face nodes, weights) of each of the case grid's face ``cells``: the ``spread`` on the load
+    grid's face cells, and on a graded mesh the shares of those the case's cell overlaps (by area:
+    products of 1-D overlaps) — a uniform areal impulse over the case's cell, summed per node."""
+    face_nodes, face_weights = _face_stencil(mesh, spread)
+    if mesh.load_grid is mesh.parent:
+        return [(face_nodes[c], face_weights[c]) for c in cells]
+    stencils = []
+    for fine, share in cell_overlaps(mesh.parent, mesh.load_grid, cells):
+        node, at = np.unique(face_nodes[fine].ravel(), return_inverse=True)
+        stencils.append((node, np.bincount(at, (share[:, None] * face_weights[fine]).ravel(), node.size)))
+    return stencils
+
+
+def nodal_load(mesh: WallMesh, deposition: WallDeposition, spread: str, depth: float | None = None) -> NodalLoad:
     """The deposition on ``mesh``'s nodes with the ``spread`` on the front face, carried to the
     ``depth`` below it (None: :func:`default_depth`; module docstring).
 
-    ``deposition`` lies on ``mesh.load_grid``'s face cells: on a graded mesh the records
-    :func:`~._grading.solver_mesh` returns re-binned, not the case's (their element numbers
-    would fit the finer grid too, on the wrong cells)."""
+    ``deposition`` lies on the case's grid (``mesh.parent``), whatever the mesh: on a graded mesh
+    each record's impulse is shared among the face cells its cell overlaps, by area, and so kept
+    exactly (:func:`_cell_stencils`)."""
     if spread not in SPREADS:
         raise InputError(f"spread: {spread!r}, expected one of {SPREADS}")
-    deposition.check_fits(mesh.load_grid)
+    deposition.check_fits(mesh.parent)
     order = np.argsort(deposition.time, kind="stable")
-    elem = deposition.element[order]
-    nodes, weights = _face_stencil(mesh, spread)
+    cells, stencil = np.unique(deposition.element[order], return_inverse=True)
     depth = default_depth(mesh) if depth is None else depth
     layer = depth_weights(mesh, depth)
     layer_stride = mesh.grid.x.size * mesh.grid.z.size     # node numbers: i fastest, then k, then j
-    nodes = (nodes[:, :, None] + layer_stride * np.arange(layer.size)).reshape(nodes.shape[0], -1)
-    weights = (weights[:, :, None] * layer).reshape(nodes.shape)
-    m = nodes.shape[1]
-    ptr = np.arange(elem.size + 1, dtype=np.int64) * m
+    nodes, weights = [], []
+    for node, weight in _cell_stencils(mesh, cells, spread):
+        nodes.append((node[:, None] + layer_stride * np.arange(layer.size)).ravel())
+        weights.append((weight[:, None] * layer).ravel())
+    ptr = np.concatenate([[0], np.cumsum([n.size for n in nodes])]).astype(np.int64)
     return NodalLoad(time=np.ascontiguousarray(deposition.time[order], dtype=np.float64),
                      impulse=np.ascontiguousarray(deposition.impulse[order], dtype=np.float64),
-                     ptr=ptr, node=np.ascontiguousarray(nodes[elem].ravel(), dtype=np.int64),
-                     weight=np.ascontiguousarray(weights[elem].ravel(), dtype=np.float64), depth=float(depth))
+                     stencil=np.ascontiguousarray(stencil, dtype=np.int64), ptr=ptr,
+                     node=np.ascontiguousarray(np.concatenate(nodes) if nodes else np.zeros(0), dtype=np.int64),
+                     weight=np.ascontiguousarray(np.concatenate(weights) if weights else np.zeros(0)),
+                     depth=float(depth))

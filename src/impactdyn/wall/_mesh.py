@@ -86,8 +86,8 @@ class WallMesh:
     density : float
         ρ₀, g/cm³.
     kind : str
-        One of :data:`MESH_KINDS`: on a ``"report"`` mesh the load's records lie on the
-        parent's face cells, on a ``"graded"`` one on the grid's own (:attr:`load_grid`).
+        One of :data:`MESH_KINDS`: on a ``"report"`` mesh the load's spread acts on the parent's
+        face cells, on a ``"graded"`` one on the grid's own (:attr:`load_grid`).
     """
 
     parent: WallGrid
@@ -107,7 +107,7 @@ class WallMesh:
 
     @property
     def load_grid(self) -> WallGrid:
-        """The grid whose face cells the load's records are on: the parent (report) or the grid (graded)."""
+        """The grid whose face cells the load's spread acts on: the parent (report) or the grid (graded)."""
         return self.parent if self.kind == "report" else self.grid
 
     @property

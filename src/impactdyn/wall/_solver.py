@@ -117,7 +117,8 @@ class WallSolver:
         self.acc[_step.A_REAR_VMAX] = -np.inf
         self.load = load if load is not None else nodal_load_empty()
         ld = self.load
-        self.loads = Loads(time=ld.time, impulse=ld.impulse, ptr=ld.ptr, node=ld.node, weight=ld.weight)
+        self.loads = Loads(time=ld.time, impulse=ld.impulse, stencil=ld.stencil, ptr=ld.ptr, node=ld.node,
+                           weight=ld.weight)
         status, dtmin = self.element_pass(0.0)
         if status or not math.isfinite(dtmin):
             raise WallSolverError(f"wall solver: the initial mesh is not valid ({_BREAKDOWN.get(status, status)})")
@@ -366,7 +367,8 @@ class WallSolver:
 
 def nodal_load_empty() -> NodalLoad:
     """A load with no records."""
-    return NodalLoad(time=np.zeros(0), impulse=np.zeros((0, 3)), ptr=np.zeros(1, dtype=np.int64),
+    return NodalLoad(time=np.zeros(0), impulse=np.zeros((0, 3)), stencil=np.zeros(0, dtype=np.int64),
+                     ptr=np.zeros(1, dtype=np.int64),
                      node=np.zeros(0, dtype=np.int64), weight=np.zeros(0))
 
 
@@ -395,8 +397,8 @@ def run_wall(wall: WallGrid, deposition: WallDeposition, model: Any = "al6061-t6
     m = resolve_model(model, options)
     if wall.y[-1] - wall.y[0] <= 0:
         raise InputError("wall: thickness must be > 0")
-    mesh, on_mesh = solver_mesh(wall, deposition, m.density, **options.mesh_settings())
-    load = nodal_load(mesh, on_mesh, options.spread, options.deposition_depth_cm)
+    mesh = solver_mesh(wall, deposition, m.density, **options.mesh_settings())
+    load = nodal_load(mesh, deposition, options.spread, options.deposition_depth_cm)
     t_start = float(load.time.min()) if load.time.size else 0.0
     last = float(load.time.max()) if load.time.size else 0.0
     if options.end_time_us is not None and options.end_time_us < last:

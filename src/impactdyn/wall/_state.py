@@ -147,10 +147,11 @@ class Controls(NamedTuple):
 class Loads(NamedTuple):
     """The deposition records as the step loop applies them (:class:`._load.NodalLoad`): arrival
     time (n,) µs, impulse (n, 3) g·cm/µs, and record r's nodes and weights
-    node[ptr[r]:ptr[r + 1]], weight[ptr[r]:ptr[r + 1]]."""
+    node[ptr[s]:ptr[s + 1]], weight[ptr[s]:ptr[s + 1]] with s = stencil[r] (its face cell's)."""
 
     time: np.ndarray
     impulse: np.ndarray
+    stencil: np.ndarray
     ptr: np.ndarray
     node: np.ndarray
     weight: np.ndarray

@@ -430,7 +430,8 @@ def _apply_loads(t, clock, acc, loads, nodes):
     any_ = False
     c = int(clock[CURSOR])
     while c < loads.time.size and loads.time[c] <= t:
-        for k in range(loads.ptr[c], loads.ptr[c + 1]):
+        s = loads.stencil[c]
+        for k in range(loads.ptr[s], loads.ptr[s + 1]):
             n = loads.node[k]
             w = loads.weight[k]
             for d in range(3):
@@ -450,7 +451,8 @@ def _apply_loads(t, clock, acc, loads, nodes):
 def _clear_loads(c0, c1, loads, pext):
     """Zero the impulses of records c0 … c1 − 1 in pext."""
     for c in range(c0, c1):
-        for k in range(loads.ptr[c], loads.ptr[c + 1]):
+        s = loads.stencil[c]
+        for k in range(loads.ptr[s], loads.ptr[s + 1]):
             n = loads.node[k]
             pext[n, 0] = 0.0
             pext[n, 1] = 0.0

@@ -162,10 +162,9 @@ def _decks(s: StageContext) -> dict:
     s.report("decks", 0, 1)
     wall, deposition, _ = read_deposition(s.folder.path / "debris" / "debris.h5")
     options = s.case.wall_solver.options(s.case.wall.clamped_edges)
-    mesh, on_mesh = solver_mesh(wall, deposition, resolve_model(s.case.wall.material, options).density,
-                                **options.mesh_settings())
-    if mesh.load_grid is not mesh.grid:  # a refined report mesh: its records onto its own face cells
-        on_mesh = rebin_deposition(on_mesh, mesh.load_grid, mesh.grid)
+    mesh = solver_mesh(wall, deposition, resolve_model(s.case.wall.material, options).density,
+                       **options.mesh_settings())
+    on_mesh = rebin_deposition(deposition, wall, mesh.grid)
     impulse = element_impulse(on_mesh, mesh.grid)
     files = write_decks(s.folder.sub("decks"), mesh.grid, on_mesh, impulse, deck_options(s.case))
     s.report("decks", 1, 1)
