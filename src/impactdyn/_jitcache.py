@@ -107,7 +107,14 @@ class _InstallAfterCaching(importlib.abc.MetaPathFinder):
 
 
 def install_on_numba_import() -> None:
-    """Install the locators now if numba's caching module is loaded, else as soon as it is."""
+    """Install the locators now if numba's caching module is loaded, else as soon as it is.
+
+    The digest is taken now, as the package is imported, not when the first kernel is cached: a
+    process that imported the old sources and hashed the files after they were edited stored the
+    old machine code under the new sources' digest, and the next process ran it on the new code's
+    data layout (three processes died of a general-protection fault on 2026-11-28, while the wall's
+    kernel arguments were being regrouped)."""
+    package_digest()
     if _CACHING in sys.modules:
         install(sys.modules[_CACHING])
     elif not any(isinstance(f, _InstallAfterCaching) for f in sys.meta_path):
