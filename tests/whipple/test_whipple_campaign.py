@@ -25,10 +25,10 @@ def test_campaign_runs_every_shot_and_tabulates_it(tmp_path, make_case):
         assert float(r["peak_areal_momentum_N_s_cm2"]) == pytest.approx(
             summary["deposition"]["peak_areal_momentum_N_s_cm2"])
         assert summary["shot"]["projectile"]["velocity_km_s"] == float(r["velocity_km_s"])
-        # the wall stage's verdict beside the equation's, with the caution of a 0.45-cm projectile
+        # the wall stage's verdict beside the equation's, with its caution
         assert r["wall_verdict"] == summary["wall"]["verdict"]
         assert r["wall_agrees_with_equation"] == str(summary["wall"]["agrees_with_equation"])
-        assert r["caution"] == summary["wall"]["caution"] and "0.45 cm is below" in r["caution"]
+        assert r["caution"] == summary["wall"]["caution"] and r["caution"].startswith("on the validation shots")
         # a lean shot does not write the decks and ParaView files it would delete
         assert json.loads((out / r["run"] / "decks" / "stage.json").read_text())["files"] == []
         wall_files = json.loads((out / r["run"] / "wall" / "stage.json").read_text())["files"]
