@@ -10,6 +10,7 @@ face elements are the deposition grid of DYNOUT/DCPOST, and face element
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -156,6 +157,24 @@ class WallDeposition:
         if self.element.size and self.element.max() >= wall.n_face_elements:
             raise InputError(f"WallDeposition.element: {self.element.max()} is outside the wall's "
                              f"{wall.shape[0]} x {wall.shape[2]} face grid")
+
+
+def face_overlaps(source: WallGrid, target: WallGrid, cells: np.ndarray) -> Iterator[tuple[np.ndarray, np.ndarray]]:
+    """For each of ``source``'s face ``cells``: ``target``'s face cells it overlaps (in target element
+    order) and the shares of its area they cover (rectilinear grids: products of 1-D overlaps; sum 1)."""
+    share_x, share_z = _overlap_shares(source.x, target.x), _overlap_shares(source.z, target.z)
+    nx_s, nx_t = source.shape[0], target.shape[0]
+    for c in cells:
+        k, i = divmod(int(c), nx_s)
+        ix, iz = np.flatnonzero(share_x[i]), np.flatnonzero(share_z[k])
+        yield (ix[None, :] + nx_t * iz[:, None]).ravel(), np.outer(share_z[k, iz], share_x[i, ix]).ravel()
+
+
+def _overlap_shares(source: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """Share of each source interval's length that each target interval covers, (ns, nt), rows sum to 1."""
+    overlap = np.clip(np.minimum(source[1:, None], target[None, 1:])
+                      - np.maximum(source[:-1, None], target[None, :-1]), 0.0, None)
+    return overlap / overlap.sum(axis=1, keepdims=True)
 
 
 def sphere_deposition(wall: WallGrid, diameter_cm: float, speed_cm_us: float, density_g_cm3: float,

@@ -183,7 +183,7 @@ def test_curve_integrals_equal_the_deposited_impulse(tmp_path, rng):
     width = 0.05
     write_lsdyna_deck(p, wall, deposition=dep, pulse_width=width)
     deck = read_lsdyna_deck(p)
-    # expected per (node, dof), from DYNGEN's numbering of the front face (j = 1)
+    # expected per (node, dof), from DYNGEN's numbering of the front face (j = 1): a quarter of each record
     idmax = wall.x.size
     want, scale, first = {}, {}, {}
     for e, t, imp in zip(dep.element, dep.time, dep.impulse):
@@ -197,11 +197,12 @@ def test_curve_integrals_equal_the_deposited_impulse(tmp_path, rng):
     got = {}
     for (nid, dof, lcid), sf in zip(deck.point_loads, deck.point_load_scale):
         t, f = deck.curves[lcid]
-        assert sf == 1.0 and np.all(np.diff(t) > 0)
+        assert sf == 0.25 and np.all(np.diff(t) > 0)  # a cell's curve, a quarter to each corner
         assert f[0] == f[1] == f[-2] == f[-1] == 0.0  # flat zero ends
         assert t[1] >= first[nid] - 1e-12  # nothing before the first arrival at the node
-        got[nid, dof] = np.trapezoid(f, t)
-    assert sorted(deck.curves) == list(range(1, len(deck.point_loads) + 1))
+        got[nid, dof] = got.get((nid, dof), 0.0) + sf * np.trapezoid(f, t)
+    assert sorted(deck.curves) == sorted({int(lcid) for _, _, lcid in deck.point_loads})
+    assert len(deck.curves) <= 3 * np.unique(dep.element).size     # one per loaded cell and direction
     assert set(got) == {key for key, v in want.items() if scale[key] > 0}
     for key, v in got.items():
         assert abs(v - want[key]) <= 1e-12 * scale[key], key
@@ -290,9 +291,10 @@ def test_curve_points_in_one_pass_are_the_point_cards():
 
 
 def test_decks_carry_the_graded_mesh(tmp_path):
-    """The decks of the mesh the wall stage ran: the graded grid's nodes and solids, and its re-binned
-    records, whose load curves integrate to the case's deposited impulse."""
-    from impactdyn.wall import rebin_deposition, solver_mesh
+    """The decks of the mesh the wall stage ran: the graded grid's nodes and solids, loaded as the wall
+    stage loads it (each case cell's curve shared among the mesh's front-face nodes under it), the
+    curves integrating to the case's deposited impulse; the DYNA3D deck with the re-binned records."""
+    from impactdyn.wall import nodal_load, rebin_deposition, solver_mesh
     from impactdyn.wallgrid import sphere_deposition
 
     case = WallGrid.uniform((0.0, 1.6), (0.0, 0.3175), (-1.6, 1.6), (11, 5, 21))
@@ -301,7 +303,7 @@ def test_decks_carry_the_graded_mesh(tmp_path):
     on_mesh = rebin_deposition(dep, case, mesh.grid)
     assert mesh.grid.n_elements > case.n_elements and on_mesh.element.size > dep.element.size
     p = tmp_path / "wall.k"
-    write_lsdyna_deck(p, mesh.grid, deposition=on_mesh)
+    write_lsdyna_deck(p, mesh.grid, deposition=dep, deposition_grid=case)
     deck = read_lsdyna_deck(p)
     # the graded nodes are not round numbers: as many digits as a 16-column *NODE field holds
     np.testing.assert_allclose(deck.coordinates, mesh.coordinates, rtol=0, atol=1e-11)
@@ -311,6 +313,16 @@ def test_decks_carry_the_graded_mesh(tmp_path):
         t, f = deck.curves[lcid]
         total[dof - 1] += sf * np.trapezoid(f, t)
     np.testing.assert_allclose(total, dep.impulse.sum(axis=0), rtol=1e-10, atol=1e-14)
+    # each front-face node takes the wall stage's share (on the front face: depth 0), to the SFs' 7 digits
+    front = nodal_load(mesh, dep, "area", 0.0)
+    stage = np.zeros((mesh.n_nodes, 3))
+    record, node, weight = front.entries()
+    np.add.at(stage, node, front.impulse[record] * weight[:, None])
+    deck_nodal = np.zeros((mesh.n_nodes, 3))
+    for (nid, dof, lcid), sf in zip(deck.point_loads, deck.point_load_scale):
+        t, f = deck.curves[lcid]
+        deck_nodal[nid - 1, dof - 1] += sf * np.trapezoid(f, t)
+    np.testing.assert_allclose(deck_nodal, stage, rtol=0, atol=1e-6 * np.abs(dep.impulse).max())
     d3 = tmp_path / "wall_dyna3d.inp"
     write_dyna3d_deck(d3, mesh.grid, deposition=on_mesh)
     lines = d3.read_text().splitlines()

@@ -56,8 +56,11 @@ class DeckOptions:
 
 
 def write_decks(folder: FolderWriter, wall: WallGrid, deposition: WallDeposition, impulse: np.ndarray,
-                options: DeckOptions = DeckOptions()) -> list[str]:
-    """The wall decks ``options`` ask for: LS-DYNA (time-resolved loads) and DYNA3D (DCPOST's cards)."""
+                options: DeckOptions = DeckOptions(), deposition_grid: WallGrid | None = None) -> list[str]:
+    """The wall decks ``options`` ask for: LS-DYNA (time-resolved loads) and DYNA3D (DCPOST's cards).
+
+    ``wall`` the mesh the decks carry; ``deposition`` the records on ``deposition_grid``'s face cells
+    (None: ``wall``'s); ``impulse`` (nx, nz, 3) the total per face element of ``wall``."""
     o, written = options, []
     if o.lsdyna:
         end = o.end_time_us or (float(deposition.time.max()) + END_TIME_MARGIN_US if deposition.time.size
@@ -66,7 +69,8 @@ def write_decks(folder: FolderWriter, wall: WallGrid, deposition: WallDeposition
                           end_time=end, clamped_edges=o.clamped_edges,
                           title=o.title or "impactdyn rear wall under debris-cloud deposition",
                           hourglass=o.hourglass, bulk_viscosity=o.bulk_viscosity,
-                          failure_strain_floor=o.failure_strain_floor, erode_failed=o.erode_failed)
+                          failure_strain_floor=o.failure_strain_floor, erode_failed=o.erode_failed,
+                          deposition_grid=deposition_grid)
         written.append("wall.k")
     if o.dyna3d:
         from impactdyn.io import write_dyna3d_deck

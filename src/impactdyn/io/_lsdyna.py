@@ -38,23 +38,25 @@ Supports: :meth:`WallGrid.constrained_dofs` — x fixed on the symmetry plane
 x = x[0], and by default (``clamped_edges=True``) all translations fixed on the
 other three edges, through the thickness.
 
-Loads — the choice: each deposition record (face element, time t, impulse I) is
-a force on the element's four front-face nodes, I/4 each, as a triangular pulse
-over [t, t + ``pulse_width``] with ∫F dt = I/4 (peak I/(2w) at mid-pulse).  The
-pulses of a node add up into one *DEFINE_CURVE per loaded node and direction,
-applied by *LOAD_NODE_POINT (DOF 1, 2, 3, SF 1).  A load history keeps the
-arrival times the debris propagation computed, and its impulse is exact whatever
-the mesh; *INITIAL_VELOCITY_NODE would put all momentum in at t = 0 and into
-the nodal masses only.  The abscissae are rounded to what their field can hold
-*before* the peaks are computed, so the curves as written integrate to the
-deposited impulse exactly (to the ordinates' ~14 digits).  Each curve starts and
-ends with a flat zero segment, so LS-DYNA's extrapolation past its ends stays 0.
-``pulse_width`` should be of the order of a debris particle's contact time
-(size / speed: 0.03 cm / 0.6 cm/µs ≈ 0.05 µs, the default).
-
-The wall may be any :class:`WallGrid` with the deposition on its own face cells: the case's
-grid, or the mesh the wall stage ran (:func:`impactdyn.wall.solver_mesh` returns its grid
-``mesh.grid`` and the records re-binned onto it), so the deck carries the wall stage's mesh.
+Loads — the choice: each deposition record (face cell, time t, impulse I) is a force
+pulse, triangular over [t, t + ``pulse_width``] with ∫F dt = I (peak 2I/w at mid-pulse).
+The pulses of one face cell add up into one *DEFINE_CURVE per direction, and
+*LOAD_NODE_POINT cards (DOF 1, 2, 3) share that curve among the front-face nodes under
+the cell with scale factors SF: its four corners, a quarter each, on the grid the records
+are on; on a finer mesh of the wall stage (``deposition_grid`` the case's grid, ``wall``
+the mesh, :func:`impactdyn.wall.solver_mesh`) each of the mesh's face cells the case's cell
+overlaps takes the share of its area, in quarters to its corners — the load the wall
+stage puts on the front face.  A curve per cell, not per node: a shot deposits ~10⁶
+records on a few thousand cells, and a node's curve would repeat the pulses of every cell
+around it (the 7a deck on the graded mesh: 833 MB per node, per cell a quarter of that).
+The SFs are written to their 10-column field's 7 digits and the curve is divided by
+their sum as written, so a cell's curves carry its impulse exactly (to the ordinates'
+~13 digits).  A load history keeps the arrival times the debris propagation computed;
+*INITIAL_VELOCITY_NODE would put all momentum in at t = 0 and into the nodal masses
+only.  The abscissae are rounded to what their field can hold *before* the peaks are
+computed.  Each curve starts and ends with a flat zero segment, so LS-DYNA's
+extrapolation past its ends stays 0.  ``pulse_width`` should be of the order of a debris
+particle's contact time (size / speed: 0.03 cm / 0.6 cm/µs ≈ 0.05 µs, the default).
 
 :func:`read_lsdyna_deck` reads back what this module writes (nodes, solids,
 SPCs, curves, point loads), for tests and checks.
@@ -72,7 +74,7 @@ import numpy as np
 from impactdyn._config import Positive, checked
 from impactdyn._errors import InputError
 from impactdyn.materials import AL_6061_T6_MAT13, JOHNSON_COOK_DAMAGE, Mat13Card, Material
-from impactdyn.wallgrid import WallDeposition, WallGrid
+from impactdyn.wallgrid import WallDeposition, WallGrid, face_overlaps
 from impactdyn.io._fortran import parse_int, parse_real, read_lines
 from impactdyn._runfolder import atomic_output
 
@@ -109,7 +111,8 @@ def write_lsdyna_deck(path: str | Path, wall: WallGrid, material: Mat13Card | Ma
                       title: str = "impactdyn rear wall under debris-cloud deposition",
                       hourglass: tuple[int, float] | None = None,
                       bulk_viscosity: tuple[float, float] | None = None,
-                      failure_strain_floor: float | None = None, erode_failed: bool = True) -> None:
+                      failure_strain_floor: float | None = None, erode_failed: bool = True,
+                      deposition_grid: WallGrid | None = None) -> None:
     """Write the keyword deck (module docstring), atomically.  Times in µs.
 
     hourglass : (IHQ, QH) of *CONTROL_HOURGLASS; bulk_viscosity : (Q1, Q2) of
@@ -117,9 +120,11 @@ def write_lsdyna_deck(path: str | Path, wall: WallGrid, material: Mat13Card | Ma
     failure_strain_floor, erode_failed : *MAT_JOHNSON_COOK's EFMIN (None: LS-DYNA's 1e-6) and
     EROD (0: failed elements erode, 1: they keep compressive pressure), the wall stage's
     fracture-strain floor and erosion (a type-13 card ignores them).
+    deposition_grid : the grid whose face cells the records are on (None: ``wall``'s own), spanning
+    the same rectangle as ``wall``: the case's grid under a finer mesh of the wall stage.
     """
     if deposition is not None:
-        deposition.check_fits(wall)
+        deposition.check_fits(wall if deposition_grid is None else deposition_grid)
     lines = ["*KEYWORD", "*TITLE", title[:80],
              "$ units: cm, g, us; stress Mbar; force g*cm/us^2 = 1e7 N; impulse g*cm/us",
              "*CONTROL_TERMINATION", _row([end_time])]
@@ -138,7 +143,7 @@ def write_lsdyna_deck(path: str | Path, wall: WallGrid, material: Mat13Card | Ma
     lines.append("*BOUNDARY_SPC_NODE")
     lines += [_row([n + 1, 0, *f.astype(int), 0, 0, 0]) for n, f in enumerate(fixed) if f.any()]
     if deposition is not None and deposition.element.size:
-        lines += _load_cards(wall, deposition, pulse_width)
+        lines += _load_cards(wall, deposition, pulse_width, wall if deposition_grid is None else deposition_grid)
     lines.append("*END")
     with atomic_output(path) as tmp:
         tmp.write_text("\n".join(lines) + "\n", encoding="ascii")
@@ -178,29 +183,33 @@ def _material_cards(m: Mat13Card | Material, efmin: float | None = None, erode: 
         _row([1.0])]
 
 
-def _load_cards(wall: WallGrid, dep: WallDeposition, width: float) -> list[str]:
-    """*DEFINE_CURVE per loaded node and direction, and the *LOAD_NODE_POINT cards (``width`` > 0, µs)."""
+def _load_cards(wall: WallGrid, dep: WallDeposition, width: float, source: WallGrid) -> list[str]:
+    """*DEFINE_CURVE per loaded cell of ``source`` and direction, and the *LOAD_NODE_POINT cards that
+    share it among ``wall``'s front-face nodes (``width`` > 0, µs; module docstring)."""
     a = _as_written(dep.time)
     b = _as_written(dep.time + width)
     mid = _as_written(0.5 * (a + b))
     if not np.all((a < mid) & (mid < b)):
         raise InputError(f"pulse_width = {width} µs is below the resolution of the arrival times as written")
-    nodes = wall.face_element_nodes(dep.element).ravel()  # 4 nodes per record
-    record = np.repeat(np.arange(dep.element.size), 4)
-    order = np.argsort(nodes, kind="stable")
-    node_ids, starts = np.unique(nodes[order], return_index=True)
-    curves, loads = [], []
-    for nid, recs in zip(node_ids, np.split(record[order], starts[1:])):
-        t, force = _pulse_sum(a[recs], mid[recs], b[recs], dep.impulse[recs] / 4.0)
+    order = np.argsort(dep.element, kind="stable")
+    cells, starts = np.unique(dep.element[order], return_index=True)
+    curves, loads, lcid = [], [], 0
+    for recs, (fine, share) in zip(np.split(order, starts[1:]), face_overlaps(source, wall, cells)):
+        t, force = _pulse_sum(a[recs], mid[recs], b[recs], dep.impulse[recs])
         t_all = np.concatenate([[t[0] - width], t, [t[-1] + width]])  # flat zero ends
+        nodes, at = np.unique(wall.face_element_nodes(fine).ravel(), return_inverse=True)
+        weight = np.bincount(at, np.repeat(0.25 * share, 4), nodes.size)
+        written = np.array([float(_field(w, 10)) for w in weight])
         for dof in range(3):
             if not force[:, dof].any():
                 continue
-            lcid = len(loads) + 1
-            f_all = np.concatenate([[0.0], force[:, dof], [0.0]])
+            lcid += 1
+            # the node shares as their 10-column fields hold them: the curve carries 1/Σ of them,
+            # so the cell's impulse is kept to the ordinates' digits, not the shares'
+            f_all = np.concatenate([[0.0], force[:, dof], [0.0]]) / written.sum()
             curves += ["*DEFINE_CURVE", _row([lcid, 0, 1.0, 1.0, 0.0, 0.0])]
             curves += _points(t_all, f_all)
-            loads.append(_row([int(nid), dof + 1, lcid, 1.0]))
+            loads += [_row([int(n), dof + 1, lcid, float(w)]) for n, w in zip(nodes, written)]
     return curves + ["*LOAD_NODE_POINT"] + loads
 
 

@@ -95,10 +95,9 @@ import numpy as np
 
 from impactdyn._errors import InputError
 from impactdyn.ble import SingleWall, penetration_depth
-from impactdyn.wall._load import cell_overlaps
 from impactdyn.wall._mesh import (
     MESH_KINDS, WallMesh, assemble_mesh, build_mesh, check_density_supports, check_refinements, refine)
-from impactdyn.wallgrid import WallDeposition, WallGrid, check_nodes
+from impactdyn.wallgrid import WallDeposition, WallGrid, check_nodes, face_overlaps
 
 #: Layers through the thickness at least: the bulge converges from 8 (module docstring).
 MIN_LAYERS = 8
@@ -239,7 +238,7 @@ def rebin_deposition(deposition: WallDeposition, source: WallGrid, target: WallG
                              f"[{s[0]:g}, {s[-1]:g}]")
     cells, inverse = np.unique(deposition.element, return_inverse=True)
     pieces_element, pieces_share, counts = [], [], np.zeros(cells.size, dtype=np.int64)
-    for c, (fine, share) in enumerate(cell_overlaps(source, target, cells)):
+    for c, (fine, share) in enumerate(face_overlaps(source, target, cells)):
         pieces_element.append(fine)
         pieces_share.append(share)
         counts[c] = fine.size

@@ -6,7 +6,8 @@ front-face nodes under that element at the first solver time t^n ≥ t (never ea
 one step late).  The spreads below act on the face cells of the mesh's load grid
 (:attr:`~._mesh.WallMesh.load_grid`): the case's grid on a ``"report"`` mesh; on a ``"graded"``
 one the solver grid itself, each case cell's impulse shared among the solver's face cells it
-overlaps by area (a uniform areal impulse over the cell, :func:`cell_overlaps`) before the spread.  The impulse is shared among the nodes by weights w_a ≥ 0 with Σ_a w_a = 1,
+overlaps by area (a uniform areal impulse over the cell,
+:func:`impactdyn.wallgrid.face_overlaps`) before the spread.  The impulse is shared among the nodes by weights w_a ≥ 0 with Σ_a w_a = 1,
 so the impulse put on the wall is I exactly (to round-off):
 
 * ``"corners"`` — I/4 on each of the element's four corner nodes (at in-plane refinement
@@ -42,14 +43,13 @@ summed in the support impulse and does no work.  So
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
 
 from impactdyn._errors import InputError
 from impactdyn.wall._mesh import WallMesh
-from impactdyn.wallgrid import WallDeposition, WallGrid
+from impactdyn.wallgrid import WallDeposition, face_overlaps
 
 SPREADS = ("corners", "area", "mass")
 
@@ -148,24 +148,6 @@ def depth_weights(mesh: WallMesh, depth: float) -> np.ndarray:
     return inside / inside.sum()
 
 
-def cell_overlaps(source: WallGrid, target: WallGrid, cells: np.ndarray) -> Iterator[tuple[np.ndarray, np.ndarray]]:
-    """For each of ``source``'s face ``cells``: ``target``'s face cells it overlaps (in target element
-    order) and the shares of its area they cover (rectilinear grids: products of 1-D overlaps; sum 1)."""
-    share_x, share_z = _overlap_shares(source.x, target.x), _overlap_shares(source.z, target.z)
-    nx_s, nx_t = source.shape[0], target.shape[0]
-    for c in cells:
-        k, i = divmod(int(c), nx_s)
-        ix, iz = np.flatnonzero(share_x[i]), np.flatnonzero(share_z[k])
-        yield (ix[None, :] + nx_t * iz[:, None]).ravel(), np.outer(share_z[k, iz], share_x[i, ix]).ravel()
-
-
-def _overlap_shares(source: np.ndarray, target: np.ndarray) -> np.ndarray:
-    """Share of each source interval's length that each target interval covers, (ns, nt), rows sum to 1."""
-    overlap = np.clip(np.minimum(source[1:, None], target[None, 1:])
-                      - np.maximum(source[:-1, None], target[None, :-1]), 0.0, None)
-    return overlap / overlap.sum(axis=1, keepdims=True)
-
-
 def _cell_stencils(mesh: WallMesh, cells: np.ndarray, spread: str) -> list[tuple[np.ndarray, np.ndarray]]:
     """(front-face nodes, weights) of each of the case grid's face ``cells``: the ``spread`` on the load
     grid's face cells, and on a graded mesh the shares of those the case's cell overlaps (by area:
@@ -174,7 +156,7 @@ def _cell_stencils(mesh: WallMesh, cells: np.ndarray, spread: str) -> list[tuple
     if mesh.load_grid is mesh.parent:
         return [(face_nodes[c], face_weights[c]) for c in cells]
     stencils = []
-    for fine, share in cell_overlaps(mesh.parent, mesh.load_grid, cells):
+    for fine, share in face_overlaps(mesh.parent, mesh.load_grid, cells):
         node, at = np.unique(face_nodes[fine].ravel(), return_inverse=True)
         stencils.append((node, np.bincount(at, (share[:, None] * face_weights[fine]).ravel(), node.size)))
     return stencils

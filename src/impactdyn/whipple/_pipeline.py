@@ -154,22 +154,23 @@ def _wall(s: StageContext) -> dict:
 
 
 def _decks(s: StageContext) -> dict:
-    """The decks of the mesh the wall stage runs, with the records re-binned onto it (the same mesh
-    and load as the wall stage: :func:`impactdyn.wall.solver_mesh`)."""
-    from impactdyn.debris import element_impulse, read_deposition, write_decks
+    """The decks of the mesh the wall stage runs, loaded as the wall stage loads it: the records on the
+    case's grid shared among the mesh's face cells by area (:func:`impactdyn.wall.solver_mesh`)."""
+    from impactdyn.debris import element_impulse, element_records, read_deposition, write_decks
     from impactdyn.wall import rebin_deposition, resolve_model, solver_mesh
 
     s.report("decks", 0, 1)
-    wall, deposition, _ = read_deposition(s.folder.path / "debris" / "debris.h5")
+    wall, deposition, case_impulse = read_deposition(s.folder.path / "debris" / "debris.h5")
     options = s.case.wall_solver.options(s.case.wall.clamped_edges)
     mesh = solver_mesh(wall, deposition, resolve_model(s.case.wall.material, options).density,
                        **options.mesh_settings())
-    on_mesh = rebin_deposition(deposition, wall, mesh.grid)
-    impulse = element_impulse(on_mesh, mesh.grid)
-    files = write_decks(s.folder.sub("decks"), mesh.grid, on_mesh, impulse, deck_options(s.case))
+    # the DYNA3D deck's DCPOST cards: each element's total, the case cells' totals shared by area
+    impulse = element_impulse(rebin_deposition(element_records(case_impulse), wall, mesh.grid), mesh.grid)
+    files = write_decks(s.folder.sub("decks"), mesh.grid, deposition, impulse, deck_options(s.case),
+                        deposition_grid=wall)
     s.report("decks", 1, 1)
     return {"files": [f"decks/{name}" for name in files], "mesh": mesh.describe(),
-            "n_records": int(on_mesh.element.size),
+            "n_records": int(deposition.element.size),
             "n_loaded_elements": int(np.count_nonzero(np.abs(impulse).sum(axis=-1)))}
 
 
