@@ -43,7 +43,7 @@ summed in the support impulse and does no work.  So
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -54,8 +54,7 @@ from impactdyn.wallgrid import WallDeposition, face_overlaps
 SPREADS = ("corners", "area", "mass")
 
 
-@dataclass(frozen=True, eq=False)
-class NodalLoad:
+class NodalLoad(NamedTuple):
     """Deposition records on the mesh's nodes, sorted by arrival time.
 
     time (n,) µs; impulse (n, 3) g·cm/µs; the records of one face cell of the case's grid share
@@ -64,6 +63,7 @@ class NodalLoad:
     cell, not per record: a cell of the case's grid covers up to ~100 nodes of a graded mesh's
     core through the load's depth, and a shot deposits ~10⁶ records on a few thousand cells);
     depth (cm) the depth δ below the front face the impulses are spread over (module docstring).
+    A record type: the step loop takes it as it is (:mod:`._step`).
     """
 
     time: np.ndarray

@@ -46,7 +46,7 @@ from impactdyn.wall._options import WallOptions, WallSolverError
 from impactdyn.wall._result import (
     ENDED_AT_CEILING, ENDED_AT_END_TIME, ENDED_BY_DECAY, HISTORY_KEYS, WallFrame, WallResult)
 from impactdyn.wall._state import (
-    C, DAMAGE, EPS_P, ERODED, FAILED, N_ES, N_SHG, P, VOL, Controls, Elements, Loads, MaterialConstants, Nodes)
+    C, DAMAGE, EPS_P, ERODED, FAILED, N_ES, N_SHG, P, VOL, Controls, Elements, MaterialConstants, Nodes)
 from impactdyn.wall._verdict import WALL, classify, failed_mass_by_cause, measures, node_categories
 from impactdyn.wallgrid import WallDeposition, WallGrid
 
@@ -116,9 +116,6 @@ class WallSolver:
         self.acc = np.zeros(_step.N_ACC)
         self.acc[_step.A_REAR_VMAX] = -np.inf
         self.load = load if load is not None else nodal_load_empty()
-        ld = self.load
-        self.loads = Loads(time=ld.time, impulse=ld.impulse, stencil=ld.stencil, ptr=ld.ptr, node=ld.node,
-                           weight=ld.weight)
         status, dtmin = self.element_pass(0.0)
         if status or not math.isfinite(dtmin):
             raise WallSolverError(f"wall solver: the initial mesh is not valid ({_BREAKDOWN.get(status, status)})")
@@ -149,7 +146,7 @@ class WallSolver:
         m = self.mesh
         status, steps = self.kernels.advance(t_stop, max_steps, self.clock, self.acc, self.nodes, self.elements,
                                              self.material, self.settling_controls if settling else self.controls,
-                                             self.loads, self.work)
+                                             self.load, self.work)
         if status:
             bad = np.flatnonzero(self.elements.bad)
             ijk = m.element_ijk()[bad[0]] if bad.size else None

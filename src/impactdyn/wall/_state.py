@@ -19,8 +19,8 @@ reads and writes one row at a time):
 
 The kernels take the state grouped in records (NamedTuples of arrays, which numba passes and
 caches like arrays): :class:`Nodes`, :class:`Elements`, the model's :class:`MaterialConstants`,
-the run's :class:`Controls` and the :class:`Loads` still to come; and :func:`stress_power`, the
-rates the material models' energy updates share.
+the run's :class:`Controls` and the loads still to come (:class:`._load.NodalLoad`); and
+:func:`stress_power`, the rates the material models' energy updates share.
 """
 
 from typing import NamedTuple
@@ -142,16 +142,3 @@ class Controls(NamedTuple):
     erode_failed: bool
     erode_dt: float
     min_dt: float
-
-
-class Loads(NamedTuple):
-    """The deposition records as the step loop applies them (:class:`._load.NodalLoad`): arrival
-    time (n,) µs, impulse (n, 3) g·cm/µs, and record r's nodes and weights
-    node[ptr[s]:ptr[s + 1]], weight[ptr[s]:ptr[s + 1]] with s = stencil[r] (its face cell's)."""
-
-    time: np.ndarray
-    impulse: np.ndarray
-    stencil: np.ndarray
-    ptr: np.ndarray
-    node: np.ndarray
-    weight: np.ndarray
