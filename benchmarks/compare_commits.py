@@ -69,7 +69,27 @@ def _beam_lsoda(root: Path):
     return lambda: baseline(case)
 
 
+def _wall_report_mesh(root: Path):
+    """The Johnson–Cook wall with the commit's default failure model on the report's 50 × 4 × 100 mesh
+    (``mesh = "report"`` where the commit has that key; before it, the only mesh) under
+    bench_wall's synthetic 7-km/s-like load, 10 µs from the first arrival: the element pass and
+    the material update, the wall's hot path."""
+    from bench_wall import report_wall, synthetic_deposition  # this checkout's copies
+    from impactdyn import wall
+
+    grid = report_wall()
+    deposition = synthetic_deposition(grid)
+    settings = dict(material_model="johnson_cook", end_time_us=float(deposition.time.min()) + 10.0,
+                    output_interval_us=None)
+    try:
+        options = wall.WallOptions(mesh="report", **settings)
+    except (TypeError, ValueError):  # a commit before the graded mesh (its options take no "mesh")
+        options = wall.WallOptions(**settings)
+    return lambda: wall.run_wall(grid, deposition, "al6061-t6", options)
+
+
 TIMINGS = {
+    "wall": Timing("Johnson-Cook wall, report mesh, synthetic load, 10 us (run_wall)", _wall_report_mesh),
     "beam": Timing("IMPACTB sample, simulate() in process", _beam_sample, reference="beam-lsoda"),
     "beam-lsoda": Timing("IMPACTB sample, plain SciPy LSODA port (bench_beam.baseline)", _beam_lsoda),
 }
