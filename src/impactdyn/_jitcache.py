@@ -83,7 +83,33 @@ def install(caching=None) -> bool:
         return False
     if not any(getattr(c, "impactdyn_locator", False) for c in classes):
         classes[:0] = [_package_locator(b) for b in bases]
+    _tolerate_stale_indexes(caching)
     return True
+
+
+def _tolerate_stale_indexes(caching) -> None:
+    """A cache index that no longer unpickles is a stale cache, not an error.
+
+    Numba unpickles a kernel's index, the argument types of its cached overloads included, before it
+    compares the source stamp, so an index written by other sources whose record types have since been
+    renamed or removed raised in every later process (``AttributeError: Can't get attribute 'Loads' on
+    impactdyn.wall._state`` after the wall's load record was merged into ``NodalLoad``): a user upgrading
+    in place would meet it.  Such an index is read as empty, so the kernel is compiled and its cache
+    written anew, as for any stale stamp (``IndexDataCacheFile._load_index``, numba.core.caching,
+    private; left alone if it moves)."""
+    cache_file = getattr(caching, "IndexDataCacheFile", None)
+    load = getattr(cache_file, "_load_index", None)
+    if load is None or getattr(load, "impactdyn_tolerant", False):
+        return
+
+    def _load_index(self):
+        try:
+            return load(self)
+        except Exception:  # noqa: BLE001 - whatever an outdated pickle raises, it is a stale cache
+            return {}
+
+    _load_index.impactdyn_tolerant = True
+    cache_file._load_index = _load_index
 
 
 class _InstallAfterCaching(importlib.abc.MetaPathFinder):
