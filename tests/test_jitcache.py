@@ -54,3 +54,20 @@ def test_digest_covers_every_source_file():
     assert all(_jitcache.in_package(str(f)) for f in files)
     assert not _jitcache.in_package(__file__)
     assert len(_jitcache.package_digest()) == 64
+
+
+def test_an_index_that_no_longer_unpickles_is_read_as_a_stale_cache():
+    """An index naming a record type since removed raised in every later process; it reads as empty."""
+    from types import SimpleNamespace
+
+    from impactdyn import _jitcache
+
+    class IndexDataCacheFile:
+        def _load_index(self):
+            raise AttributeError("Can't get attribute 'Loads' on <module 'impactdyn.wall._state'>")
+
+    caching = SimpleNamespace(IndexDataCacheFile=IndexDataCacheFile)
+    _jitcache._tolerate_stale_indexes(caching)
+    _jitcache._tolerate_stale_indexes(caching)  # once only: not wrapped twice
+    assert IndexDataCacheFile()._load_index() == {}
+    assert IndexDataCacheFile._load_index.impactdyn_tolerant
