@@ -116,3 +116,31 @@ def test_a_member_that_finished_during_the_stop_is_recorded(tmp_path):
     run_members(lambda k: ran.append(k) or run(k), summaries, lambda pending: pending, recorded.__setitem__,
                 scheduler="serial")
     assert ran == [2] and recorded == {k: {"member": k} for k in range(3)}
+
+
+def test_an_interrupt_while_a_member_is_recorded_waits_for_the_whole_record(tmp_path):
+    """Ctrl-C lands between a finished member's row and its count (the table being rewritten):
+    the record completes, the interrupt is raised after it, and the member is recorded once."""
+    import json
+    import os
+
+    from impactdyn._family import run_members
+
+    summaries = [tmp_path / f"m{k}" / "summary.json" for k in range(3)]
+    rows, counted = [], []
+
+    def run(k: int) -> dict:
+        summaries[k].parent.mkdir()
+        summaries[k].write_text(json.dumps({"member": k}))
+        return {"member": k}
+
+    def record(k: int, summary: dict) -> None:
+        rows.append(k)
+        if k == 0:
+            os.kill(os.getpid(), signal.SIGINT)  # the user's Ctrl-C, mid-record
+            time.sleep(0.05)
+        counted.append(k)
+
+    with pytest.raises(KeyboardInterrupt):
+        run_members(run, summaries, lambda pending: pending, record, scheduler="serial")
+    assert rows == counted == [0], "the record was cut, or the member recorded twice, or the stop lost"

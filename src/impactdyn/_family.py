@@ -27,7 +27,7 @@ from pathlib import Path
 from typing import Any
 
 from impactdyn._errors import InputError, Interrupted
-from impactdyn._interrupt import shielded
+from impactdyn._interrupt import deferred, shielded
 from impactdyn._runfolder import FolderWriter, check_target
 from impactdyn._sweep import run_all
 
@@ -107,27 +107,31 @@ def run_members(fn: Callable[[Any], Any], summaries: Sequence[Path], make_tasks:
     :func:`impactdyn._sweep.run_all` takes ``schedule``, and are recorded as they finish.  A member
     run writes its summary file itself (or ``record`` does).  On a stop, a member that finished
     while the others were being stopped (its folder renamed into place before its result reached
-    this process) is read back and recorded too, so the table holds every finished member.
+    this process) is read back and recorded too, so the table holds every finished member; an
+    interrupt that comes while a member is being recorded waits for the record to be whole.
     """
-    pending = []
-    for k, path in enumerate(summaries):
-        if path.exists():
-            record(k, json.loads(path.read_text()))
-        else:
-            pending.append(k)
     recorded: set[int] = set()
+    pending: list[int] = []
 
-    def finished(i: int, summary: dict) -> None:
-        recorded.add(pending[i])
-        record(pending[i], summary)
+    def take(k: int, summary: dict) -> None:
+        # an interrupt in the middle of a record would leave a row without its count (or the
+        # reverse): it waits until the member is recorded whole
+        with deferred():
+            record(k, summary)
+            recorded.add(k)
 
     try:
-        run_all(fn, make_tasks(pending), on_result=finished, **schedule)
+        for k, path in enumerate(summaries):
+            if path.exists():
+                take(k, json.loads(path.read_text()))
+            else:
+                pending.append(k)
+        run_all(fn, make_tasks(pending), on_result=lambda i, summary: take(pending[i], summary), **schedule)
     except BaseException:
         with shielded():
-            for k in pending:
-                if k not in recorded and summaries[k].exists():
-                    record(k, json.loads(summaries[k].read_text()))
+            for k, path in enumerate(summaries):
+                if k not in recorded and path.exists():
+                    record(k, json.loads(path.read_text()))
         raise
 
 

@@ -13,6 +13,8 @@ kept.  Three pieces make it:
 * :func:`shielded`: a second Ctrl-C while the main process tidies up (stops the workers, removes
   staging folders, writes the table so far) would leave the half-tidied state the contract forbids;
   it is ignored until the tidying is done.
+* :func:`deferred`: a Ctrl-C that comes while a finished member is being recorded (its row, the
+  table, the count the stop message reports) is held until the record is complete, then raised.
 """
 
 from __future__ import annotations
@@ -61,3 +63,21 @@ def shielded() -> Iterator[None]:
     finally:
         for sig, handler in previous.items():
             signal.signal(sig, handler)
+
+
+@contextmanager
+def deferred() -> Iterator[None]:
+    """Hold Ctrl-C and SIGTERM until the block is done, then raise ``KeyboardInterrupt``: for a step
+    that an interrupt must not cut half-way, and that must not swallow the interrupt either."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught: list[int] = []
+    previous = {sig: signal.signal(sig, lambda signum, frame: caught.append(signum)) for sig in STOP_SIGNALS}
+    try:
+        yield
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+    if caught:
+        raise KeyboardInterrupt(signal.Signals(caught[0]).name)
