@@ -25,7 +25,7 @@ EXAMPLES = Path(__file__).parents[2] / "examples" / "whipple"
 @pytest.fixture(scope="module")
 def run(tmp_path_factory, make_case):
     tmp = tmp_path_factory.mktemp("whipple")
-    case = make_case(tmp)
+    case = make_case(tmp, wall_solver__mesh="graded")     # the default wall mesh, end to end
     out = tmp / "run"
     assert main(["whipple", "run", str(case), "-o", str(out)]) == 0
     return case, out, json.loads((out / "summary.json").read_text())
