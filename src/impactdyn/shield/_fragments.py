@@ -6,14 +6,14 @@ Two intact particles p, q are linked when
     |r_p − r_q| < b                                          (b: the link length, cm)
 
 and the fragments are the connected components of this link graph
-(friends-of-friends, Davis et al. 1985, ApJ 292, 371, §2c). The links are the
+(friends-of-friends, Davis, Efstathiou, Frenk & White 1985, ApJ 292, 371). The links are the
 pairs of a k-d tree search (``scipy.spatial.cKDTree.query_pairs``) and the
 components come from ``scipy.sparse.csgraph.connected_components``; both are
 O(N log N). Damaged particles belong to no fragment: they are the fine spray. An
 intact particle with no intact neighbour is a fragment of one particle (callers
 filter by size). The usual choice b ≈ 1.5 Δ (Δ the initial particle spacing)
-links the 18 nearest lattice neighbours (distances Δ, √2 Δ) and leaves a gap of
-one missing particle open.
+links the 18 nearest lattice neighbours (distances Δ, √2 Δ), and one missing (or
+damaged) layer of particles separates: across it the nearest are 2 Δ apart.
 
 Per fragment f with particles p (mass m, position r, velocity v, solid volume V =
 m/ρ₀, so that the size does not depend on how far the material has expanded)::
