@@ -8,8 +8,8 @@ Two intact particles p, q are linked when
 and the fragments are the connected components of this link graph
 (friends-of-friends, Davis, Efstathiou, Frenk & White 1985, ApJ 292, 371). The links are the
 pairs of a k-d tree search (``scipy.spatial.cKDTree.query_pairs``) and the
-components come from ``scipy.sparse.csgraph.connected_components``; both are
-O(N log N). Damaged particles belong to no fragment: they are the fine spray. An
+components come from ``scipy.sparse.csgraph.connected_components``: O(N log N)
+and O(N + links). Damaged particles belong to no fragment: they are the fine spray. An
 intact particle with no intact neighbour is a fragment of one particle (callers
 filter by size). The usual choice b ≈ 1.5 Δ (Δ the initial particle spacing)
 links the 18 nearest lattice neighbours (distances Δ, √2 Δ), and one missing (or
