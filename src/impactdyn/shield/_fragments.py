@@ -1,0 +1,323 @@
+"""Fragments of the debris cloud: friends-of-friends over the intact SPH particles (units cm, g, µs).
+
+After the shield impact a fragment is a connected region of intact material.
+Two intact particles p, q are linked when
+
+    |r_p − r_q| < b                                          (b: the link length, cm)
+
+and the fragments are the connected components of this link graph
+(friends-of-friends, Davis, Efstathiou, Frenk & White 1985, ApJ 292, 371). The links are the
+pairs of a k-d tree search (``scipy.spatial.cKDTree.query_pairs``) and the
+components come from ``scipy.sparse.csgraph.connected_components``: O(N log N)
+and O(N + links). Damaged particles belong to no fragment: they are the fine spray. An
+intact particle with no intact neighbour is a fragment of one particle (callers
+filter by size). The usual choice b ≈ 1.5 Δ (Δ the initial particle spacing)
+links the 18 nearest lattice neighbours (distances Δ, √2 Δ), and one missing (or
+damaged) layer of particles separates: across it the nearest are 2 Δ apart.
+
+Per fragment f with particles p (mass m, position r, velocity v, solid volume V =
+m/ρ₀, so that the size does not depend on how far the material has expanded)::
+
+    M = Σ m,   r_c = Σ m r / M,   v_c = Σ m v / M,   d = r − r_c,   u = v − v_c
+    D = (6 Σ V / π)^{1/3}                                    (equivalent-sphere diameter)
+
+Each particle stands for a small sphere of its solid volume, radius
+a = (3V/4π)^{1/3}, with the second moment a²/5 per axis. The second-moment
+tensor of the fragment and its inertia tensor are::
+
+    C = Σ m d dᵀ + Σ m a²/5 𝟙,     I = tr(C) 𝟙 − C = Σ m (|d|² 𝟙 − d dᵀ) + Σ (2/5) m a² 𝟙
+
+``axes_cm``: the uniform ellipsoid with the same mass and the same C has
+C = M/5 diag(a₁², a₂², a₃²), so its principal half-lengths are
+
+    a_k = √(5 λ_k(C) / M),   sorted a₁ ≥ a₂ ≥ a₃
+
+(a box of sides L_x, L_y, L_z filled by a lattice comes out with the box's inertia
+M/12 (L_y² + L_z²), …, to 0.08 Δ²/L²: the sphere's a²/5 = 0.077 Δ² per axis against
+the lattice cell's Δ²/12 = 0.083 Δ²; without the particles' own term it would be
+Δ²/L² off).
+
+``spin``: the angular momentum about the centre of mass, L = Σ m d × u, with each
+particle's own sphere turning with the fragment, gives I ω = L + Σ (2/5) m a² ω, i.e.
+
+    I_pts ω = L,    I_pts = Σ m (|d|² 𝟙 − d dᵀ)
+
+the least-squares rigid rotation (minimises Σ m |u − ω × d|²): for a rigid body
+v = v_c + ω × d it returns ω to round-off. The SPH particles carry no spin of
+their own, so L has no term of it. Along a principal direction where I_pts has no
+inertia (a one-particle fragment; particles on a line, the direction of the line;
+eigenvalue ≤ 10⁻⁹ of the largest eigenvalue of I) the rotation cannot be seen in
+the velocities and its component is reported as 0.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, fields
+from pathlib import Path
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
+
+from impactdyn._config import Positive, checked
+from impactdyn._errors import InputError
+
+#: A principal direction of I_pts with an eigenvalue at most this fraction of I's largest is not
+#: resolved by the particles (module docstring, ``spin``); its spin component is reported as 0.
+UNRESOLVED = 1e-9
+
+_FIELDS = {"mass": (), "position": (3,), "velocity": (3,), "spin": (3,), "diameter_cm": (), "axes_cm": (3,),
+           "count": ()}
+
+
+@dataclass(frozen=True, eq=False)
+class Fragments:
+    """The fragments of a particle set, largest mass first (arrays stored read-only).
+
+    Attributes
+    ----------
+    mass : (F,)
+        M = Σ m, g.
+    position : (F, 3)
+        Centre of mass r_c, cm.
+    velocity : (F, 3)
+        Centre-of-mass velocity v_c, cm/µs.
+    spin : (F, 3)
+        Angular velocity ω about the centre of mass, rad/µs (module docstring).
+    diameter_cm : (F,)
+        Equivalent-sphere diameter (6 Σ V / π)^{1/3} of the solid volume, cm.
+    axes_cm : (F, 3)
+        Principal half-lengths a₁ ≥ a₂ ≥ a₃ of the uniform ellipsoid with the fragment's
+        second moments, cm: the shape (a₃/a₁ = 1 a sphere, ≪ 1 a plate or a rod).
+    count : (F,) int
+        Particles in each fragment.
+    ptr : (F + 1,) int, members : (M,) int
+        The particle indices of fragment f are ``members[ptr[f]:ptr[f + 1]]`` (ascending), M = Σ count.
+    """
+
+    mass: np.ndarray
+    position: np.ndarray
+    velocity: np.ndarray
+    spin: np.ndarray
+    diameter_cm: np.ndarray
+    axes_cm: np.ndarray
+    count: np.ndarray
+    ptr: np.ndarray
+    members: np.ndarray
+
+    def __post_init__(self) -> None:
+        n = np.shape(self.mass)[0] if np.ndim(self.mass) == 1 else -1
+        for name, tail in _FIELDS.items():
+            a = np.array(getattr(self, name), dtype=np.int64 if name == "count" else np.float64)
+            if a.shape != (n,) + tail:
+                raise InputError(f"Fragments.{name}: shape {a.shape}, expected {(n,) + tail}")
+            a.flags.writeable = False
+            object.__setattr__(self, name, a)
+        for name in ("ptr", "members"):
+            a = np.array(getattr(self, name), dtype=np.int64)
+            a.flags.writeable = False
+            object.__setattr__(self, name, a)
+        if self.ptr.shape != (n + 1,) or self.ptr[0] != 0 or np.any(np.diff(self.ptr) != self.count) \
+                or self.members.shape != (self.ptr[-1],):
+            raise InputError("Fragments.ptr, members: not the CSR index of the fragments' particles")
+
+    def __len__(self) -> int:
+        return self.mass.size
+
+    def total_mass(self) -> float:
+        """Σ M, g."""
+        return float(self.mass.sum())
+
+    def momentum(self) -> np.ndarray:
+        """Σ M v_c = Σ m v over the fragments' particles, g·cm/µs, (3,)."""
+        return self.mass @ self.velocity
+
+    def indices(self, f: int) -> np.ndarray:
+        """The particle indices of fragment ``f`` (ascending)."""
+        return self.members[self.ptr[f]:self.ptr[f + 1]]
+
+    def largest(self, n: int) -> "Fragments":
+        """The ``n`` most massive fragments (all of them if there are fewer)."""
+        n = max(0, min(int(n), len(self)))
+        values = {f.name: getattr(self, f.name)[:n] for f in fields(self) if f.name in _FIELDS}
+        return Fragments(**values, ptr=self.ptr[:n + 1], members=self.members[:self.ptr[n]])
+
+    def __repr__(self) -> str:
+        top = f", largest {self.mass[0]:.6g} g" if len(self) else ""
+        return f"Fragments(n={len(self)}, mass={self.total_mass():.6g} g{top})"
+
+
+def _array(name: str, value, tail: tuple[int, ...], n: int | None) -> np.ndarray:
+    a = np.asarray(value, dtype=np.float64)
+    if a.ndim != 1 + len(tail) or a.shape[1:] != tail or (n is not None and a.shape[0] != n):
+        expected = ("N" if n is None else str(n),) + tuple(map(str, tail))
+        raise InputError(f"find_fragments: {name}: shape {a.shape}, expected ({', '.join(expected)})")
+    if not np.all(np.isfinite(a)):
+        raise InputError(f"find_fragments: {name}: not finite")
+    return a
+
+
+@checked
+def find_fragments(position, velocity, mass, volume, intact, *, link_length_cm: Positive) -> Fragments:
+    """The fragments of the intact particles by friends-of-friends (module docstring).
+
+    Parameters
+    ----------
+    position, velocity : (N, 3)
+        cm, cm/µs.
+    mass : (N,)
+        g, > 0.
+    volume : (N,)
+        Solid volume m/ρ₀ of each particle, cm³, > 0.
+    intact : (N,) bool
+        Undamaged particles; the others belong to no fragment.
+    link_length_cm : float
+        b: intact particles closer than b are in the same fragment.
+
+    Returns
+    -------
+    Fragments
+        Sorted by mass, largest first (equal masses: by their lowest particle index).
+
+    Raises
+    ------
+    InputError
+        Naming the argument: a shape that does not fit, a value not finite, a mass or
+        volume ≤ 0, an ``intact`` that is not a boolean mask, b not finite or ≤ 0.
+    """
+    position = _array("position", position, (3,), None)
+    n = position.shape[0]
+    velocity = _array("velocity", velocity, (3,), n)
+    mass = _array("mass", mass, (), n)
+    volume = _array("volume", volume, (), n)
+    for name, a in (("mass", mass), ("volume", volume)):
+        if np.any(a <= 0):
+            raise InputError(f"find_fragments: {name}: every value must be > 0")
+    intact = np.asarray(intact)
+    if intact.dtype != bool or intact.shape != (n,):
+        raise InputError(f"find_fragments: intact: expected a boolean mask of shape ({n},), "
+                         f"got {intact.dtype} of shape {intact.shape}")
+    b = float(link_length_cm)
+
+    idx = np.flatnonzero(intact)
+    k = idx.size
+    if k == 0:
+        return Fragments(mass=np.empty(0), position=np.empty((0, 3)), velocity=np.empty((0, 3)),
+                         spin=np.empty((0, 3)), diameter_cm=np.empty(0), axes_cm=np.empty((0, 3)),
+                         count=np.empty(0, dtype=np.int64), ptr=np.zeros(1, dtype=np.int64),
+                         members=np.empty(0, dtype=np.int64))
+    x = position[idx]
+    pairs = cKDTree(x).query_pairs(b, output_type="ndarray")
+    if len(pairs):  # query_pairs keeps distance ≤ b; the link is < b
+        pairs = pairs[np.einsum("nd,nd->n", x[pairs[:, 0]] - x[pairs[:, 1]],
+                                x[pairs[:, 0]] - x[pairs[:, 1]]) < b * b]
+    graph = coo_matrix((np.ones(len(pairs), dtype=np.int8), (pairs[:, 0], pairs[:, 1])), shape=(k, k))
+    n_frag, label = connected_components(graph, directed=False)
+
+    m, v_p, V = mass[idx], velocity[idx], volume[idx]
+    M = np.bincount(label, weights=m, minlength=n_frag)
+    first = np.full(n_frag, k, dtype=np.int64)
+    np.minimum.at(first, label, np.arange(k))
+    order = np.lexsort((first, -M))  # heaviest first; ties by the lowest particle index
+    rank = np.empty(n_frag, dtype=np.int64)
+    rank[order] = np.arange(n_frag)
+    label = rank[label]
+    M = M[order]
+
+    def total(q: np.ndarray) -> np.ndarray:  # Σ over each fragment's particles of q (k, …)
+        flat = q.reshape(k, -1)
+        return np.stack([np.bincount(label, weights=flat[:, j], minlength=n_frag)
+                         for j in range(flat.shape[1])], axis=-1).reshape((n_frag,) + q.shape[1:])
+
+    r_c = total(m[:, None] * x) / M[:, None]
+    v_c = total(m[:, None] * v_p) / M[:, None]
+    d = x - r_c[label]
+    u = v_p - v_c[label]
+    c_pts = total(m[:, None, None] * d[:, :, None] * d[:, None, :])  # Σ m d dᵀ, (F, 3, 3)
+    own = total(m * (3.0 * V / (4.0 * np.pi)) ** (2.0 / 3.0) / 5.0)  # Σ m a²/5
+    eye = np.eye(3)
+    c_full = c_pts + own[:, None, None] * eye
+    i_pts = np.trace(c_pts, axis1=1, axis2=2)[:, None, None] * eye - c_pts
+    ang = total(m[:, None] * np.cross(d, u))  # L, (F, 3)
+
+    lam, vec = np.linalg.eigh(i_pts)
+    i_max = lam[:, -1] + 2.0 * own  # largest eigenvalue of I = I_pts + Σ (2/5) m a² 𝟙
+    proj = np.einsum("fdk,fd->fk", vec, ang)
+    resolved = lam > UNRESOLVED * i_max[:, None]
+    coef = np.divide(proj, lam, out=np.zeros_like(proj), where=resolved)
+    spin = np.einsum("fdk,fk->fd", vec, coef)
+
+    axes = np.sqrt(5.0 * np.clip(np.linalg.eigvalsh(c_full)[:, ::-1], 0.0, None) / M[:, None])
+    diameter = (6.0 * total(V) / np.pi) ** (1.0 / 3.0)
+    count = np.bincount(label, minlength=n_frag)
+    members = idx[np.argsort(label, kind="stable")]
+    ptr = np.concatenate([[0], np.cumsum(count)])
+    return Fragments(mass=M, position=r_c, velocity=v_c, spin=spin, diameter_cm=diameter, axes_cm=axes,
+                     count=count, ptr=ptr, members=members)
+
+
+def cumulative_number(fragments: Fragments) -> tuple[np.ndarray, np.ndarray]:
+    """The cumulative number N(≥ m) of fragments of mass at least m, at each fragment's mass.
+
+    Returns ``(mass, n_at_least)``, both (F,), mass descending (g) and N non-decreasing;
+    fragments of equal mass all get the count that includes every one of them.
+    """
+    m = np.asarray(fragments.mass)[np.argsort(-np.asarray(fragments.mass), kind="stable")]
+    return m, np.searchsorted(-m, -m, side="right")
+
+
+FRAGMENT_COLUMNS = ("rank", "mass_g", "diameter_cm", "count", "x_cm", "y_cm", "z_cm",
+                    "vx_cm_per_us", "vy_cm_per_us", "vz_cm_per_us", "spin_rad_per_us", "b_over_a", "c_over_a")
+"""The columns of :func:`fragment_rows`: rank 1 the most massive; spin |ω|; b/a, c/a the ratios of ``axes_cm``."""
+
+
+def fragment_rows(fragments: Fragments, n: int | None = None) -> tuple[tuple[str, ...], list[list]]:
+    """``(header, rows)`` of the ``n`` most massive fragments (all if None) for ``FolderWriter.write_csv``."""
+    f = fragments if n is None else fragments.largest(n)
+    spin = np.linalg.norm(f.spin, axis=1)
+    ratio = f.axes_cm[:, 1:] / f.axes_cm[:, :1]
+    rows = [[i + 1, float(f.mass[i]), float(f.diameter_cm[i]), int(f.count[i]),
+             *map(float, f.position[i]), *map(float, f.velocity[i]), float(spin[i]), *map(float, ratio[i])]
+            for i in range(len(f))]
+    return FRAGMENT_COLUMNS, rows
+
+
+def plot_fragment_masses(path: str | os.PathLike, fragments: Fragments, *, projectile_mass_g: float | None = None,
+                         title: str = "Fragments of the debris cloud") -> Path:
+    """Cumulative number N(≥ m) against fragment mass m on log–log axes; the five largest listed.
+
+    With ``projectile_mass_g`` a second mass axis (top) gives m as a fraction of the projectile.
+    Written atomically to ``path`` (format from the suffix); returns the path.
+    """
+    from impactdyn._plotting import pyplot, save_figure
+
+    if projectile_mass_g is not None and not (np.isfinite(projectile_mass_g) and projectile_mass_g > 0):
+        raise InputError(f"plot_fragment_masses: projectile_mass_g = {projectile_mass_g!r}: must be finite and > 0")
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(6.5, 4.8), constrained_layout=True)
+    m, count = cumulative_number(fragments)
+    if len(m):
+        ax.step(m, count, where="post", color="C0", label=f"{len(m)} fragments, {m.sum():.4g} g")
+        ax.plot(m, count, "o", ms=3, color="C0")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        top = fragments.largest(5)
+        lines = ["largest (g, diameter cm, c/a):"] + [
+            f"{i + 1}. {top.mass[i]:.3g}, {top.diameter_cm[i]:.3g}, {top.axes_cm[i, 2] / top.axes_cm[i, 0]:.2f}"
+            for i in range(len(top))]
+        ax.text(0.97, 0.97, "\n".join(lines), transform=ax.transAxes, ha="right", va="top", fontsize=8,
+                family="monospace", bbox=dict(boxstyle="round", facecolor="white", alpha=0.85))
+        ax.legend(loc="lower left", fontsize=8)
+        if projectile_mass_g is not None:
+            mp = float(projectile_mass_g)
+            top_axis = ax.secondary_xaxis("top", functions=(lambda x: x / mp, lambda x: x * mp))
+            top_axis.set_xlabel("m / projectile mass")
+    else:
+        ax.text(0.5, 0.5, "no intact fragments", transform=ax.transAxes, ha="center")
+    ax.set_xlabel("fragment mass m (g)")
+    ax.set_ylabel("N(≥ m)")
+    ax.set_title(title)
+    ax.grid(True, which="both", alpha=0.3)
+    return save_figure(fig, path, dpi=110)
