@@ -1,13 +1,103 @@
-"""Failure laws shared by the solvers: the floored Johnson–Cook fracture strain and Tuler–Butcher spall.
+"""Failure laws shared by the solvers: the floored Johnson–Cook fracture strain, Tuler–Butcher spall,
+and the tensile (Grady–Kipp) and ductile damage of the SPH shield stage's fragmentation.
 
 Pure scalar functions, inlined into the material kernels (the wall's
-:func:`impactdyn.wall._johnson_cook.jc_update`; the SPH shield stage can call the same).
-Units as the package: Mbar, µs.
+:func:`impactdyn.wall._johnson_cook.jc_update`, the SPH shield stage's
+:mod:`impactdyn.shield._equations`), and :func:`pack_damage`, the damage constants' table those
+kernels read.  Units as the package: cm, g, µs, Mbar.
 """
 
 import math
+from collections.abc import Sequence
 
+import numpy as np
 from numba import njit
+
+from impactdyn.materials import JOHNSON_COOK_DAMAGE, WEIBULL_FLAWS, Material
+
+#: Columns of the damage table (:func:`pack_damage`): Weibull k (cm⁻³) and m, Young's modulus E
+#: (Mbar), crack-growth speed c_g (cm/µs), Johnson–Cook D1…D5 and ε_f,min, and two flags.
+(DM_K, DM_M, DM_YOUNG, DM_GROWTH, DM_D1, DM_D2, DM_D3, DM_D4, DM_D5, DM_EFMIN, DM_HAS_WEIBULL,
+ DM_HAS_DUCTILE) = range(12)
+N_DAMAGE = 12
+
+#: Stress triaxiality below which no ductile fracture occurs: σ* = −1/3 (Bao & Wierzbicki,
+#: *On the cut-off value of negative triaxiality for fracture*, Eng. Fract. Mech. 72 (2005) 1049).
+#: Below it the Johnson–Cook damage of the shield stage does not accumulate: compression does not
+#: break metal.
+TRIAXIALITY_CUTOFF = -1.0 / 3.0
+
+
+def pack_damage(materials: Sequence[Material]) -> np.ndarray:
+    """The damage table (n, N_DAMAGE) of ``materials`` (index = material id): the Weibull flaws of
+    :data:`impactdyn.materials.WEIBULL_FLAWS`, the Johnson–Cook damage of
+    :data:`impactdyn.materials.JOHNSON_COOK_DAMAGE` (floor ε_f,min where the alloy has one, else 0),
+    E and c_g (:attr:`~impactdyn.materials.Material.young_modulus`, :attr:`~impactdyn.materials.Material.crack_speed`).
+    A material without an entry has its flag 0 (no such damage)."""
+    table = np.zeros((len(materials), N_DAMAGE))
+    for k, mat in enumerate(materials):
+        row = table[k]
+        row[DM_YOUNG], row[DM_GROWTH] = mat.young_modulus, mat.crack_speed
+        flaws = WEIBULL_FLAWS.get(mat.name)
+        if flaws is not None:
+            row[[DM_K, DM_M, DM_HAS_WEIBULL]] = flaws.k, flaws.m, 1.0
+        ductile = JOHNSON_COOK_DAMAGE.get(mat.name)
+        if ductile is not None:
+            row[[DM_D1, DM_D2, DM_D3, DM_D4, DM_D5, DM_HAS_DUCTILE]] = (
+                ductile.D1, ductile.D2, ductile.D3, ductile.D4, ductile.D5, 1.0)
+            row[DM_EFMIN] = ductile.efmin or 0.0
+    return table
+
+
+@njit(cache=True, inline="always")
+def largest_principal_stress(p, sxx, syy, szz, sxy, syz, szx):
+    """σ₁, the largest principal stress of σ = −pI + S (S deviatoric), in closed form::
+
+        J₂ = ½ S:S,  J₃ = det S,  cos 3θ = (3√3/2) J₃ / J₂^{3/2},  σ₁ = −p + 2 √(J₂/3) cos θ
+
+    (θ ∈ [0, π/3]: the largest root of the deviator's characteristic equation).  Near a double root
+    (cos 3θ → ±1) arccos costs half the digits: the error is O(√ε_machine) ≈ 10⁻⁸ of the deviator's
+    size, far below what the damage law resolves.
+    """
+    j2 = 0.5 * (sxx * sxx + syy * syy + szz * szz) + sxy * sxy + syz * syz + szx * szx
+    size = j2 * math.sqrt(j2)
+    if size == 0.0:  # no deviator (or one so small that J₂^{3/2} underflows)
+        return -p
+    j3 = (sxx * (syy * szz - syz * syz) - sxy * (sxy * szz - syz * szx) + szx * (sxy * syz - syy * szx))
+    c3 = min(max(1.5 * math.sqrt(3.0) * j3 / size, -1.0), 1.0)
+    return -p + 2.0 * math.sqrt(j2 / 3.0) * math.cos(math.acos(c3) / 3.0)
+
+
+@njit(cache=True, inline="always")
+def grady_kipp_damage(damage, strain, flaw_strain, flaws_at_unit_strain, m, growth_rate, dt):
+    """Tensile damage D after a step Δt under the tensile strain ε (Grady & Kipp 1980; Benz & Asphaug
+    1994, 1995 in SPH).
+
+    Once ε exceeds the volume's weakest-flaw strain ε_min (``flaw_strain``), n_a = max(1, k V εᵐ)
+    flaws (``flaws_at_unit_strain`` = k V) grow cracks at c_g; n_a cracks of radius c_g t damage the
+    fraction D = n_a (c_g t / R_s)³ of a sphere of radius R_s, so::
+
+        d D^{1/3} / dt = n_a^{1/3} c_g / R_s         (``growth_rate`` = c_g / R_s, µs⁻¹)
+
+    D grows at a bounded rate (at least R_s/c_g from 0 to 1 with one flaw) and never heals.
+    """
+    if strain <= flaw_strain or damage >= 1.0:
+        return damage
+    active = max(1.0, flaws_at_unit_strain * strain ** m)
+    root = damage ** (1.0 / 3.0) + dt * growth_rate * active ** (1.0 / 3.0)
+    return min(1.0, root * root * root)
+
+
+@njit(cache=True, inline="always")
+def ductile_damage_increment(table, k, plastic_increment, triaxiality, rate_ratio, tstar):
+    """The Johnson–Cook damage increment Δεₚ/ε_f of material k (:func:`fracture_strain` with the
+    table's floor), zero below the triaxiality cut-off σ* = −1/3 (:data:`TRIAXIALITY_CUTOFF`) and for
+    a material without Johnson–Cook damage constants."""
+    if plastic_increment <= 0.0 or triaxiality <= TRIAXIALITY_CUTOFF or table[k, DM_HAS_DUCTILE] == 0.0:
+        return 0.0
+    eps_f, _ = fracture_strain(table[k, DM_D1], table[k, DM_D2], table[k, DM_D3], table[k, DM_D4],
+                               table[k, DM_D5], triaxiality, rate_ratio, tstar, table[k, DM_EFMIN])
+    return plastic_increment / eps_f
 
 
 @njit(cache=True, inline="always")

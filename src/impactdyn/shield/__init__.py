@@ -2,7 +2,8 @@
 
 Updated-Lagrangian SPH with a Mie–Grüneisen EOS, elastic–plastic deviatoric
 stress (Jaumann rate, von Mises radial return, Johnson–Cook optional), Monaghan
-artificial viscosity and artificial stress, spall / plastic-strain failure,
+artificial viscosity and artificial stress, failure (a spall / plastic-strain threshold, or damage
+that leaves fragments: :mod:`._damage`, found by :func:`fragments_of`),
 variable smoothing length and a cell-list neighbour search in compiled parallel
 kernels (:mod:`._equations` states the equations). Units cm, g, µs, Mbar.
 
@@ -16,15 +17,18 @@ Typical use::
 """
 
 from impactdyn.shield._binning import BinningMethod, bin_to_hydrogrid
+from impactdyn.shield._fragments import (Fragments, cumulative_number, find_fragments, fragment_rows, fragments_of,
+                                         plot_fragment_masses)
 from impactdyn.shield._integrate import SPHError, run
 from impactdyn.shield._io import read_particles, write_particles
 from impactdyn.shield._neighbours import Domain, neighbour_pairs
-from impactdyn.shield._options import FLOW_STRESS_MODELS, FlowStress, SPHOptions
+from impactdyn.shield._options import FAILURE_MODELS, FLOW_STRESS_MODELS, FailureModel, FlowStress, SPHOptions
 from impactdyn.shield._problems import Problem, planar_impact, sphere_on_plate
 from impactdyn.shield._state import TENSOR_COMPONENTS, History, Particles, RunResult
 
 __all__ = [
-    "BinningMethod", "Domain", "FLOW_STRESS_MODELS", "FlowStress", "History", "Particles", "Problem", "RunResult",
-    "SPHError", "SPHOptions", "TENSOR_COMPONENTS", "bin_to_hydrogrid", "neighbour_pairs", "planar_impact",
-    "read_particles", "run", "sphere_on_plate", "write_particles",
+    "BinningMethod", "Domain", "FAILURE_MODELS", "FLOW_STRESS_MODELS", "FailureModel", "FlowStress", "Fragments",
+    "History", "Particles", "Problem", "RunResult", "SPHError", "SPHOptions", "TENSOR_COMPONENTS", "bin_to_hydrogrid",
+    "cumulative_number", "find_fragments", "fragment_rows", "fragments_of", "neighbour_pairs", "planar_impact",
+    "plot_fragment_masses", "read_particles", "run", "sphere_on_plate", "write_particles",
 ]

@@ -47,11 +47,16 @@ x-momentum with the mirror half, as it must) and periodic axes conserve all thre
 * Smoothing length hᵢ = κ (mᵢ/ρᵢ)^{1/3} — the exact integral of
   dh/dt = −(h/3)(dρ/dt)/ρ — with ρ floored at ρ₀/h_max_factor³ so that h grows
   at most h_max_factor-fold in expanding debris.
-* Failure: a particle with p < −p_spall or εₚ > εₚ,f is flagged failed for good;
-  failed particles carry p ≥ 0 and S = 0. Failed material therefore expands
-  freely, and its continuity density falls with the local divergence: in a
-  fragment cloud a particle's density is the bulk density of the cloud around
-  it (the binning's mass and bulk density (1 − φ)ρ are unaffected by this).
+* Failure and damage (``failure_model``): each particle carries a damage D ∈ [0, 1]; it carries
+  the tension (1 − D) p for p < 0 and the deviator (1 − D) S, compression whole; D = 1 is failed
+  for good (p ≥ 0, S = 0). ``"threshold"``: D jumps to 1 when p < −p_spall or εₚ > εₚ,f (the
+  elongation at break, reached by compressive flow as readily as by tension). ``"fragmentation"``
+  (:mod:`._damage`): D grows at a bounded rate under tension from Weibull flaws (Grady–Kipp,
+  Benz–Asphaug), and Johnson–Cook ductile damage, which does not accumulate in compression, sets
+  D = 1 when it reaches 1; intact regions stay cohesive and become the fragments at hand-off.
+  Failed material expands freely, and its continuity density falls with the local divergence: in a
+  fragment cloud a particle's density is the bulk density of the cloud around it (the binning's
+  mass and bulk density (1 − φ)ρ are unaffected by this).
 
 Time integration: kick–drift–kick leapfrog with a predicted state for the force
 evaluation, one neighbour-list update (a search only once the particles have
@@ -84,21 +89,29 @@ import math
 import numpy as np
 from numba import get_thread_id, njit, prange
 
-from impactdyn.constitutive import (C0, EPS_FAIL, GAMMA0, P_SPALL, RHO0, SHEAR, SLOPE, artificial_stress, flow_stress,
-                                   jaumann_rate, pressure, radial_return, sound_speed, temperature)
+from impactdyn.constitutive import (C0, DM_M, DM_YOUNG, EPS_FAIL, GAMMA0, HAS_JC, JC_RATE0, JC_TMELT, JC_TROOM, P_SPALL,
+                                   RHO0, SHEAR, SLOPE, artificial_stress, ductile_damage_increment, flow_stress,
+                                   grady_kipp_damage, jaumann_rate, largest_principal_stress, pressure, radial_return,
+                                   sound_speed, temperature, von_mises)
 from impactdyn.shield._kernel import SIGMA_3D, g_shape, w_shape
+
+#: Failure models of the kernels (:class:`._options.SPHOptions` ``failure`` and ``failure_model``).
+NO_FAILURE, THRESHOLD, FRAGMENTATION = 0, 1, 2
 
 
 # inline: a call passing this many arrays per particle costs more than the work (:mod:`._strength`)
 @njit(cache=True, inline="always")
-def _particle_eos(i, m, rho, e, S, failed, mat, params, h_factor, rho_floor, eps_as, p, c, h, R, tension, work_a,
+def _particle_eos(i, m, rho, e, S, damage, mat, params, h_factor, rho_floor, eps_as, p, c, h, R, tension, work_a,
                   work_v):
-    """Pressure p, sound speed c, smoothing length h and artificial stress R of particle i."""
+    """Pressure p, sound speed c, smoothing length h and artificial stress R of particle i.
+
+    Damage D scales the tension a particle carries: p < 0 becomes (1 − D) p (compression is kept whole).
+    """
     k = mat[i]
     rho0 = params[k, RHO0]
     pi = pressure(rho[i], e[i], rho0, params[k, C0], params[k, SLOPE], params[k, GAMMA0])
-    if failed[i]:
-        pi = max(pi, 0.0)
+    if pi < 0.0:
+        pi *= 1.0 - damage[i]
     p[i] = pi
     c[i] = sound_speed(rho[i], pi, rho0, params[k, C0], params[k, SLOPE], params[k, GAMMA0])
     h[i] = h_factor * (m[i] / max(rho[i], rho0 * rho_floor)) ** (1.0 / 3.0)
@@ -108,11 +121,11 @@ def _particle_eos(i, m, rho, e, S, failed, mat, params, h_factor, rho_floor, eps
 
 
 @njit(parallel=True, cache=True)
-def update_particles(m, rho, e, S, failed, mat, params, h_factor, rho_floor, eps_as, p, c, h, R, tension, work_a,
+def update_particles(m, rho, e, S, damage, mat, params, h_factor, rho_floor, eps_as, p, c, h, R, tension, work_a,
                      work_v):
     """p, c, h and R of every particle (:func:`_particle_eos`)."""
     for i in prange(m.size):
-        _particle_eos(i, m, rho, e, S, failed, mat, params, h_factor, rho_floor, eps_as, p, c, h, R, tension,
+        _particle_eos(i, m, rho, e, S, damage, mat, params, h_factor, rho_floor, eps_as, p, c, h, R, tension,
                       work_a, work_v)
 
 
@@ -121,8 +134,8 @@ ST_V, ST_C, ST_RHO, ST_M, ST_VOL, ST_SR, ST_WIDTH = 0, 3, 4, 5, 6, 8, 16
 
 
 @njit(cache=True, inline="always")
-def _pair_row(i, x, h, v, c, rho, m, S, p, pos, st):
-    """Row i of the pair loop's particle data.
+def _pair_row(i, x, h, v, c, rho, m, S, p, damage, pos, st):
+    """Row i of the pair loop's particle data (σ = −pI + (1 − D) S: damage D weakens the deviator).
 
     pos (N, 4): (x, y, z, h), what the support test reads for every listed pair;
     st (N, 16): v (3), c, ρ, m, m/ρ, σ/ρ² (6; σ = −pI + S) in the columns
@@ -140,15 +153,16 @@ def _pair_row(i, x, h, v, c, rho, m, S, p, pos, st):
     st[i, ST_M] = m[i]
     st[i, ST_VOL] = m[i] / rho[i]
     q = 1.0 / (rho[i] * rho[i])
+    intact = 1.0 - damage[i]
     for d in range(6):
-        st[i, ST_SR + d] = (S[i, d] - p[i] * (d < 3)) * q
+        st[i, ST_SR + d] = (intact * S[i, d] - p[i] * (d < 3)) * q
 
 
 @njit(parallel=True, cache=True)
-def pair_rows(x, h, v, c, rho, m, S, p, pos, st):
+def pair_rows(x, h, v, c, rho, m, S, p, damage, pos, st):
     """The pair loop's rows (pos, st) of every particle (:func:`_pair_row`)."""
     for i in prange(m.size):
-        _pair_row(i, x, h, v, c, rho, m, S, p, pos, st)
+        _pair_row(i, x, h, v, c, rho, m, S, p, damage, pos, st)
 
 
 #: Columns of the per-thread pair sums (:func:`pair_sums`): Σ mⱼTᵢⱼ·∇ᵢWᵢⱼ (3), Σ mⱼvᵢⱼ·∇ᵢWᵢⱼ, ė,
@@ -295,7 +309,7 @@ def pair_sums(pos, st, R, tension, nbr, img, count, signs, offsets, alpha, beta,
 
 
 @njit(cache=True, inline="always")
-def _particle_rates(i, pos, st, S, failed, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v, acc,
+def _particle_rates(i, pos, st, S, damage, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v, acc,
                     dlnrho, de, dS, rate, dt_i):
     """The rates of particle i from the pair sums (T, N, 16) of :func:`pair_sums`, whose rows of i it zeroes.
 
@@ -322,7 +336,7 @@ def _particle_rates(i, pos, st, S, failed, mat, params, rho_floor, alpha, beta, 
     ds, rate[i] = jaumann_rate(S[i, 0], S[i, 1], S[i, 2], S[i, 3], S[i, 4], S[i, 5], grad_v, i,
                                params[mat[i], SHEAR])
     for k in range(6):
-        dS[i, k] = 0.0 if failed[i] else ds[k]
+        dS[i, k] = 0.0 if damage[i] >= 1.0 else ds[k]
     amag = math.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
     dt_i[i] = cfl * hi / (ci + 1.2 * (alpha * ci + beta * mu_max))
     if amag > 0.0:
@@ -332,16 +346,16 @@ def _particle_rates(i, pos, st, S, failed, mat, params, rho_floor, alpha, beta, 
 
 
 @njit(parallel=True, cache=True)
-def particle_rates(pos, st, S, failed, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v, acc, dlnrho,
-                   de, dS, rate, dt_i):
+def particle_rates(pos, st, S, damage, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v, acc,
+                   dlnrho, de, dS, rate, dt_i):
     """The rates of every particle from the pair sums (:func:`_particle_rates`)."""
     for i in prange(pos.shape[0]):
-        _particle_rates(i, pos, st, S, failed, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v, acc,
+        _particle_rates(i, pos, st, S, damage, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v, acc,
                         dlnrho, de, dS, rate, dt_i)
 
 
 @njit(parallel=True, cache=True)
-def kick_drift_predict(x, v, acc, rho, dlnrho, e, de, S, dS, eps_p, rate, failed, m, mat, params, johnson_cook,
+def kick_drift_predict(x, v, acc, rho, dlnrho, e, de, S, dS, eps_p, rate, damage, m, mat, params, johnson_cook,
                        h_factor, rho_floor, eps_as, dt, v_p, rho_p, e_p, S_p, p, c, h, R, tension, work_a, work_v, pos,
                        st):
     """Half kick v ← v + ½Δt a, drift x ← x + Δt v, and the predicted state at the step's end.
@@ -361,23 +375,23 @@ def kick_drift_predict(x, v, acc, rho, dlnrho, e, de, S, dS, eps_p, rate, failed
             S_p[i, d] = S[i, d] + dt * dS[i, d]
         Y = flow_stress(params, k, johnson_cook, eps_p[i], rate[i], temperature(rho_p[i], e_p[i], params, k))
         radial_return(S_p, i, Y, params[k, SHEAR])
-        _particle_eos(i, m, rho_p, e_p, S_p, failed, mat, params, h_factor, rho_floor, eps_as, p, c, h, R,
+        _particle_eos(i, m, rho_p, e_p, S_p, damage, mat, params, h_factor, rho_floor, eps_as, p, c, h, R,
                       tension, work_a, work_v)
-        _pair_row(i, x, h, v_p, c, rho_p, m, S_p, p, pos, st)
+        _pair_row(i, x, h, v_p, c, rho_p, m, S_p, p, damage, pos, st)
 
 
 @njit(parallel=True, cache=True)
-def finish_step(pos, st, S_p, failed, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v, acc_new,
+def finish_step(pos, st, S_p, damage, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v, acc_new,
                 dlnrho_new, de_new, dS_new, rate, dt_i, v, m, rho, dlnrho, e, de, S, dS, eps_p, johnson_cook, failure,
-                dt):
+                dtable, flaw_strain, flaw_count, growth, ductile, dt):
     """The rates at the step's end (:func:`_particle_rates` of the predicted state S_p), then the corrector.
 
     Corrector: second half kick with acc_new, trapezoidal ln ρ, e, S of the old and new rates, radial return
-    (εₚ), failure check. Returns the totals of the corrected state (:func:`totals`).
+    (εₚ), damage (:func:`_damage_update`). Returns the totals of the corrected state (:func:`totals`).
     """
     mass = px = py = pz = kin = internal = 0.0
     for i in prange(m.size):
-        _particle_rates(i, pos, st, S_p, failed, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v,
+        _particle_rates(i, pos, st, S_p, damage, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v,
                         acc_new, dlnrho_new, de_new, dS_new, rate, dt_i)
         k = mat[i]
         for d in range(3):
@@ -386,13 +400,14 @@ def finish_step(pos, st, S_p, failed, mat, params, rho_floor, alpha, beta, cfl, 
         e[i] += 0.5 * dt * (de[i] + de_new[i])
         for d in range(6):
             S[i, d] += 0.5 * dt * (dS[i, d] + dS_new[i, d])
-        Y = flow_stress(params, k, johnson_cook, eps_p[i], rate[i], temperature(rho[i], e[i], params, k))
-        eps_p[i] += radial_return(S, i, Y, params[k, SHEAR])
-        if failure and not failed[i]:
-            pi = pressure(rho[i], e[i], params[k, RHO0], params[k, C0], params[k, SLOPE], params[k, GAMMA0])
-            if pi < -params[k, P_SPALL] or eps_p[i] > params[k, EPS_FAIL]:
-                failed[i] = True
-        if failed[i]:
+        T = temperature(rho[i], e[i], params, k)
+        Y = flow_stress(params, k, johnson_cook, eps_p[i], rate[i], T)
+        plastic = radial_return(S, i, Y, params[k, SHEAR])
+        eps_p[i] += plastic
+        if failure != NO_FAILURE and damage[i] < 1.0:
+            _damage_update(i, k, failure, plastic, T, rho, e, S, eps_p, rate, params, dtable, flaw_strain,
+                           flaw_count, growth, ductile, damage, dt)
+        if damage[i] >= 1.0:
             for d in range(6):
                 S[i, d] = 0.0
         mass += m[i]
@@ -402,6 +417,35 @@ def finish_step(pos, st, S_p, failed, mat, params, rho_floor, alpha, beta, cfl, 
         kin += 0.5 * m[i] * (v[i, 0] ** 2 + v[i, 1] ** 2 + v[i, 2] ** 2)
         internal += m[i] * e[i]
     return mass, px, py, pz, kin, internal
+
+
+@njit(cache=True, inline="always")
+def _damage_update(i, k, failure, plastic, T, rho, e, S, eps_p, rate, params, dtable, flaw_strain, flaw_count,
+                   growth, ductile, damage, dt):
+    """The damage D of particle i at the step's end, from its corrected (undamaged) stress.
+
+    ``THRESHOLD``: D = 1 once p < −p_spall or εₚ > εₚ,f (the material's elongation at break).
+    ``FRAGMENTATION`` (:mod:`._damage`): tensile damage (:func:`~impactdyn.constitutive.grady_kipp_damage`)
+    under the strain ε = σ₁/E of the largest principal stress σ₁, and ductile damage
+    (:func:`~impactdyn.constitutive.ductile_damage_increment`, none below σ* = −1/3) whose sum
+    reaching 1 sets D = 1.
+    """
+    pi = pressure(rho[i], e[i], params[k, RHO0], params[k, C0], params[k, SLOPE], params[k, GAMMA0])
+    if failure == THRESHOLD:
+        if pi < -params[k, P_SPALL] or eps_p[i] > params[k, EPS_FAIL]:
+            damage[i] = 1.0
+        return
+    sigma1 = largest_principal_stress(pi, S[i, 0], S[i, 1], S[i, 2], S[i, 3], S[i, 4], S[i, 5])
+    damage[i] = grady_kipp_damage(damage[i], sigma1 / dtable[k, DM_YOUNG], flaw_strain[i], flaw_count[i],
+                                  dtable[k, DM_M], growth[i], dt)
+    if plastic > 0.0:  # yielding: σ_eq = Y > 0
+        rate_ratio, tstar = 1.0, 0.0
+        if params[k, HAS_JC] != 0.0:
+            rate_ratio = rate[i] / params[k, JC_RATE0]
+            tstar = min(max((T - params[k, JC_TROOM]) / (params[k, JC_TMELT] - params[k, JC_TROOM]), 0.0), 1.0)
+        ductile[i] += ductile_damage_increment(dtable, k, plastic, -pi / von_mises(S, i), rate_ratio, tstar)
+        if ductile[i] >= 1.0:
+            damage[i] = 1.0
 
 
 @njit(parallel=True, cache=True)

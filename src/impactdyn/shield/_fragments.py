@@ -321,3 +321,31 @@ def plot_fragment_masses(path: str | os.PathLike, fragments: Fragments, *, proje
     ax.set_title(title)
     ax.grid(True, which="both", alpha=0.3)
     return save_figure(fig, path, dpi=110)
+
+
+def fragments_of(particles, *, link_length_cm: float, damage_threshold: float = 1.0,
+                 mirror_x0: bool = True) -> Fragments:
+    """The fragments of an SPH state (:class:`impactdyn.shield.Particles`).
+
+    Intact: damage D < ``damage_threshold`` and below the melting temperature of the particle's
+    material (its Johnson–Cook T_m; a material without one is never counted melted): a liquid
+    particle is spray, not part of a solid fragment.  Volumes m/ρ₀ of the library material.
+    ``mirror_x0``: the state is the half model of a symmetry plane x = 0 (the shield stage's sphere on
+    plate): the image particles (−x, y, z) are added first, so a fragment across the plane is found
+    whole, with its full mass, and each one beside it once on each side.
+    """
+    from impactdyn.materials import get_material
+
+    if not (0.0 < damage_threshold <= 1.0):
+        raise InputError(f"damage_threshold = {damage_threshold}: must lie in (0, 1]")
+    mats = [get_material(name) for name in particles.materials]
+    rho0 = np.array([m.rho0 for m in mats])[particles.material]
+    t_melt = np.array([m.johnson_cook.t_melt if m.johnson_cook else np.inf for m in mats])[particles.material]
+    intact = (particles.damage < damage_threshold) & (particles.temperature < t_melt)
+    position, velocity, mass = particles.position, particles.velocity, particles.mass
+    if mirror_x0:
+        image = np.array([-1.0, 1.0, 1.0])
+        position = np.concatenate([position, position * image])
+        velocity = np.concatenate([velocity, velocity * image])
+        mass, rho0, intact = (np.concatenate([a, a]) for a in (mass, rho0, intact))
+    return find_fragments(position, velocity, mass, mass / rho0, intact, link_length_cm=link_length_cm)

@@ -15,9 +15,11 @@ import numpy as np
 from numba import get_num_threads
 
 from impactdyn._errors import InputError, SimulationError
-from impactdyn.constitutive import pack_materials
-from impactdyn.shield._equations import (PS_WIDTH, ST_WIDTH, finish_step, kick_drift_predict, pair_rows, pair_sums,
-                                         particle_rates, temperatures, totals, update_particles)
+from impactdyn.constitutive import pack_damage, pack_materials
+from impactdyn.shield._damage import seed_flaws
+from impactdyn.shield._equations import (FRAGMENTATION, NO_FAILURE, PS_WIDTH, ST_WIDTH, THRESHOLD, finish_step,
+                                         kick_drift_predict, pair_rows, pair_sums, particle_rates, temperatures,
+                                         totals, update_particles)
 from impactdyn.shield._kernel import w_shape
 from impactdyn.shield._neighbours import NeighbourList, spatial_order
 from impactdyn.shield._options import SPHOptions
@@ -39,7 +41,8 @@ class _Solver:
     """
 
     REORDER_EVERY = 10
-    STATE = ("x", "v", "m", "rho", "e", "S", "eps_p", "failed", "mat", "ids", "acc", "dlnrho", "de", "dS", "rate")
+    STATE = ("x", "v", "m", "rho", "e", "S", "eps_p", "damage", "ductile", "flaw_strain", "flaw_count", "growth",
+             "mat", "ids", "acc", "dlnrho", "de", "dS", "rate")
 
     def __init__(self, problem, options: SPHOptions):
         init = problem.particles
@@ -48,8 +51,17 @@ class _Solver:
         self.params = pack_materials(problem.materials)
         self.x, self.v = init.position.copy(), init.velocity.copy()
         self.m, self.rho, self.e = init.mass.copy(), init.density.copy(), init.specific_energy.copy()
-        self.S, self.eps_p, self.failed = init.deviatoric_stress.copy(), init.plastic_strain.copy(), init.failed.copy()
+        self.S, self.eps_p, self.damage = init.deviatoric_stress.copy(), init.plastic_strain.copy(), init.damage.copy()
         self.mat, self.ids = init.material.copy(), np.arange(n)
+        self.failure = (NO_FAILURE if not options.failure else
+                        FRAGMENTATION if options.failure_model == "fragmentation" else THRESHOLD)
+        self.damage_table = pack_damage(problem.materials)
+        self.ductile = np.zeros(n)
+        if self.failure == FRAGMENTATION:
+            self.flaw_strain, self.flaw_count, self.growth = seed_flaws(
+                self.m, self.mat, self.names, self.params, self.damage_table, options.flaw_seed)
+        else:
+            self.flaw_strain, self.flaw_count, self.growth = np.full(n, np.inf), np.zeros(n), np.zeros(n)
         z1, z3, z6 = (lambda: np.zeros(n)), (lambda: np.zeros((n, 3))), (lambda: np.zeros((n, 6)))
         self.p, self.c, self.h, self.rate, self.dt_i = z1(), z1(), z1(), z1(), z1()
         self.R, self.tension = z6(), np.zeros(n, dtype=np.bool_)
@@ -65,16 +77,16 @@ class _Solver:
         self.as_norm = 1.0 / float(w_shape(1.0 / options.h_factor))
         self.steps = 0
         self._eos(self.rho, self.e, self.S)
-        pair_rows(self.x, self.h, self.v, self.c, self.rho, self.m, self.S, self.p, self.pos, self.st)
+        pair_rows(self.x, self.h, self.v, self.c, self.rho, self.m, self.S, self.p, self.damage, self.pos, self.st)
         self._pair_sums()
-        particle_rates(self.pos, self.st, self.S, self.failed, self.mat, self.params, self.rho_floor, options.alpha,
+        particle_rates(self.pos, self.st, self.S, self.damage, self.mat, self.params, self.rho_floor, options.alpha,
                        options.beta, options.cfl, options.force_cfl, self.sums, self.grad_v, self.acc, self.dlnrho,
                        self.de, self.dS, self.rate, self.dt_i)
         self.dt = float(self.dt_i.min())
 
     def _eos(self, rho, e, S) -> None:
         o = self.options
-        update_particles(self.m, rho, e, S, self.failed, self.mat, self.params, o.h_factor, self.rho_floor,
+        update_particles(self.m, rho, e, S, self.damage, self.mat, self.params, o.h_factor, self.rho_floor,
                          o.artificial_stress, self.p, self.c, self.h, self.R, self.tension, self.work_a, self.work_v)
 
     def _pair_sums(self) -> None:
@@ -101,18 +113,20 @@ class _Solver:
             self.neighbours.permute(order)
         o = self.options
         kick_drift_predict(self.x, self.v, self.acc, self.rho, self.dlnrho, self.e, self.de, self.S, self.dS,
-                           self.eps_p, self.rate, self.failed, self.m, self.mat, self.params, self.jc, o.h_factor,
+                           self.eps_p, self.rate, self.damage, self.m, self.mat, self.params, self.jc, o.h_factor,
                            self.rho_floor, o.artificial_stress, dt, self.v_p, self.rho_p, self.e_p, self.S_p,
                            self.p, self.c, self.h, self.R, self.tension, self.work_a, self.work_v, self.pos, self.st)
         if self.domain.wrap(self.x):
             self.neighbours.invalidate()
-            pair_rows(self.x, self.h, self.v_p, self.c, self.rho_p, self.m, self.S_p, self.p, self.pos, self.st)
+            pair_rows(self.x, self.h, self.v_p, self.c, self.rho_p, self.m, self.S_p, self.p, self.damage, self.pos,
+                      self.st)
         self._pair_sums()
-        new_totals = finish_step(self.pos, self.st, self.S_p, self.failed, self.mat, self.params, self.rho_floor,
+        new_totals = finish_step(self.pos, self.st, self.S_p, self.damage, self.mat, self.params, self.rho_floor,
                                  o.alpha, o.beta, o.cfl, o.force_cfl, self.sums, self.grad_v, self.acc_new,
                                  self.dlnrho_new, self.de_new, self.dS_new, self.rate, self.dt_i, self.v, self.m,
                                  self.rho, self.dlnrho, self.e, self.de, self.S, self.dS, self.eps_p, self.jc,
-                                 o.failure, dt)
+                                 self.failure, self.damage_table, self.flaw_strain, self.flaw_count, self.growth,
+                                 self.ductile, dt)
         self.dt = float(self.dt_i.min())
         self.acc, self.acc_new = self.acc_new, self.acc
         self.dlnrho, self.dlnrho_new = self.dlnrho_new, self.dlnrho
@@ -128,7 +142,8 @@ class _Solver:
         T = temperatures(self.rho, self.e, self.mat, self.params)
         return Particles(position=self.x[back], velocity=self.v[back], mass=self.m[back], density=self.rho[back],
                          pressure=self.p[back], specific_energy=self.e[back], deviatoric_stress=self.S[back],
-                         plastic_strain=self.eps_p[back], failed=self.failed[back], smoothing_length=self.h[back],
+                         plastic_strain=self.eps_p[back], failed=self.damage[back] >= 1.0, damage=self.damage[back],
+                         smoothing_length=self.h[back],
                          sound_speed=self.c[back], temperature=T[back], material=self.mat[back],
                          materials=self.names, time=time)
 

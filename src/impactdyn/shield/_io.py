@@ -24,6 +24,8 @@ from impactdyn.shield._state import History, Particles
 FORMAT = "impactdyn-sph-particles"
 VERSION = 1
 _PARTICLE_FIELDS = tuple(f.name for f in fields(Particles) if f.name not in ("materials", "time"))
+#: Fields a file may lack: written by a version that did not record them (the record fills them in).
+_OPTIONAL_FIELDS = ("damage",)
 _HISTORY_FIELDS = tuple(f.name for f in fields(History))
 
 
@@ -57,10 +59,10 @@ def read_particles(path: str | Path) -> tuple[Particles, History | None]:
         if f.attrs.get("format") != FORMAT or f.attrs.get("version") != VERSION or "particles" not in f:
             raise InputError(f"{path}: not an impactdyn SPH particle file (format {FORMAT!r}, version {VERSION} expected)")
         g = f["particles"]
-        missing = [name for name in _PARTICLE_FIELDS if name not in g]
+        missing = [name for name in _PARTICLE_FIELDS if name not in g and name not in _OPTIONAL_FIELDS]
         if missing:
             raise InputError(f"{path}: /particles lacks {', '.join(missing)}")
-        particles = Particles(**{name: g[name][()] for name in _PARTICLE_FIELDS},
+        particles = Particles(**{name: g[name][()] for name in _PARTICLE_FIELDS if name in g},
                               materials=tuple(str(s.decode() if isinstance(s, bytes) else s)
                                               for s in g.attrs["materials"]),
                               time=float(g.attrs["time_us"]))

@@ -16,6 +16,11 @@ FlowStress = Literal["perfectly_plastic", "johnson_cook"]
 """Flow-stress models: Y = Y₀, or Johnson–Cook (:func:`impactdyn.constitutive.flow_stress`)."""
 FLOW_STRESS_MODELS: tuple[str, ...] = get_args(FlowStress)
 
+FailureModel = Literal["threshold", "fragmentation"]
+"""Failure models (:mod:`._equations`): a pressure and plastic-strain threshold, or damage that leaves
+fragments (:mod:`._damage`)."""
+FAILURE_MODELS: tuple[str, ...] = get_args(FailureModel)
+
 
 class SPHOptions(Section):
     """Numerical parameters of the SPH stage (:mod:`._equations`).
@@ -26,7 +31,12 @@ class SPHOptions(Section):
     h_max_factor : the largest growth of h under expansion.
     cfl, force_cfl : time-step factors.
     flow_stress : "perfectly_plastic" (Y = Y₀) or "johnson_cook".
-    failure : apply the spall / plastic-strain failure criteria of the materials.
+    failure : apply the materials' failure (``failure_model``); false: no particle fails.
+    failure_model : "threshold": a particle fails at once when p < −p_spall or εₚ exceeds the
+        alloy's elongation at break (compressive flow fails it as readily as tension);
+        "fragmentation": tensile damage from Weibull flaws growing at a bounded rate and
+        Johnson–Cook ductile damage that compression does not accumulate (:mod:`._damage`).
+    flaw_seed : seed of the particles' weakest-flaw strains (fragmentation).
     neighbour_skin : skin ℓ of the reused neighbour list as a fraction of the largest h
         (:mod:`._neighbours`): the list is searched again only after the particles
         have moved (or h grown) by ℓ/2. It changes the cost, not the interacting
@@ -46,4 +56,6 @@ class SPHOptions(Section):
     force_cfl: Annotated[float, Field(gt=0, le=1)] = 0.25
     flow_stress: FlowStress = "perfectly_plastic"
     failure: bool = True
+    failure_model: FailureModel = "threshold"
+    flaw_seed: Annotated[int, Field(ge=0)] = 1
     neighbour_skin: NonNegative = 0.15

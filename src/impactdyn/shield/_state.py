@@ -14,7 +14,7 @@ TENSOR_COMPONENTS = ("xx", "yy", "zz", "xy", "yz", "zx")
 _SHAPES = {
     "position": (3,), "velocity": (3,), "mass": (), "density": (), "pressure": (), "specific_energy": (),
     "deviatoric_stress": (6,), "plastic_strain": (), "failed": (), "smoothing_length": (), "sound_speed": (),
-    "temperature": (), "material": (),
+    "temperature": (), "material": (), "damage": (),
 }
 
 
@@ -40,6 +40,9 @@ class Particles:
         Equivalent plastic strain εₚ.
     failed : (N,) bool
         Failed particles carry no tension (p ≥ 0) and no deviatoric stress.
+    damage : (N,) in [0, 1], optional
+        D: the particle carries (1 − D) of its tension and deviatoric stress (D = 1: failed);
+        None (a state written before damage was recorded): 1 where failed, else 0.
     smoothing_length : (N,)
         h, cm (kernel support 2h).
     sound_speed : (N,)
@@ -69,9 +72,12 @@ class Particles:
     material: np.ndarray
     materials: tuple[str, ...]
     time: float = 0.0
+    damage: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         n = np.shape(self.mass)[0] if np.ndim(self.mass) == 1 else -1
+        if self.damage is None:
+            object.__setattr__(self, "damage", np.asarray(self.failed, dtype=float))
         for name, tail in _SHAPES.items():
             dtype = bool if name == "failed" else np.int64 if name == "material" else np.float64
             a = np.array(getattr(self, name), dtype=dtype)
@@ -81,6 +87,8 @@ class Particles:
                 raise InputError(f"Particles.{name}: not finite")
             a.flags.writeable = False
             object.__setattr__(self, name, a)
+        if n and not np.all((self.damage >= 0.0) & (self.damage <= 1.0)):
+            raise InputError("Particles.damage: outside [0, 1]")
         if n and (self.material.min() < 0 or self.material.max() >= len(self.materials)):
             raise InputError("Particles.material: index outside the material list")
         object.__setattr__(self, "materials", tuple(self.materials))

@@ -94,7 +94,8 @@ class _ShieldBase(Section):
 
 
 ShieldSection = section_of("ShieldSection", _ShieldBase, SPHOptions,
-                           ("flow_stress", "failure", "alpha", "beta", "artificial_stress", "h_factor", "cfl"),
+                           ("flow_stress", "failure", "failure_model", "flaw_seed", "alpha", "beta",
+                            "artificial_stress", "h_factor", "cfl"),
                            __name__)
 
 
