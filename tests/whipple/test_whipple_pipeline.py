@@ -1,6 +1,7 @@
 """`impactdyn whipple run`: the end-to-end pipeline on a coarse shot, restarts, reports and bad input (issue 4)."""
 
 import html
+import csv
 import json
 import shutil
 from pathlib import Path
@@ -37,7 +38,7 @@ def test_run_folder_holds_every_stage(run):
                  "binning/handoff_grid.h5", "debris/debris.h5", "debris/areal_density.csv",
                  "debris/plots/areal_density.png", "decks/wall.k", "decks/wall_dyna3d.inp",
                  "plots/cloud_handoff.png", "plots/ballistic_limit.png", "plots/conservation.png",
-                 "wall/stage.json", "wall/wall.json", "wall/wall.pvd", "wall/plots/wall_front.png",
+                 "plots/fragments.png", "shield/fragments.csv", "wall/stage.json", "wall/wall.json", "wall/wall.pvd", "wall/plots/wall_front.png",
                  "wall/plots/wall_rear.png", "wall/plots/wall_history.png"):
         assert (out / path).is_file(), path
     assert set(s["timings_s"]) == {"shield", "binning", "debris", "wall", "decks"}
@@ -170,6 +171,13 @@ def test_restart_needs_a_run_folder(tmp_path, capsys, make_case):
     (dict(binning__cell_size_cm=4.0), "binning.cell_size_cm = 4.0 does not fit"),
     (dict(wall__nodes=[16, 1, 31]), "wall.nodes[1]: must be greater than or equal to 2"),
     (dict(shield__handoff_us="4"), "shield.handoff_us: must be a valid number"),
+    (dict(shield__failure_model="brittle"), "shield.failure_model: "),
+    (dict(shield__flaw_seed=-1), "shield.flaw_seed: must be greater than or equal to 0"),
+    (dict(shield__fragment_link_spacings=-1.5), "shield.fragment_link_spacings: must be greater than 0"),
+    (dict(shield__fragment_damage_threshold=0.0), "shield.fragment_damage_threshold: must be greater than 0"),
+    (dict(shield__fragment_damage_threshold=1.5), "shield.fragment_damage_threshold: must be less than or equal to 1"),
+    (dict(shield__failure_model="fragmentation", projectile__material="cu-ofhc"),
+     "no Weibull flaw constants for cu-ofhc"),
 ])
 def test_bad_input_exits_2_and_writes_nothing(tmp_path, capsys, make_case, change, message):
     case = make_case(tmp_path, **change)
@@ -303,3 +311,21 @@ def test_bad_wall_solver_settings_exit_2_before_any_work(tmp_path, capsys, make_
     err = capsys.readouterr().err
     assert message in err and "Traceback" not in err
     assert not out.exists()
+
+
+def test_a_fragmenting_shot_reports_its_solid_fragments(tmp_path, make_case):
+    """At 2 km/s the fragmentation model leaves the projectile in pieces the SPH resolves: the shield stage
+    lists them (largest first, their mass within the debris's), and the report draws and names them."""
+    # 3 µs: the projectile's remains have passed behind the bumper
+    case = make_case(tmp_path, shield__failure_model="fragmentation", shield__spacing_cm=0.05,
+                     shield__handoff_us=3.0, projectile__velocity_km_s=2.0)
+    out = tmp_path / "run"
+    assert main(["whipple", "run", str(case), "-o", str(out)]) == 0
+    figures = json.loads((out / "summary.json").read_text())["stages"]["shield"]["fragments"]
+    rows = list(csv.DictReader((out / "shield" / "fragments.csv").open()))
+    assert figures["n_fragments"] == len(rows) > 0
+    masses = [float(r["mass_g"]) for r in rows]
+    assert masses == sorted(masses, reverse=True) and masses[0] == pytest.approx(figures["largest_g"])
+    assert 0 < figures["largest_over_projectile"] < 1
+    assert all(float(r["vy_cm_per_us"]) > 0 for r in rows)
+    assert "Solid fragments of the debris" in (out / "report.html").read_text()

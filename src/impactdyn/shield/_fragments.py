@@ -144,6 +144,16 @@ class Fragments:
         values = {f.name: getattr(self, f.name)[:n] for f in fields(self) if f.name in _FIELDS}
         return Fragments(**values, ptr=self.ptr[:n + 1], members=self.members[:self.ptr[n]])
 
+    def select(self, keep) -> "Fragments":
+        """The fragments where the boolean mask ``keep`` (F,) is true, in their order."""
+        keep = np.asarray(keep, dtype=bool)
+        if keep.shape != (len(self),):
+            raise InputError(f"Fragments.select: a mask of shape {keep.shape}, expected ({len(self)},)")
+        values = {f.name: getattr(self, f.name)[keep] for f in fields(self) if f.name in _FIELDS}
+        members = [self.indices(f) for f in np.flatnonzero(keep)]
+        return Fragments(**values, ptr=np.concatenate([[0], np.cumsum(self.count[keep])]),
+                         members=np.concatenate(members) if members else np.zeros(0, dtype=np.int64))
+
     def __repr__(self) -> str:
         top = f", largest {self.mass[0]:.6g} g" if len(self) else ""
         return f"Fragments(n={len(self)}, mass={self.total_mass():.6g} g{top})"
@@ -299,7 +309,7 @@ def plot_fragment_masses(path: str | os.PathLike, fragments: Fragments, *, proje
     fig, ax = plt.subplots(figsize=(6.5, 4.8), constrained_layout=True)
     m, count = cumulative_number(fragments)
     if len(m):
-        ax.step(m, count, where="post", color="C0", label=f"{len(m)} fragments, {m.sum():.4g} g")
+        ax.step(m, count, where="post", color="C0", label=f"{len(m)} fragment{'s' if len(m) != 1 else ''}, {m.sum():.4g} g")
         ax.plot(m, count, "o", ms=3, color="C0")
         ax.set_xscale("log")
         ax.set_yscale("log")

@@ -83,14 +83,24 @@ class WallSection(Section):
 
 class _ShieldBase(Section):
     """SPH numerics of the shield stage and the hand-off time; the numerics are those of
-    :class:`impactdyn.shield.SPHOptions`, with its defaults and bounds (the rest keep its defaults)."""
+    :class:`impactdyn.shield.SPHOptions`, with its defaults and bounds (the rest keep its defaults).
+
+    fragment_link_spacings : the friends-of-friends link length of the fragments at hand-off, in
+        particle spacings (1.5 links a particle to its 18 nearest lattice neighbours; one broken layer
+        separates two fragments).
+    fragment_damage_threshold : a particle with damage below it (and below its melting temperature) is
+        intact, part of a fragment (1: every particle that has not failed).
+    """
 
     spacing_cm: Positive = 0.0254
     handoff_us: Positive = 4.0
+    fragment_link_spacings: Positive = 1.5
+    fragment_damage_threshold: Annotated[float, Field(gt=0, le=1)] = 1.0
 
     def sph_options(self) -> SPHOptions:
         """The :class:`impactdyn.shield.SPHOptions` of this table."""
-        return SPHOptions(**self.model_dump(exclude={"spacing_cm", "handoff_us"}))
+        return SPHOptions(**self.model_dump(exclude={"spacing_cm", "handoff_us", "fragment_link_spacings",
+                                                     "fragment_damage_threshold"}))
 
 
 ShieldSection = section_of("ShieldSection", _ShieldBase, SPHOptions,
@@ -237,6 +247,13 @@ def shield_problem(case: WhippleCase):
                               obliquity_deg=p.obliquity_deg, plate_thickness_cm=b.thickness_cm,
                               spacing_cm=s.spacing_cm, plate_radius_cm=b.radius_cm)
     return problem, s.sph_options()
+
+
+def projectile_mass(case: WhippleCase) -> float:
+    """The projectile's mass ρ₀ π d³/6, g (the full sphere)."""
+    import math
+
+    return get_material(case.projectile.material).rho0 * math.pi * case.projectile.diameter_cm ** 3 / 6.0
 
 
 def binning_region(case: WhippleCase, particles) -> tuple:

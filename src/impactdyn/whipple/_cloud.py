@@ -68,3 +68,38 @@ def cloud_figures(particles, bumper_back_y: float) -> dict:
         "axial_momentum_g_cm_us": float(m @ v[:, 1]),
         "momentum_g_cm_us": (m @ v).tolist(),
     }
+
+
+#: A fragment is debris when its centre of mass moves toward the wall faster than this share of the
+#: projectile's speed: the bumper's remnant, the largest intact body, moves at a few m/s (7 m/s in a
+#: 2-km/s shot), the debris at hundreds of m/s and more.
+DEBRIS_FRAGMENT_SPEED_FRACTION = 0.05
+
+
+def debris_fragments(particles, case):
+    """The solid fragments of the debris (:func:`impactdyn.shield.fragments_of` with the case's
+    ``[shield]`` link length and damage threshold, images of the half model included so that masses
+    are the full model's): those moving toward the wall (v_y > 5 % of the projectile's speed,
+    :data:`DEBRIS_FRAGMENT_SPEED_FRACTION`), which leaves out the bumper's remnant; a fragment still
+    crossing the bumper's plane counts."""
+    from impactdyn.shield import fragments_of
+    from impactdyn.units import km_s_to_cm_us
+
+    s = case.shield
+    fragments = fragments_of(particles, link_length_cm=s.fragment_link_spacings * s.spacing_cm,
+                             damage_threshold=s.fragment_damage_threshold)
+    speed = km_s_to_cm_us(case.projectile.velocity_km_s)
+    return fragments.select(fragments.velocity[:, 1] > DEBRIS_FRAGMENT_SPEED_FRACTION * speed)
+
+
+def fragment_figures(fragments, projectile_mass_g: float) -> dict:
+    """Numbers of the debris fragments (full model): how many, their mass, the largest (mass, share of
+    the projectile's mass, equivalent diameter, particles, speed)."""
+    figures = {"n_fragments": len(fragments), "mass_g": fragments.total_mass()}
+    if len(fragments):
+        figures |= {"largest_g": float(fragments.mass[0]),
+                    "largest_over_projectile": float(fragments.mass[0] / projectile_mass_g),
+                    "largest_diameter_cm": float(fragments.diameter_cm[0]),
+                    "largest_particles": int(fragments.count[0]),
+                    "largest_speed_km_s": float(np.linalg.norm(fragments.velocity[0]) * KM_S_PER_CM_US)}
+    return figures

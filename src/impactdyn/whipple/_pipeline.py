@@ -7,6 +7,7 @@ stage with exactly the code path of a full run::
 
     shield/    particles.h5        SPH particles at the hand-off time and the history of totals
                particles.vtu       the same as points (ParaView)
+               fragments.csv       the debris's solid fragments, largest first (mass, size, velocity, spin, shape)
     binning/   handoff_grid.h5     the HydroGrid binned from the particles behind the bumper
     debris/    (an ``impactdyn debris run`` folder: summary.json, config.resolved.toml — a
                runnable debris case —, areal_density.csv, debris.h5, particles_*.vtu,
@@ -40,9 +41,9 @@ from impactdyn.whipple._case import WhippleCase
 from impactdyn.whipple._stages import DEPENDS, STAGES, Progress, StageContext, read_stage, settings
 
 def _shield(s: StageContext) -> dict:
-    from impactdyn.shield import run
-    from impactdyn.shield import write_particles
-    from impactdyn.whipple._case import shield_problem
+    from impactdyn.shield import fragment_rows, run, write_particles
+    from impactdyn.whipple._case import projectile_mass, shield_problem
+    from impactdyn.whipple._cloud import debris_fragments, fragment_figures
 
     problem, options = shield_problem(s.case)
     t_end = s.case.shield.handoff_us
@@ -51,6 +52,8 @@ def _shield(s: StageContext) -> dict:
     write_particles(out.file("particles.h5"), result.state, result.history)
     if s.case.output.vtk:
         _write_points_vtk(out.file("particles.vtu"), result.state)
+    fragments = debris_fragments(result.state, s.case)
+    out.write_csv("fragments.csv", *fragment_rows(fragments))
     h = result.history
     p0 = h.momentum[0]
     e0 = h.total_energy[0]
@@ -69,6 +72,7 @@ def _shield(s: StageContext) -> dict:
         "kinetic_final": float(h.kinetic[-1]),
         "internal_final": float(h.internal[-1]),
         "n_failed": int(result.state.failed.sum()),
+        "fragments": fragment_figures(fragments, projectile_mass(s.case)),
     }
 
 

@@ -7,10 +7,11 @@ Figures (``plots/``):
 ``ballistic_limit.png``   the JSC ballistic-limit curve with this shot and the test database's
                           shots near this shield marked (Figure 8)
 ``conservation.png``      the SPH run's energy and momentum against time
+``fragments.png``         the debris's solid fragments: cumulative number against mass, the largest listed
 
 and the debris stage's ``debris/plots/areal_density.png`` (Figures 10/13/16/19) and the
 wall stage's ``wall/plots/wall_front.png``, ``wall_rear.png`` (Figures 6–7, 11, 14, 17, 20)
-and ``wall_history.png``.  ``report.html`` embeds all seven as PNG data, so it is one
+and ``wall_history.png``.  ``report.html`` embeds all eight as PNG data, so it is one
 file to mail; its "Wall response" section sets the simulated verdict beside the equation's.
 """
 
@@ -103,10 +104,23 @@ def wall_figures(wall: dict, ble: dict) -> dict:
             "energy": m.get("energy")} | {k: m[k] for k in keys if k in m}
 
 
+def _fragments(figures: dict | None) -> str:
+    """The report's line on the debris's solid fragments (the shield stage's record)."""
+    if figures is None:  # a shield stage written before fragments were found
+        return "–"
+    if not figures["n_fragments"]:
+        return "none: every particle of the debris failed or melted"
+    return (f"{figures['n_fragments']}, {figures['mass_g']:.4g} g; the largest {figures['largest_g']:.3g} g "
+            f"({100 * figures['largest_over_projectile']:.2g} % of the projectile, "
+            f"{figures['largest_diameter_cm']:.3g} cm, {figures['largest_particles']} particles, "
+            f"{figures['largest_speed_km_s']:.3g} km/s)")
+
+
 def write_report(folder: FolderWriter, case: WhippleCase) -> dict:
     """Write ``summary.json``, ``plots/`` and ``report.html`` into the run folder; returns the record."""
-    from impactdyn.shield import read_particles
-    from impactdyn.whipple._cloud import cloud_figures
+    from impactdyn.shield import plot_fragment_masses, read_particles
+    from impactdyn.whipple._case import projectile_mass
+    from impactdyn.whipple._cloud import cloud_figures, debris_fragments
 
     records = _records(folder)
     particles, history = read_particles(folder.path / "shield" / "particles.h5")
@@ -117,6 +131,10 @@ def write_report(folder: FolderWriter, case: WhippleCase) -> dict:
     _plot_cloud(plots.file("cloud_handoff.png"), particles, case, cloud)
     _plot_ble(plots.file("ballistic_limit.png"), case, ble)
     _plot_conservation(plots.file("conservation.png"), history)
+    plot_fragment_masses(plots.file("fragments.png"), debris_fragments(particles, case),
+                         projectile_mass_g=projectile_mass(case),
+                         title=f"Solid fragments of the debris at {case.shield.handoff_us:g} µs "
+                               f"(failure model: {case.shield.failure_model})")
     summary = {
         "title": case.title,
         "shot": {"projectile": case.projectile.model_dump(), "bumper": case.bumper.model_dump(),
@@ -136,7 +154,7 @@ def write_report(folder: FolderWriter, case: WhippleCase) -> dict:
     folder.write_json("summary.json", summary)
     folder.write_text("report.html", _html(folder, case, summary))
     return {"files": ["summary.json", "report.html", "plots/cloud_handoff.png", "plots/ballistic_limit.png",
-                      "plots/conservation.png"]}
+                      "plots/conservation.png", "plots/fragments.png"]}
 
 
 def _plot_cloud(path, particles, case: WhippleCase, cloud: dict) -> None:
@@ -290,6 +308,7 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
         ("cloud leading-edge velocity", _fmt(cloud.get("leading_edge_velocity_km_s"), "km/s")),
         ("cone half-angle (95 % of momentum)", _fmt(cloud.get("cone_half_angle_deg"), "°")),
         ("debris mass (half model)", _fmt(cloud.get("debris_mass_g"), "g")),
+        ("solid fragments in the debris (full model)", _fragments(st["shield"].get("fragments"))),
         ("peak areal momentum on the wall", _fmt(dep["peak_areal_momentum_N_s_cm2"], "N·s/cm²")),
         ("impulse on the wall, normal (full model)", _fmt(dep["impulse_on_wall_normal_N_s_full_model"], "N·s")),
         ("arrival times (first, median, last)", "–" if not dep["arrival_time_us"] else
@@ -342,6 +361,7 @@ Half model (x ≥ 0); units as labelled.</p>
 {_img(plots / "ballistic_limit.png")}
 <h2>Simulated debris cloud and wall loading</h2><table>{figures}</table>
 <h3>Cloud at hand-off</h3>{_img(plots / "cloud_handoff.png")}
+<h3>Solid fragments of the debris</h3>{_img(plots / "fragments.png")}
 <h3>Areal momentum density on the wall</h3>{_img(folder.path / "debris" / "plots" / "areal_density.png")}
 <h2>Wall response</h2><table>{wall_rows}</table>
 {_img(folder.path / "wall" / "plots" / "wall_front.png")}
