@@ -316,9 +316,9 @@ def test_bad_wall_solver_settings_exit_2_before_any_work(tmp_path, capsys, make_
 def test_a_fragmenting_shot_reports_its_solid_fragments(tmp_path, make_case):
     """At 2 km/s the fragmentation model leaves the projectile in pieces the SPH resolves: the shield stage
     lists them (largest first, their mass within the debris's), and the report draws and names them."""
-    # 3 µs: the projectile's remains have passed behind the bumper
+    # 3 µs: the projectile's remains have passed behind the bumper; the wall's response is not asked here
     case = make_case(tmp_path, shield__failure_model="fragmentation", shield__spacing_cm=0.05,
-                     shield__handoff_us=3.0, projectile__velocity_km_s=2.0)
+                     shield__handoff_us=3.0, projectile__velocity_km_s=2.0, wall_solver__max_time_us=30.0)
     out = tmp_path / "run"
     assert main(["whipple", "run", str(case), "-o", str(out)]) == 0
     figures = json.loads((out / "summary.json").read_text())["stages"]["shield"]["fragments"]
@@ -329,3 +329,21 @@ def test_a_fragmenting_shot_reports_its_solid_fragments(tmp_path, make_case):
     assert 0 < figures["largest_over_projectile"] < 1
     assert all(float(r["vy_cm_per_us"]) > 0 for r in rows)
     assert "Solid fragments of the debris" in (out / "report.html").read_text()
+
+    # two populations: the compact fragments are not binned, and fly to the wall on their own;
+    # mass and momentum are conserved exactly across the split
+    stages = json.loads((out / "summary.json").read_text())["stages"]
+    compact = stages["debris"]["compact_fragments"]
+    assert compact["n_fragments"] >= 1 and stages["binning"]["n_particles_in_compact_fragments"] > 0
+    particles, _ = read_particles(out / "shield" / "particles.h5")
+    loaded = load_whipple_case(case)
+    from impactdyn.whipple._cloud import compact_fragments, compact_particles, debris_fragments
+    taken = compact_particles(compact_fragments(debris_fragments(particles, loaded), loaded), len(particles))
+    behind = particles.position[:, 1] >= loaded.bumper.thickness_cm
+    grid = read_grid(out / "binning" / "handoff_grid.h5")
+    assert grid.total_mass() == pytest.approx(particles.mass[behind & ~taken].sum(), rel=1e-12)
+    assert compact["mass_g"] == pytest.approx(particles.mass[taken].sum(), rel=1e-12)
+    # y and z: the half model's x momentum is exchanged with the mirror half, not conserved
+    assert np.array(compact["momentum"])[1:] == pytest.approx(
+        (particles.mass[taken] @ particles.velocity[taken])[1:], rel=1e-12)
+    assert np.array(compact["momentum_deposited"])[1:] == pytest.approx(np.array(compact["momentum"])[1:], rel=1e-9)

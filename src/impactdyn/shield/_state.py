@@ -113,6 +113,13 @@ class Particles:
         """Σ m e, g·cm²/µs²."""
         return float(self.mass @ self.specific_energy)
 
+    def select(self, keep) -> "Particles":
+        """The particles where the boolean mask ``keep`` (N,) is true, in their order."""
+        keep = np.asarray(keep, dtype=bool)
+        if keep.shape != (len(self),):
+            raise InputError(f"Particles.select: a mask of shape {keep.shape}, expected ({len(self)},)")
+        return self.replace(**{name: getattr(self, name)[keep] for name in _SHAPES})
+
     def replace(self, **changes) -> "Particles":
         """A copy with some fields replaced."""
         values = {f.name: getattr(self, f.name) for f in fields(self)}

@@ -103,3 +103,31 @@ def fragment_figures(fragments, projectile_mass_g: float) -> dict:
                     "largest_particles": int(fragments.count[0]),
                     "largest_speed_km_s": float(np.linalg.norm(fragments.velocity[0]) * KM_S_PER_CM_US)}
     return figures
+
+
+#: A debris fragment flies to the wall as a compact body (:func:`impactdyn.debris.compact_deposition`)
+#: when the SPH resolves it (at least this many particles: two across) ...
+COMPACT_MIN_PARTICLES = 8
+
+
+def compact_fragments(fragments, case):
+    """The debris fragments carried to the wall as compact bodies, not binned (issue 31's two
+    populations): with the fragmentation model only (the threshold model's intact particles are what
+    its compressive-strain criterion left, not fragments), resolved by the SPH
+    (:data:`COMPACT_MIN_PARTICLES`) and at least as large as the fragment the wall's mesh rule is built
+    to crater (:data:`impactdyn.wall.FRAGMENT_DIAMETER_CM`, 0.06 cm: its crater spans ≥ 4 core
+    elements).  Smaller fragments stay in the binned cloud with their momentum."""
+    from impactdyn.wall import FRAGMENT_DIAMETER_CM
+
+    carried = np.zeros(len(fragments), dtype=bool)
+    if case.shield.failure_model == "fragmentation":
+        carried = (fragments.count >= COMPACT_MIN_PARTICLES) & (fragments.diameter_cm >= FRAGMENT_DIAMETER_CM)
+    return fragments.select(carried)
+
+
+def compact_particles(fragments, n_particles: int) -> np.ndarray:
+    """``(n_particles,)`` bool: the particles of the half model in ``fragments`` (whose member indices
+    count the images of :func:`impactdyn.shield.fragments_of` from ``n_particles`` on)."""
+    taken = np.zeros(n_particles, dtype=bool)
+    taken[fragments.members % n_particles] = True
+    return taken

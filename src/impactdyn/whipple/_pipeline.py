@@ -95,9 +95,13 @@ def _binning(s: StageContext) -> dict:
     from impactdyn.shield import bin_to_hydrogrid
     from impactdyn.shield import read_particles
     from impactdyn.whipple._case import binning_region
+    from impactdyn.whipple._cloud import compact_fragments, compact_particles, debris_fragments
 
     s.report("binning", 0, 1)
     particles, _ = read_particles(s.folder.path / "shield" / "particles.h5")
+    # the compact fragments fly to the wall on their own (the debris stage): not binned into the cloud
+    compact = compact_particles(compact_fragments(debris_fragments(particles, s.case), s.case), len(particles))
+    particles = particles.select(~compact)
     region = binning_region(s.case, particles)
     cell = s.case.binning.cell_size_cm
     check_cells(f"binning.cell_size_cm = {cell:g}", [(hi - lo) / cell for lo, hi in region])
@@ -115,6 +119,7 @@ def _binning(s: StageContext) -> dict:
         "region_cm": [[float(grid.x[0]), float(grid.x[-1])], [float(grid.y[0]), float(grid.y[-1])],
                       [float(grid.z[0]), float(grid.z[-1])]],
         "n_particles_binned": int(inside.sum()),
+        "n_particles_in_compact_fragments": int(compact.sum()),
         "mass_particles_g": m_particles,
         "mass_grid_g": float(grid.mass.sum()),
         "mass_error_rel": abs(float(grid.mass.sum()) - m_particles) / m_particles if m_particles else 0.0,
@@ -134,11 +139,41 @@ def _debris(s: StageContext) -> dict:
     check_seeding(case, grid, f"binning.cell_size_cm = {s.case.binning.cell_size_cm:g}",
                   "the wall's front face (bumper.thickness_cm + wall.spacing_cm)", "the shield stage's hand-off")
     result = run_debris(**build(case, grid=grid), progress=s.report)
-    summary = write_debris_files(s.folder.sub("debris"), result, case, decks=False)
+    result, compact = _with_compact_fragments(s.case, s.folder.path, result)
+    summary = write_debris_files(s.folder.sub("debris"), result, case, decks=False,
+                                 extra_summary={"compact_fragments": compact})
     return {key: summary[key] for key in (
         "n_cells_seeded", "n_particles", "n_propagated", "n_arrived", "mass_seeded_g", "mass_arrived_g",
         "momentum_in", "momentum_arrived", "momentum_deposited", "momentum_off_wall", "momentum_failed",
-        "arrival_time_us", "peak_areal_density_g_cm_us", "integrator", "timings_s")}
+        "arrival_time_us", "peak_areal_density_g_cm_us", "integrator", "timings_s", "compact_fragments")}
+
+
+def _with_compact_fragments(case: WhippleCase, folder: Path, result):
+    """The debris result with the compact fragments' records (:func:`impactdyn.debris.compact_deposition`)
+    added to the cloud's: the wall and the decks read one deposition, the two populations in it.
+    Returns the result and the fragments' record (how many, their mass and momentum in the half model,
+    the momentum their records deposit; ``momentum_deposited`` of the summary holds both populations)."""
+    from impactdyn.debris import areal_density, compact_deposition, element_impulse
+    from impactdyn.shield import read_particles
+    from impactdyn.wallgrid import WallDeposition
+    from impactdyn.whipple._cloud import compact_fragments, debris_fragments
+
+    particles, _ = read_particles(folder / "shield" / "particles.h5")
+    fragments = compact_fragments(debris_fragments(particles, case), case)
+    wall_y = case.bumper.thickness_cm + case.wall.spacing_cm
+    records, share = compact_deposition(result.wall, wall_y, fragments.mass, fragments.diameter_cm,
+                                        fragments.position, fragments.velocity)
+    mass = share * fragments.mass          # in the half model: images carry none of their own
+    record = {"n_fragments": int(np.count_nonzero(share)), "mass_g": float(mass.sum()),
+              "momentum": (mass @ fragments.velocity).tolist(),
+              "momentum_deposited": records.impulse.sum(axis=0).tolist()}
+    if not len(records.element):
+        return result, record
+    deposition = WallDeposition(element=np.concatenate([result.deposition.element, records.element]),
+                                time=np.concatenate([result.deposition.time, records.time]),
+                                impulse=np.concatenate([result.deposition.impulse, records.impulse]))
+    impulse = result.impulse + element_impulse(records, result.wall)
+    return replace(result, deposition=deposition, impulse=impulse, areal=areal_density(impulse, result.wall)), record
 
 
 def _wall(s: StageContext) -> dict:
