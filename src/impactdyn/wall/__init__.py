@@ -1,4 +1,4 @@
-"""Rear-wall impact stage: explicit Lagrangian FE of the wall under the deposited momentum (DESIGN §9).
+"""Rear-wall impact stage: explicit Lagrangian FE of the wall under the deposited momentum (docs/theory/wall-solver.md).
 
 The modern counterpart of the report's DYNA3D analysis: 8-node hexahedra with one-point
 integration and hourglass control (Belytschko–Bindeman assumed strain by default, or the

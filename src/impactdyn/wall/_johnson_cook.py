@@ -1,6 +1,6 @@
 """Wall model ``"johnson_cook"``: Johnson–Cook strength, Mie–Grüneisen EOS, JC damage, spall, erosion.
 
-The modern alternative to the report's type-13 card (DESIGN §9), built on the shared
+The modern alternative to the report's type-13 card (docs/theory/wall-solver.md, Materials), built on the shared
 constitutive kernels of :mod:`impactdyn.constitutive` (the SPH shield stage's EOS and
 strength code) and the library material's constants.  Per element and step::
 

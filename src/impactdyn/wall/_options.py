@@ -18,7 +18,7 @@ from impactdyn.wall._models import check_model_name
 HOURGLASS_FORMS = ("viscous", "stiffness", "assumed_strain")
 #: LS-DYNA's hourglass type (IHQ) of each form: Flanagan–Belytschko viscous 2 and stiffness 4,
 #: Belytschko–Bindeman assumed strain 6 (whose QH is 1: the form has no coefficient; LS-DYNA's
-#: type 6 keeps the elastic moduli, this solver's follows the material's tangent, :mod:`._step`).
+#: type 6 keeps the elastic moduli, this solver's follows the material's tangent, :mod:`._hourglass`).
 LSDYNA_HOURGLASS_TYPE = {"viscous": 2, "stiffness": 4, "assumed_strain": 6}
 
 
@@ -60,7 +60,7 @@ class WallOptions(Section):
     supports : "dyngen" (DYNGEN's edge codes), "clamped", "free" or "uniaxial" (:mod:`._mesh`).
     hourglass : "assumed_strain" (default; Belytschko–Bindeman: the element's own bending and
         twisting stiffness, loaded at the material's tangent, unloaded elastically, bounded by
-        the flow stress in yielding elements, :mod:`._step`) or the Flanagan–Belytschko forms
+        the flow stress in yielding elements, :mod:`._hourglass`) or the Flanagan–Belytschko forms
         "stiffness" and "viscous".  Why the default (benchmarks/BENCHMARKS.md, wall sections):
         on the clamped-plate check it is mesh-converged (0.244 / 0.249 / 0.251 cm at h 0.1 /
         0.05 / 0.025) and within 5 % of CalculiX (+0.2 % at h 0.1), where the stiffness form
