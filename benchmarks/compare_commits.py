@@ -88,7 +88,18 @@ def _wall_report_mesh(root: Path):
     return lambda: wall.run_wall(grid, deposition, "al6061-t6", options)
 
 
+def _sph_sphere_on_plate(root: Path):
+    """The SPH shield stage with the commit's default failure model: a 0.3175-cm Al sphere on a
+    0.0635-cm Al bumper at 6 km/s, Δ = d/10 (1,524 particles), 2 µs: the pair loop, the predictor
+    and the corrector with its failure update, the shield's hot path."""
+    from impactdyn import shield
+
+    problem = shield.sphere_on_plate("al6061-t6", "al6061-t6", 0.3175, 6.0, 0.0, 0.0635, 0.03175)
+    return lambda: shield.run(problem, 2.0)
+
+
 TIMINGS = {
+    "sph": Timing("SPH sphere on plate, 1,524 particles, 6 km/s, 2 us (shield.run)", _sph_sphere_on_plate),
     "wall": Timing("Johnson-Cook wall, report mesh, synthetic load, 10 us (run_wall)", _wall_report_mesh),
     "beam": Timing("IMPACTB sample, simulate() in process", _beam_sample, reference="beam-lsoda"),
     "beam-lsoda": Timing("IMPACTB sample, plain SciPy LSODA port (bench_beam.baseline)", _beam_lsoda),
