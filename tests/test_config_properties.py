@@ -43,13 +43,14 @@ from pydantic.fields import FieldInfo
 from impactdyn import _limits
 from impactdyn._config import dump_toml, load_case
 from impactdyn._errors import InputError
-from impactdyn.beam import BeamCase
+from impactdyn.beam import CONTACT_LAWS, BeamCase
 from impactdyn.beam._model import BeamModel
 from impactdyn.beam._simulate import contact_law, initial_state, torque_schedule
 from impactdyn.debris import INTEGRATORS, DebrisCase, build, load_debris_case, remap_grid, seed_and_select
 from impactdyn.debris._case import hand_off_grid
 from impactdyn.io import formats, write_grid
 from impactdyn.materials import MATERIALS
+from impactdyn.shield import BinningMethod
 from impactdyn.wall import MODELS
 from impactdyn.wall._options import HOURGLASS_FORMS, SPREADS
 from impactdyn.whipple import WhippleCase, load_whipple_case, shield_problem
@@ -138,11 +139,12 @@ KINDS = {
     "whipple": Kind(WhippleCase, _whipple, {"table2_7a": _example("whipple/table2_7a.toml")}),
 }
 
-#: Valid choices of the settings that name something, by the key's last part.
+#: Valid choices of the settings that name something, by the key's last part: the registries themselves,
+#: so that a new plug-in is drawn too.
 CHOICES: dict[str, list[str]] = {
-    "material": list(MATERIALS), "method": list(INTEGRATORS) + ["kernel", "cic"], "material_model": list(MODELS),
-    "hourglass": list(HOURGLASS_FORMS), "spread": list(SPREADS), "format": list(formats()), "model":
-        ["momentum", "hertz", "hunt_crossley", "lankarani_nikravesh"], "restitution_law": ["listing", "constant"],
+    "material": list(MATERIALS), "method": list(INTEGRATORS) + list(typing.get_args(BinningMethod)),
+    "material_model": list(MODELS), "hourglass": list(HOURGLASS_FORMS), "spread": list(SPREADS),
+    "format": list(formats()), "model": list(CONTACT_LAWS), "restitution_law": ["listing", "constant"],
 }
 
 

@@ -3,17 +3,18 @@
 import numpy as np
 import pytest
 
-from impactdyn.beam import BeamModel
+from impactdyn.beam import CONTACT_LAWS, BeamModel
 from impactdyn.beam._model import IN_CONTACT, rhs_kernel
 from impactdyn.beam._simulate import contact_law
 
-LAWS = {
-    "hertz": {"model": "hertz", "stiffness_N_m1_5": 3.2e9, "damping_s_m": 0.006},
-    "hunt_crossley": {"model": "hunt_crossley", "stiffness_N_m_n": 1e9, "exponent": 1.5, "restitution": 0.8},
-    "lankarani_nikravesh": {"model": "lankarani_nikravesh", "stiffness_N_m_n": 1e9, "exponent": 1.3,
-                            "restitution": 0.7},
-    "momentum": {"model": "momentum"},
-}
+from .conftest import contact_table
+
+#: Values other than the defaults, where a law has some worth exercising (a dashpot, another exponent).
+TUNED = {"hertz": {"damping_s_m": 0.006}, "lankarani_nikravesh": {"exponent": 1.3, "restitution": 0.7}}
+LAWS = {law: contact_table(law, **TUNED.get(law, {})) for law in sorted(CONTACT_LAWS)}
+COMPLIANT = [law for law in LAWS if not CONTACT_LAWS[law].impulsive]
+#: Free flight (0) with one law, compliant contact (1) with every compliant law, resting (2) with every impulsive one.
+LAW_MODES = [(COMPLIANT[0], 0)] + [(law, 1 if law in COMPLIANT else 2) for law in LAWS]
 PENETRATION = 1e-5  # m, of the contact states
 
 
@@ -55,8 +56,7 @@ def state_and_params(case, mode, amplitude=1e-3):
 @pytest.mark.parametrize("legacy_arms", [False, True], ids=["", "legacy_arms"])
 @pytest.mark.parametrize("coupled,amplitude", [(False, 1e-3), (True, 1e-3), (True, 0.04)],
                          ids=["linear", "coupled", "coupled_large"])
-@pytest.mark.parametrize("law,mode", [("hertz", 0), ("hertz", 1), ("hunt_crossley", 1),
-                                      ("lankarani_nikravesh", 1), ("momentum", 2)])
+@pytest.mark.parametrize("law,mode", LAW_MODES)
 def test_analytic_jacobian_matches_finite_differences(make_case, law, mode, coupled, amplitude, legacy_arms):
     """Entry by entry to 1e-6 relative, linear and coupled, in every mode, also with the
     legacy moment arms (force direction ≠ gap row). The floor, 1e-9 of the row's largest
@@ -83,3 +83,12 @@ def test_analytic_jacobian_matches_finite_differences(make_case, law, mode, coup
     assert np.all(err <= 1e-6 * np.abs(numeric) + floor)
     # the running integrals do not feed back
     assert not np.any(analytic[:, 2 * m.n + 2 :])
+
+
+@pytest.mark.parametrize("law", sorted(CONTACT_LAWS))
+def test_every_registered_law_is_built_from_its_contact_table(make_case, law):
+    """A registered law has a [contact] table that accepts it, and the case builds that law."""
+    case = make_case("impactb_sample.toml", contact=LAWS[law])
+    built = contact_law(case)
+    assert isinstance(built, CONTACT_LAWS[law]) and built.name == law
+    assert built.params().ndim == 1 and np.all(np.isfinite(built.params()))

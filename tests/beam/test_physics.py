@@ -3,7 +3,9 @@
 import numpy as np
 import pytest
 
-from impactdyn.beam import BeamModel, simulate
+from impactdyn.beam import CONTACT_LAWS, BeamModel, simulate
+
+from .conftest import contact_section, contact_table
 
 FREE = {"torque": {"amplitude_N_m": 0.0}, "damping": {"joint_N_m_s": 0.0, "modal_ratio": 0.0}}
 
@@ -51,11 +53,16 @@ def test_hertz_contact_returns_energy(make_case):
     assert r.impacts[0].restitution == pytest.approx(1.0, abs=1e-3)
 
 
-@pytest.mark.parametrize("law", ["hunt_crossley", "lankarani_nikravesh"])
+#: The compliant laws that take a target restitution (every such registered law).
+DISSIPATIVE = sorted(law for law, cls in CONTACT_LAWS.items()
+                     if not cls.impulsive and "restitution" in contact_section(law).model_fields)
+
+
+@pytest.mark.parametrize("law", DISSIPATIVE)
 def test_dissipative_laws_reach_their_restitution(make_case, law):
     """A rigid beam (n = 0) on a stiff contact: v_sep/v_app ≈ the law's target e."""
     case = make_case("impactb_sample.toml", **FREE, model={"n_modes": 0, "gravity_m_s2": 0.0},
-                     contact={"model": law, "stiffness_N_m_n": 1e9, "restitution": 0.9},
+                     contact=contact_table(law, stiffness_N_m_n=1e9, restitution=0.9),
                      initial={"theta_rad": 0.01, "theta_dot_rad_s": -4.0},
                      time={"end_s": 0.01, "output_step_s": 1e-4})
     e = simulate(case).impacts[0].restitution

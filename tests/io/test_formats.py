@@ -14,6 +14,10 @@ from impactdyn.io import _registry
 from impactdyn.io._registry import formats, read_grid, register_format, write_grid
 
 ROUND_TRIP = sorted(name for name, f in formats().items() if f.reader and f.writer)
+#: The round-trip formats that do not keep every bit, and why; every other registered format is held to an
+#: exact round trip (a new one too, until it says here why not).
+LOSSY = {"avsout": "the legacy CTH text file: three significant digits (e11.3), always staggered"}
+EXACT = [name for name in ROUND_TRIP if name not in LOSSY]
 
 
 def file_name(fmt_name: str) -> str:
@@ -48,8 +52,12 @@ def test_round_trip_by_format_name_is_stable(tmp_path, rng, name, representable_
         np.testing.assert_array_equal(getattr(twice, f), getattr(once, f), err_msg=f)
 
 
-@pytest.mark.parametrize("name", ["hdf5", "vtk-rectilinear"])
-def test_binary_formats_are_exact(tmp_path, rng, name, representable_grid):
+def test_lossy_formats_are_registered():
+    assert set(LOSSY) <= set(ROUND_TRIP)
+
+
+@pytest.mark.parametrize("name", EXACT)
+def test_exact_formats_are_exact(tmp_path, rng, name, representable_grid):
     g0 = representable_grid(rng, shape=(4, 2, 3))
     x = np.cumsum(rng.uniform(0.1, 1.0, 5))
     g = dataclasses.replace(g0, x=x, pressure=rng.normal(size=g0.shape), velocity=rng.normal(size=g0.shape + (3,)),

@@ -1,6 +1,9 @@
-"""Binning SPH particles onto the hand-off HydroGrid: kernel (default) and cloud-in-cell assignment (issue 4)."""
+"""Binning SPH particles onto the hand-off HydroGrid: kernel (default) and cloud-in-cell assignment.
+
+Parametrised over every binning method of :data:`impactdyn.shield.BinningMethod`."""
 
 import tomllib
+import typing
 from pathlib import Path
 
 import numpy as np
@@ -14,7 +17,7 @@ from impactdyn.whipple._pipeline import settings
 
 CELL = 0.1
 BOX = ((0.0, 1.0), (0.0, 1.0), (0.0, 1.0))
-METHODS = ("kernel", "cic")
+METHODS = typing.get_args(shield.BinningMethod)
 EXAMPLES = Path(__file__).parents[2] / "examples" / "whipple"
 
 
@@ -101,7 +104,7 @@ def test_kernel_spreads_a_particle_over_its_support():
 
 
 @pytest.mark.parametrize("method, ratio, tolerance", [
-    ("kernel", 2.0, 1e-12), ("cic", 2.0, 1e-12),  # cells of 2 × 2 × 2 particles: uniform by symmetry
+    *((m, 2.0, 1e-12) for m in METHODS),  # cells of 2 × 2 × 2 particles: uniform by symmetry
     ("kernel", 1.25, 2e-3),  # the Whipple cases' cell/spacing (0.03175/0.0254)
 ])
 def test_a_uniform_lattice_gives_a_uniform_interior(method, ratio, tolerance):
@@ -181,10 +184,11 @@ def test_whipple_case_chooses_the_method_and_records_it(tmp_path):
         path.write_text(tomli_w.dumps(data | {"binning": data["binning"] | binning}))
         return load_whipple_case(path)
 
-    default, cic = case("default.toml"), case("cic.toml", method="cic")
-    assert default.binning.method == "kernel" and cic.binning.method == "cic"
+    assert case("default.toml").binning.method == "kernel"
+    chosen = {m: case(f"{m}.toml", method=m) for m in METHODS}
+    for m, c in chosen.items():
+        assert c.binning.method == m and settings(c, "binning")["binning"]["method"] == m
     # the binning stage's recorded settings differ, so a restart past binning detects the change
-    assert settings(default, "binning") != settings(cic, "binning")
-    assert settings(cic, "binning")["binning"]["method"] == "cic"
+    assert len({str(settings(c, "binning")) for c in chosen.values()}) == len(METHODS)
     with pytest.raises(InputError, match="binning.method"):
         case("ngp.toml", method="ngp")

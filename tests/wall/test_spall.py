@@ -57,6 +57,10 @@ def flyer_plate(model: wall.WallModel, speed: float):
     return s, result, p0
 
 
+def test_every_model_has_a_spall_case():
+    assert {name for name, _ in CASES} == set(wall.MODELS), "state each wall model's spall case (CASES)"
+
+
 @pytest.mark.parametrize("name, law", sorted(CASES, key=str))
 def test_fast_impact_spalls_h_from_the_rear_face(name, law):
     s, result, p0 = flyer_plate(spall_model(name, law), 0.06)

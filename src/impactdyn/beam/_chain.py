@@ -1,6 +1,6 @@
 """Rigid-link (Hencky) chain: an independent, fully nonlinear model of the hub–beam.
 
-A check of the modal model's ``coupled`` option (issues 2, 14) that shares none of its
+A check of the modal model's ``coupled`` option that shares none of its
 approximations: the beam is cut into N rigid uniform links of length ℓ = L/N,
 joined by rotational springs, with exact planar kinematics — no mode shapes, no
 small-deflection expansion, no foreshortening integrals. Free motion only (no stop).

@@ -51,12 +51,13 @@ A worked example (bumper 0.127 cm Al, wall 0.3175 cm, σ = 40 ksi, θ = 25°,
 ρ_p = ρ_b = 2.7 g/cm³, S = 10 cm): at 7 km/s V_n = 6.344 km/s, so the point lies in
 the *shatter* regime (W2), d_c = 0.521267 cm; at 10 km/s V_n = 9.063 km/s, (W3) gives
 d_c = 0.482295 cm.  ρ_b = 2.713 gives 0.521011 and 0.482038 cm — both densities
-reproduce the issue's 0.521 and 0.482 cm.  With S = 10.16 cm (bumper back to wall
+reproduce the reference values 0.521 and 0.482 cm that the tests pin
+(tests/ble/test_ble_whipple.py).  With S = 10.16 cm (bumper back to wall
 front, the report's Appendix A geometry) d_c = 0.523808 and 0.484854 cm, 3 × 10⁻³ cm
-above the issue's numbers, which are therefore for S = 10 cm; the Table 2 verdicts
+above the reference values, which are therefore for S = 10 cm; the Table 2 verdicts
 (0.575 and 0.530 cm perforate, 0.475 and 0.430 cm do not) hold for either spacing.
 A (cos θ)^{-1/3} obliquity factor in (W3), found in some re-statements, would give
-0.4667 cm at 10 km/s and does not reproduce the issue.
+0.4667 cm at 10 km/s and does not reproduce the reference value.
 
 Obliquity cap: θ enters every formula above, and the regime boundaries, as min(θ, 65°)
 (Christiansen 1993 eq. 12; NASA/TM-2009-214785 eq. 4-26), so nothing changes below 65°

@@ -11,7 +11,7 @@ landing the rotation phase to 1e-3 rad after 10 rad takes |ω_rot|h ≲ 0.03, i.
 hundreds of Newton steps per particle, well above the 60-s budget for 10⁶
 particles.  The slow motion of this model is instead a free rigid rotation,
 which is cheap to integrate to fourth order, so the integrator computes that
-(the averaging / slow-manifold route of the issue; the stiff-spring limit of
+(the averaging / slow-manifold route; the stiff-spring limit of
 Rubin & Ungar 1957 and Bornemann 1998, "Homogenization in time of singularly
 perturbed mechanical systems", LNM 1687).
 

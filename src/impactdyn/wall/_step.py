@@ -22,7 +22,7 @@ v = v^{n+½}:
 
       q = ρ ℓ (Q1 ℓ (tr d)² − Q2 c tr d)    if tr d < 0,   else 0
 
-  (LS-DYNA's form: Q1 multiplies the quadratic term; the project's first design notes wrote Q1² there.)  The
+  (LS-DYNA's form: Q1, not Q1², multiplies the quadratic term.)  The
   length ℓ is the element's characteristic length L_e = V/A_max, the one of the time step
   below: with ℓ = V^{1/3} a flat element (the report's are 0.16 × 0.079 × 0.16 cm) gets a
   quadratic viscosity (ℓ/L_e)² times stronger than its step allows, and a compression front

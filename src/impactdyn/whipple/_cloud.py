@@ -111,9 +111,10 @@ COMPACT_MIN_PARTICLES = 8
 
 
 def compact_fragments(fragments, case):
-    """The debris fragments carried to the wall as compact bodies, not binned (issue 31's two
-    populations): with the fragmentation model only (the threshold model's intact particles are what
-    its compressive-strain criterion left, not fragments), resolved by the SPH
+    """The debris fragments carried to the wall as compact bodies, not binned (the second of the
+    two populations to the wall, docs/theory/shield.md): with the fragmentation model only (the
+    threshold model's intact particles are what its compressive-strain criterion left, not
+    fragments), resolved by the SPH
     (:data:`COMPACT_MIN_PARTICLES`) and at least as large as the fragment the wall's mesh rule is built
     to crater (:data:`impactdyn.wall.FRAGMENT_DIAMETER_CM`, 0.06 cm: its crater spans ≥ 4 core
     elements).  Smaller fragments stay in the binned cloud with their momentum."""
