@@ -87,7 +87,7 @@ def run_shot(shot: Shot) -> dict:
     case = shot.case
     if not shot.keep_all:
         case = case.model_copy(update={"output": case.output.model_copy(update=LEAN_OUTPUT)})
-    summary = run_whipple(case, shot.folder)
+    summary = run_whipple(case, shot.folder, keep="all" if shot.keep_all else "lean")
     if not shot.keep_all:
         prune_run(shot.folder)
     return summary
