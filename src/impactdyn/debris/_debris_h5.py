@@ -19,7 +19,7 @@ from impactdyn.wallgrid import WallDeposition, WallGrid
 def write_hdf5(result: DebrisResult, path: Path, lean: bool = False) -> None:
     """The run's arrays in one HDF5 file (groups particles, arrival, deposition, wall; the grid is
     ``handoff_grid.h5``).  ``lean``: the groups deposition and wall only, what
-    :func:`read_deposition` reads (the wall and decks stages): 3.5 MB of the 7a shot's 83 MB, whose
+    :func:`read_deposition` reads (the wall and decks stages): 4.9 MB of the 7a shot's 83 MB, whose
     particle states at hand-off and arrival are the rest (:func:`read_arrivals` needs them)."""
     import h5py
 
