@@ -19,14 +19,14 @@ stage with exactly the code path of a full run::
 
 A run keeps (``keep``, the CLI's ``--keep``) either everything above (``"all"``) or, by default
 (``"lean"``), what the report, ParaView and a restart from any stage need — on the Table 2 7a shot
-~35 MB instead of ~530 MB:
+45 MB instead of 533 MB:
 
 * the hand-off grid once, in ``binning/`` (the debris folder's ``config.resolved.toml`` names it);
 * ``debris/debris.h5`` with the deposition and the wall only (what the wall and decks stages read),
   not the particles' states at hand-off and arrival (80 MB on 7a), and no particle VTU files
   (40 MB on 7a; ``debris/wall_deposition.vtu`` stays);
 * the wall's ParaView series one frame per 10 µs and the last, lighter frames
-  (:func:`impactdyn.wall.write_wall_outputs`, ``series="lean"``: ~10 frames instead of 44 on 7a);
+  (:func:`impactdyn.wall.write_wall_outputs`, ``series="lean"``: 10 frames, 28 MB, instead of 44, 270 MB, on 7a);
 * no decks: the LS-DYNA deck's load curves are 90 MB on 7a (a curve point per pulse corner of
   700,000 deposition records) and nothing downstream reads the decks;
   ``impactdyn whipple run CASE -o RUN --from decks --keep all`` writes them into a lean run
