@@ -205,7 +205,7 @@ def _wall(s: StageContext) -> dict:
                       progress=lambda t, t_end: s.report("wall", t, t_end),
                       settle_progress=lambda done, total: s.report("settle", done, total))
     out = s.folder.sub("wall")
-    series = s.keep if s.case.output.vtk else "none"   # "lean" or "all", the names of both
+    series = s.keep if s.case.output.vtk else "none"   # the series is named as keep is: "lean" or "all"
     files = write_wall_outputs(result, out.path, plots=out.path / "plots", series=series)
     s.report("wall", 1, 1)
     return result.summary() | {"files": sorted(f"wall/{p.relative_to(out.path).as_posix()}" for p in files.values())}
