@@ -124,7 +124,7 @@ def test_summary_has_the_verdict_and_the_cloud_figures(run):
     assert 0 < cloud["centre_of_mass_speed_km_s"] < cloud["leading_edge_velocity_km_s"] <= p.velocity_km_s
     assert 0 < cloud["cone_half_angle_deg"] < 90
     html = (out / "report.html").read_text()
-    assert html.count("data:image/png;base64,") == 7  # 4 of the cloud, BLE and load; 3 of the wall response
+    assert html.count("data:image/png;base64,") == 8  # cloud, fragments, BLE, load, conservation; 3 of the wall
     assert s["ble"]["verdict"] in html
 
 
