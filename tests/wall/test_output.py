@@ -50,7 +50,30 @@ def test_files(result, tmp_path):
     assert not list(tmp_path.rglob(".*tmp*"))
 
 
-def test_lean_skips_the_series(result, tmp_path):
-    files = wall.write_wall_outputs(result, tmp_path, lean=True)
+def test_series_none_skips_the_series(result, tmp_path):
+    files = wall.write_wall_outputs(result, tmp_path, series="none")
     assert "pvd" not in files and not (tmp_path / "wall.pvd").exists()
     assert (tmp_path / "plots" / "wall_front.png").exists() and (tmp_path / "wall.json").exists()
+
+
+def test_a_lean_series_keeps_fewer_lighter_frames_paraview_can_open(result, tmp_path):
+    files = wall.write_wall_outputs(result, tmp_path, series="lean")
+    frames = [d.get("file") for d in ET.parse(files["pvd"]).getroot().iter("DataSet")]
+    times = [float(d.get("timestep")) for d in ET.parse(files["pvd"]).getroot().iter("DataSet")]
+    assert sorted((tmp_path / "wall_series").iterdir()) == [tmp_path / f for f in frames]
+    assert times[-1] == result.final.time and len(frames) <= len(result.frames)
+    last = meshio.read(tmp_path / frames[-1])
+    assert last.points.dtype == np.float32 and "velocity" not in last.point_data
+    np.testing.assert_allclose(last.point_data["displacement"], result.final.displacement)
+    np.testing.assert_array_equal(last.cell_data["failed"][0], result.final.failed)
+    with pytest.raises(ValueError, match="series"):
+        wall.write_wall_outputs(result, tmp_path, series="some")
+
+
+def test_lean_frames_are_one_per_interval_and_the_last():
+    from impactdyn.wall._output import lean_frames
+
+    times = 12.5 + 2.0 * np.arange(44)                 # a 7a run's frames: 12.5 ... 98.5 µs
+    picked = lean_frames(np.append(times, 100.0))
+    np.testing.assert_array_equal(picked, [0, 5, 10, 15, 20, 25, 30, 35, 40, 44])
+    np.testing.assert_array_equal(lean_frames(np.array([3.0])), [0])

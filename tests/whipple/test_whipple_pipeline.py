@@ -28,8 +28,13 @@ def run(tmp_path_factory, make_case):
     tmp = tmp_path_factory.mktemp("whipple")
     case = make_case(tmp, wall_solver__mesh="graded")     # the default wall mesh, end to end
     out = tmp / "run"
-    assert main(["whipple", "run", str(case), "-o", str(out)]) == 0
+    assert main(["whipple", "run", str(case), "-o", str(out), "--keep", "all"]) == 0
     return case, out, json.loads((out / "summary.json").read_text())
+
+
+#: The files a lean run (the default) leaves out and ``--keep all`` writes.
+HEAVY = ("debris/handoff_grid.h5", "debris/particles_handoff.vtu", "debris/particles_arrival.vtu",
+         "decks/wall.k", "decks/wall_dyna3d.inp")
 
 
 def test_run_folder_holds_every_stage(run):
@@ -41,6 +46,9 @@ def test_run_folder_holds_every_stage(run):
                  "plots/fragments.png", "shield/fragments.csv", "wall/stage.json", "wall/wall.json", "wall/wall.pvd", "wall/plots/wall_front.png",
                  "wall/plots/wall_rear.png", "wall/plots/wall_history.png"):
         assert (out / path).is_file(), path
+    for path in HEAVY:
+        assert (out / path).is_file(), path
+    assert s["keep"] == "all"
     assert set(s["timings_s"]) == {"shield", "binning", "debris", "wall", "decks"}
     assert s["wall_time_s"] == pytest.approx(sum(s["timings_s"].values()))
     assert not list(out.parent.glob(".run.*"))  # no staging folder left
@@ -116,7 +124,7 @@ def test_summary_has_the_verdict_and_the_cloud_figures(run):
     assert 0 < cloud["centre_of_mass_speed_km_s"] < cloud["leading_edge_velocity_km_s"] <= p.velocity_km_s
     assert 0 < cloud["cone_half_angle_deg"] < 90
     html = (out / "report.html").read_text()
-    assert html.count("data:image/png;base64,") == 7  # 4 of the cloud, BLE and load; 3 of the wall response
+    assert html.count("data:image/png;base64,") == 8  # cloud, fragments, BLE, load, conservation; 3 of the wall
     assert s["ble"]["verdict"] in html
 
 
@@ -151,6 +159,47 @@ def test_debris_beyond_memory_is_refused_before_seeding_naming_the_binning_key(r
     err = capsys.readouterr().err
     assert "error: binning.cell_size_cm = 0.1, seed filters of [filter]: the hand-off grid" in err
     assert "debris particles need at least" in err
+
+def test_a_lean_run_keeps_what_the_report_paraview_and_restarts_need(run, tmp_path, make_case, capsys):
+    from impactdyn.debris import read_arrivals
+
+    case, full, s_full = run
+    out = tmp_path / "lean"
+    assert main(["whipple", "run", str(case), "-o", str(out)]) == 0     # lean: the default
+    s = json.loads((out / "summary.json").read_text())
+    assert s["keep"] == "lean"
+    assert s["wall"]["verdict"] == s_full["wall"]["verdict"]  # what is kept changes no number
+    assert s["wall"]["rear_bulge_cm"] == pytest.approx(s_full["wall"]["rear_bulge_cm"], rel=1e-9)
+    for path in HEAVY:
+        assert not (out / path).exists(), path
+    assert json.loads((out / "decks" / "stage.json").read_text())["files"] == []
+    for path in ("report.html", "shield/particles.h5", "shield/particles.vtu", "binning/handoff_grid.h5",
+                 "debris/debris.h5", "debris/wall_deposition.vtu", "wall/wall.pvd", "wall/plots/wall_front.png"):
+        assert (out / path).is_file(), path
+    assert "lean run" in (out / "report.html").read_text()
+    # the ParaView series: fewer frames, every one the .pvd names is there, the last the run's end
+    frames = sorted((out / "wall" / "wall_series").iterdir())
+    assert 0 < len(frames) <= len(list((full / "wall" / "wall_series").iterdir()))
+    assert all(f"wall_series/{f.name}" in (out / "wall" / "wall.pvd").read_text() for f in frames)
+    # the lean debris.h5 holds the deposition, not the particles; it says so when asked for them
+    np.testing.assert_allclose(read_deposition(out / "debris" / "debris.h5")[2],
+                               read_deposition(full / "debris" / "debris.h5")[2], rtol=1e-12, atol=1e-15)
+    with pytest.raises(Exception, match="lean debris.h5 holds no particle states"):
+        read_arrivals(out / "debris" / "debris.h5")
+    # restarts from a lean folder: the wall stage from its debris.h5, the debris stage from binning/
+    assert main(["whipple", "run", str(case), "-o", str(out), "--from", "wall"]) == 0
+    assert json.loads((out / "summary.json").read_text())["wall"]["verdict"] == s_full["wall"]["verdict"]
+    assert main(["whipple", "run", str(case), "-o", str(out), "--from", "debris"]) == 0
+    assert not (out / "debris" / "particles_arrival.vtu").exists()
+    # the decks on request, into the lean folder
+    assert main(["whipple", "run", str(case), "-o", str(out), "--from", "decks", "--keep", "all"]) == 0
+    assert (out / "decks" / "wall.k").is_file() and (out / "decks" / "wall_dyna3d.inp").is_file()
+    assert len(read_lsdyna_deck(out / "decks" / "wall.k").curves) == len(read_lsdyna_deck(full / "decks" / "wall.k").curves)
+    capsys.readouterr()
+    assert main(["whipple", "run", str(case), "-o", str(tmp_path / "x"), "--keep", "some"]) == 2
+    assert "--keep 'some': choose lean or all" in capsys.readouterr().err
+    assert not (tmp_path / "x").exists()
+
 
 def test_restart_needs_a_run_folder(tmp_path, capsys, make_case):
     case = make_case(tmp_path)

@@ -13,6 +13,9 @@ app = typer.Typer(help="Whipple shield: SPH shield impact → debris cloud → r
                   no_args_is_help=True)
 
 STAGE_HELP = "shield, binning, debris, wall, decks or report"
+KEEP_HELP = ("lean (default): what the report, ParaView and a restart (--from) need; all: every file besides "
+             "(the debris particles' states and VTU files, every frame of the wall's ParaView series, the "
+             "LS-DYNA and DYNA3D decks).")
 RESUME_HELP = ("Go on in the folder an interrupted run of the same command left: its finished shots are "
                "read back, not run again (the case and options must be the same).")
 
@@ -24,11 +27,13 @@ def run(
     start: str = typer.Option("shield", "--from", help=f"First stage to run ({STAGE_HELP}); the earlier "
                                                        "stages are taken from the existing run folder."),
     force: bool = typer.Option(False, "--force", help="Overwrite an existing run folder."),
+    keep: str = typer.Option("lean", "--keep", metavar="lean|all", help=KEEP_HELP),
 ):
     """Run a shot end to end: shield impact, binning, debris flight and deposition, wall decks, report."""
     from impactdyn.whipple import load_whipple_case
 
-    _echo_summary(_run_with_progress(load_whipple_case(case), out, start, force), out)
+    _check_keep(keep)
+    _echo_summary(_run_with_progress(load_whipple_case(case), out, start, force, keep), out)
 
 
 @app.command()
@@ -43,6 +48,7 @@ def shot(
     write_case: Optional[Path] = typer.Option(None, "--write-case",
                                               help="Write the shot's case file (TOML) here and run nothing."),
     force: bool = typer.Option(False, "--force", help="Overwrite an existing run folder or case file."),
+    keep: str = typer.Option("lean", "--keep", metavar="lean|all", help=KEEP_HELP),
 ):
     """Run a shot of the test database (or write its case) and print the test's outcome beside the verdicts."""
     import tomli_w
@@ -53,6 +59,7 @@ def shot(
 
     if (out is None) == (write_case is None):
         raise InputError("give -o OUT to run the shot, or --write-case FILE to write its case and run nothing")
+    _check_keep(keep)
     test = database_shot(database)
     raw = database_shot_case(test, from_case)
     if write_case is not None:
@@ -63,18 +70,26 @@ def shot(
                            "(impactdyn whipple shot)\n\n" + tomli_w.dumps(raw))
         typer.echo(f"case of {test.name} in {write_case}")
         return
-    s = _run_with_progress(WhippleCase.model_validate(raw), out, "shield", force)
+    s = _run_with_progress(WhippleCase.model_validate(raw), out, "shield", force, keep)
     _echo_summary(s, out)
     typer.echo(f"test {test.name}: {test.outcome}; simulated: {s['wall']['verdict']}; JSC: {s['ble']['verdict']}")
 
 
-def _run_with_progress(case, out: Path, start: str, force: bool) -> dict:
+def _check_keep(keep: str) -> None:
+    """``--keep``: lean or all (before the case is read or any work done)."""
+    from impactdyn._errors import InputError
+
+    if keep not in ("lean", "all"):
+        raise InputError(f"--keep {keep!r}: choose lean or all")
+
+
+def _run_with_progress(case, out: Path, start: str, force: bool, keep: str = "lean") -> dict:
     """Run the pipeline under the progress bars; returns its summary."""
     from impactdyn.whipple import run_whipple
 
     bar, update = progress_bars(counts=False)
     with bar:
-        return run_whipple(case, out, start=start, force=force, progress=update)
+        return run_whipple(case, out, start=start, force=force, progress=update, keep=keep)
 
 
 def _echo_summary(s: dict, out: Path) -> None:

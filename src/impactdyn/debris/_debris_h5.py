@@ -16,26 +16,20 @@ from impactdyn.debris._propagate import DebrisResult
 from impactdyn.wallgrid import WallDeposition, WallGrid
 
 
-def write_hdf5(result: DebrisResult, path: Path) -> None:
+def write_hdf5(result: DebrisResult, path: Path, lean: bool = False) -> None:
     """The run's arrays in one HDF5 file (groups particles, arrival, deposition, wall; the grid is
-    ``handoff_grid.h5``)."""
+    ``handoff_grid.h5``).  ``lean``: the groups deposition and wall only, what
+    :func:`read_deposition` reads (the wall and decks stages): 4.9 MB of the 7a shot's 83 MB, whose
+    particle states at hand-off and arrival are the rest (:func:`read_arrivals` needs them)."""
     import h5py
 
-    r, c = result, result.cloud
+    r = result
     with atomic_output(path) as tmp, h5py.File(tmp, "w") as f:
         f.attrs["units"] = "cm, g, us; momentum g*cm/us; times after hand-off"
         f.attrs["t_handoff_us"] = r.t_handoff
-        p = f.create_group("particles")
-        for name in ("vertices", "states", "J", "mass", "void_fraction", "density_ratio", "cell", "tet"):
-            p.create_dataset(name, data=getattr(c, name), compression="gzip")
-        p.create_dataset("t_arrival", data=r.t_arrival)
-        a = f.create_group("arrival")
-        a.create_dataset("index", data=r.propagated)
-        a.create_dataset("states", data=r.states, compression="gzip")
-        a.create_dataset("points", data=r.points, compression="gzip")
-        a.create_dataset("on_wall", data=r.on_wall)
-        for name in ("steps", "rejected", "code", "t_reached"):
-            a.create_dataset(name, data=getattr(r.stats, name))
+        f.attrs["lean"] = lean
+        if not lean:
+            _write_particles(f, r)
         d = f.create_group("deposition")
         for name in ("element", "time", "impulse"):
             d.create_dataset(name, data=getattr(r.deposition, name), compression="gzip")
@@ -44,6 +38,22 @@ def write_hdf5(result: DebrisResult, path: Path) -> None:
             w.create_dataset(name, data=getattr(r.wall, name))
         w.create_dataset("impulse", data=r.impulse)
         w.create_dataset("areal_density", data=r.areal)
+
+
+def _write_particles(f, result: DebrisResult) -> None:
+    """The groups particles and arrival of :func:`write_hdf5`."""
+    r, c = result, result.cloud
+    p = f.create_group("particles")
+    for name in ("vertices", "states", "J", "mass", "void_fraction", "density_ratio", "cell", "tet"):
+        p.create_dataset(name, data=getattr(c, name), compression="gzip")
+    p.create_dataset("t_arrival", data=r.t_arrival)
+    a = f.create_group("arrival")
+    a.create_dataset("index", data=r.propagated)
+    a.create_dataset("states", data=r.states, compression="gzip")
+    a.create_dataset("points", data=r.points, compression="gzip")
+    a.create_dataset("on_wall", data=r.on_wall)
+    for name in ("steps", "rejected", "code", "t_reached"):
+        a.create_dataset(name, data=getattr(r.stats, name))
 
 
 def read_deposition(path: str | Path) -> tuple[WallGrid, WallDeposition, np.ndarray]:
@@ -74,5 +84,8 @@ def read_arrivals(path: str | Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]
             index, states, on = f["arrival/index"][()], f["arrival/states"][()], f["arrival/on_wall"][()]
             mass = f["particles/mass"][()][index]
         except KeyError as err:
+            if f.attrs.get("lean", False):
+                raise InputError(f"{path}: a lean debris.h5 holds no particle states; rerun its stage with "
+                                 "--keep all") from None
             raise InputError(f"{path}: not a debris.h5 file ({err})") from None
     return mass, states[:, P_SLICE], on.sum(axis=1) / POINTS_PER_PARTICLE

@@ -141,10 +141,11 @@ def _decode(path: Path, el: ET.Element, header: np.dtype, big: bool) -> np.ndarr
 register_format("vtk-rectilinear", (".vtr",), reader=read_vtr, writer=write_vtr)
 
 
-def write_mesh(path: str | Path, mesh) -> None:
-    """Write a :class:`meshio.Mesh` atomically, format from the suffix of ``path`` (``.vtu``, ``.vtk`` …)."""
+def write_mesh(path: str | Path, mesh, **options) -> None:
+    """Write a :class:`meshio.Mesh` atomically, format from the suffix of ``path`` (``.vtu``, ``.vtk`` …);
+    ``options`` go to meshio's writer of the format (``compression="lzma"`` for a ``.vtu``)."""
     import meshio
 
     path = Path(path)
     with atomic_output(path) as tmp:
-        meshio.write(tmp, mesh, file_format=meshio.extension_to_filetypes[path.suffix.lower()][0])
+        meshio.write(tmp, mesh, file_format=meshio.extension_to_filetypes[path.suffix.lower()][0], **options)

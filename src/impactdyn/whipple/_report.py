@@ -116,8 +116,19 @@ def _fragments(figures: dict | None) -> str:
             f"{figures['largest_speed_km_s']:.3g} km/s)")
 
 
-def write_report(folder: FolderWriter, case: WhippleCase) -> dict:
-    """Write ``summary.json``, ``plots/`` and ``report.html`` into the run folder; returns the record."""
+_NO_DECKS = "none written (a lean run: --from decks --keep all writes them)"
+
+#: What the report says of the files a run kept (``--keep``).
+_KEPT = {"all": "The run kept every file (<code>--keep all</code>).",
+         "lean": "A lean run (the default): the debris particles' states and VTU files, the hand-off grid's copy in "
+                 "<code>debris/</code>, the decks and most frames of the wall series are not written; "
+                 "<code>--keep all</code> writes them (<code>--from decks --keep all</code> writes the decks "
+                 "into this folder)."}
+
+
+def write_report(folder: FolderWriter, case: WhippleCase, keep: str = "all") -> dict:
+    """Write ``summary.json``, ``plots/`` and ``report.html`` into the run folder; returns the record.
+    ``keep``: how much of the output the run keeps (``--keep``, lean or all), recorded in the summary."""
     from impactdyn.shield import plot_fragment_masses, read_particles
     from impactdyn.whipple._case import projectile_mass
     from impactdyn.whipple._cloud import cloud_figures, debris_fragments
@@ -150,6 +161,7 @@ def write_report(folder: FolderWriter, case: WhippleCase) -> dict:
         "timings_s": {name: r["wall_time_s"] for name, r in records.items()},
         "wall_time_s": float(sum(r["wall_time_s"] for r in records.values())),
         "units": "cm, g, us, Mbar unless a key names its unit; momenta of the half model x >= 0",
+        "keep": keep,
     }
     folder.write_json("summary.json", summary)
     folder.write_text("report.html", _html(folder, case, summary))
@@ -342,7 +354,7 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
                           f"{st['debris']['integrator']['n_failed']} failed; {st['debris']['wall_time_s']:.1f} s"),
         ("wall (FE)", f"{st['wall']['measures'].get('steps', 0)} steps to {_fmt(st['wall']['measures'].get('end_time_us'), 'µs')}; "
                       f"{st['wall']['wall_time_s']:.1f} s"),
-        ("decks", ", ".join(st["decks"]["files"]) + f"; {st['decks']['wall_time_s']:.1f} s"),
+        ("decks", (", ".join(st["decks"]["files"]) or _NO_DECKS) + f"; {st['decks']['wall_time_s']:.1f} s"),
         ("total", f"{s['wall_time_s']:.1f} s"),
     ])
     plots = folder.path / "plots"
@@ -372,7 +384,7 @@ Half model (x ≥ 0); units as labelled.</p>
 <h2>Files</h2><p><code>summary.json</code> (all numbers), <code>case.toml</code> (every setting used),
 <code>shield/particles.h5</code>, <code>binning/handoff_grid.h5</code>, <code>debris/</code> (an
 <code>impactdyn debris run</code> folder), <code>wall/</code> (the wall's measures and ParaView time series),
-<code>decks/</code> (LS-DYNA and DYNA3D wall decks).</p>
+<code>decks/</code> (LS-DYNA and DYNA3D wall decks).  {_KEPT[s.get("keep", "all")]}</p>
 <script type="application/json" id="summary">{html.escape(json.dumps(s, default=str))}</script>
 </body></html>
 """

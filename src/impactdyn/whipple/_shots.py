@@ -1,10 +1,10 @@
 """One shot of a family (campaign or limit search): a full Whipple run, then a lean run folder.
 
-A Table 2 run folder holds ~400 MB (SPH particles, every debris particle's states,
-ParaView files); a family of dozens of shots keeps by default only what a user reads
-afterwards (:data:`LEAN_KEEP`): the summary and report, the stage records, the plots,
-the DCPOST table, the wall's measures and pictures: a few MB per shot (the decks of a
-Table 2 shot alone are ~250 MB: their time-resolved load curves).  A lean shot does not
+A Table 2 run folder holds ~530 MB with ``--keep all`` (every debris particle's states, ParaView
+files, the LS-DYNA deck's load curves) and ~50 MB as a lean ``whipple run`` (:mod:`._pipeline`);
+a family of dozens of shots keeps by default even less, only what a user reads afterwards
+(:data:`LEAN_KEEP`): the summary and report, the stage records, the plots, the DCPOST table, the
+wall's measures and pictures: a few MB per shot.  A lean shot does not
 write what it would delete (:data:`LEAN_OUTPUT`: the decks and the ParaView files, a
 quarter of a Table 2 shot's time), so it is faster as well as smaller.
 ``keep_all`` keeps everything and writes the case's own outputs.
@@ -87,7 +87,7 @@ def run_shot(shot: Shot) -> dict:
     case = shot.case
     if not shot.keep_all:
         case = case.model_copy(update={"output": case.output.model_copy(update=LEAN_OUTPUT)})
-    summary = run_whipple(case, shot.folder)
+    summary = run_whipple(case, shot.folder, keep="all" if shot.keep_all else "lean")
     if not shot.keep_all:
         prune_run(shot.folder)
     return summary

@@ -31,6 +31,10 @@ DEPENDS = {
     "report": (),
 }
 
+#: How much of its output a run keeps (``--keep``): "lean" (default) what the report, ParaView and a
+#: restart from any stage need; "all" every array besides (:mod:`._pipeline`).
+KEEP = ("lean", "all")
+
 #: ``progress(stage, done, total)``: the shield stage reports simulated µs, the debris
 #: stage its sub-stages ``seed``, ``propagate`` and ``deposit``, the others 0 then 1 of 1.
 Progress = Callable[[str, float, float], None]
@@ -52,11 +56,17 @@ def read_stage(folder: Path, stage: str) -> dict:
 
 @dataclass
 class StageContext:
-    """What a stage function gets: the case, the staging folder and the progress callback."""
+    """What a stage function gets: the case, the staging folder, the progress callback and how much
+    to keep (:data:`KEEP`)."""
 
     case: object
     folder: FolderWriter
     progress: Progress | None
+    keep: str = "lean"
+
+    @property
+    def lean(self) -> bool:
+        return self.keep == "lean"
 
     def report(self, stage: str, done: float, total: float) -> None:
         if self.progress is not None:
