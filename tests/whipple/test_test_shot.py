@@ -172,8 +172,8 @@ def test_a_run_prints_the_tests_outcome_beside_the_verdicts(tmp_path, capsys, mo
 
     ran = {}
 
-    def pipeline(case, out, start, force, progress):
-        ran.update(case=case, out=out, start=start)
+    def pipeline(case, out, start, force, progress, keep):
+        ran.update(case=case, out=out, start=start, keep=keep)
         return {"ble": {"equation": "jsc2011", "threshold_cm": 0.6, "regime": "shatter", "verdict": "perforation"},
                 "cloud": {},
                 "deposition": {"peak_areal_momentum_N_s_cm2": 0.1, "impulse_on_wall_normal_N_s_full_model": 0.3},
@@ -183,7 +183,7 @@ def test_a_run_prints_the_tests_outcome_beside_the_verdicts(tmp_path, capsys, mo
     out = tmp_path / "run"
     assert main(["whipple", "shot", "--database", "B31", "-o", str(out)]) == 0
     assert ran == {"case": WhippleCase.model_validate(database_shot_case(database_shot("B31"))), "out": out,
-                   "start": "shield"}
+                   "start": "shield", "keep": "lean"}
     printed = [line for line in capsys.readouterr().out.splitlines() if line.strip()]  # the bars leave blank lines
     assert printed[0].startswith("ballistic limit (jsc2011)")
     assert printed[-2].startswith("wall response: detached spall")
