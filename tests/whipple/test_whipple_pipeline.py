@@ -227,6 +227,7 @@ def test_restart_needs_a_run_folder(tmp_path, capsys, make_case):
     (dict(shield__fragment_damage_threshold=1.5), "shield.fragment_damage_threshold: must be less than or equal to 1"),
     (dict(shield__failure_model="fragmentation", projectile__material="cu-ofhc"),
      "no Weibull flaw constants for cu-ofhc"),
+    (dict(wall_solver__max_time_us=1.0), "wall_solver.max_time_us = 1 us is before the last arrival on the wall"),
 ])
 def test_bad_input_exits_2_and_writes_nothing(tmp_path, capsys, make_case, change, message):
     case = make_case(tmp_path, **change)

@@ -29,7 +29,7 @@ from impactdyn.wall._grading import FRAGMENT_DIAMETER_CM, check_mesh_sizes, core
 from impactdyn.wall._load import SPREADS, NodalLoad, default_depth, depth_weights, nodal_load
 from impactdyn.wall._result import ENDINGS, HISTORY_KEYS, WallFrame, WallResult
 from impactdyn.wall._state import FAILURE_CAUSES
-from impactdyn.wall._solver import WallSolver, resolve_model, run_wall
+from impactdyn.wall._solver import WallSolver, check_end_times, resolve_model, run_wall
 from impactdyn.wall._verdict import (
     DETACHED_SPALL, NO_PERFORATION, PERFORATION, VERDICTS, classify, failed_mass_by_cause, measures)
 from impactdyn.wall._output import write_wall_outputs
@@ -37,7 +37,7 @@ from impactdyn.wall._output import write_wall_outputs
 __all__ = [
     "DETACHED_SPALL", "ENDINGS", "FAILURE_CAUSES", "HISTORY_KEYS", "HOURGLASS_FORMS", "JohnsonCookModel", "LSDYNA_HOURGLASS_TYPE", "MESH_KINDS", "MODELS", "Mat13Model",
     "NO_PERFORATION", "NodalLoad", "PERFORATION", "SPREADS", "SUPPORTS", "VERDICTS", "WallFrame", "WallMesh",
-    "FRAGMENT_DIAMETER_CM", "WallModel", "WallOptions", "WallResult", "WallSolver", "WallSolverError", "build_mesh", "check_mesh_sizes", "classify", "core_element_size",
+    "FRAGMENT_DIAMETER_CM", "WallModel", "WallOptions", "WallResult", "WallSolver", "WallSolverError", "build_mesh", "check_end_times", "check_mesh_sizes", "classify", "core_element_size",
     "default_depth", "depth_weights", "failed_mass_by_cause", "graded_nodes", "measures", "nodal_load",
     "rebin_deposition", "register_model", "resolve_model", "resolving_region", "run_wall", "solver_mesh",
     "wall_model", "write_wall_outputs",

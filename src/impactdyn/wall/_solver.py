@@ -369,6 +369,16 @@ def nodal_load_empty() -> NodalLoad:
                      node=np.zeros(0, dtype=np.int64), weight=np.zeros(0))
 
 
+def check_end_times(options: WallOptions, deposition: WallDeposition, key_prefix: str = "") -> None:
+    """Refuse an ``end_time_us`` or ``max_time_us`` before the deposition's last arrival, naming the key
+    as the caller's input spells it (``key_prefix``: "wall_solver." in a Whipple case)."""
+    last = float(deposition.time.max()) if deposition.time.size else 0.0
+    for key, value in (("end_time_us", options.end_time_us), ("max_time_us", options.max_time_us)):
+        if value is not None and value < last:
+            raise InputError(f"{key_prefix}{key} = {value:g} us is before the last arrival on the wall, "
+                             f"at {last:.6g} us")
+
+
 def run_wall(wall: WallGrid, deposition: WallDeposition, model: Any = "al6061-t6",
              options: WallOptions | None = None,
              progress: Callable[[float, float], None] | None = None,
@@ -397,10 +407,6 @@ def run_wall(wall: WallGrid, deposition: WallDeposition, model: Any = "al6061-t6
     mesh = solver_mesh(wall, deposition, m.density, **options.mesh_settings())
     load = nodal_load(mesh, deposition, options.spread, options.deposition_depth_cm)
     t_start = float(load.time.min()) if load.time.size else 0.0
-    last = float(load.time.max()) if load.time.size else 0.0
-    if options.end_time_us is not None and options.end_time_us < last:
-        raise InputError(f"end_time_us: {options.end_time_us} us is before the last arrival at {last:.6g} us")
-    if options.max_time_us < last:
-        raise InputError(f"max_time_us: {options.max_time_us} us is before the last arrival at {last:.6g} us")
+    check_end_times(options, deposition)
     solver = WallSolver(mesh, m, options, load=load, t_start=t_start)
     return solver.run(progress, settle_progress)

@@ -196,11 +196,12 @@ def _with_compact_fragments(case: WhippleCase, folder: Path, result):
 
 def _wall(s: StageContext) -> dict:
     from impactdyn.debris import read_deposition
-    from impactdyn.wall import run_wall, write_wall_outputs
+    from impactdyn.wall import check_end_times, run_wall, write_wall_outputs
 
     s.report("wall", 0, 1)
     wall, deposition, _ = read_deposition(s.folder.path / "debris" / "debris.h5")
     options = s.case.wall_solver.options(s.case.wall.clamped_edges)
+    check_end_times(options, deposition, key_prefix="wall_solver.")     # named as the case spells them
     result = run_wall(wall, deposition, s.case.wall.material, options,
                       progress=lambda t, t_end: s.report("wall", t, t_end),
                       settle_progress=lambda done, total: s.report("settle", done, total))
