@@ -3,8 +3,8 @@
 "issue 31", "session 16", "seed 000" and "DESIGN §9" mean something in the project's notes and
 commits, nothing to a user; a docstring that points outside the repository (``../shared/…``) points
 nowhere for them.  Say what was meant instead: the reason, the docs or theory page, the
-benchmark's section name.  The lab notebook (``benchmarks/``) and the generated site
-(``docs/_build``) are not checked.
+benchmark's section name.  The lab notebook (``benchmarks/``, ``verification/``, ``validation/``,
+``studies/``) and the generated site (``docs/_build``) are not checked.
 """
 
 from __future__ import annotations

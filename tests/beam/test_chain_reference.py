@@ -6,7 +6,7 @@ cantilever's βᵢ²·√(EI/ρL⁴) at second order in 1/N.
 model follows the chain's hub angle 6–10× closer than the linearised one (the light
 hub is covered by ``test_coupled_chain.py``). The tolerances come from the
 convergence study recorded in benchmarks/BENCHMARKS.md ("Coupled model vs rigid-link
-chain", ``python benchmarks/bench_beam_chain.py``).
+chain", ``python verification/verify_beam_chain.py``).
 """
 
 import numpy as np

@@ -1,6 +1,6 @@
 """The coupled model against the rigid-link chain (``_chain``) with the sample's light
 hub (IR = 0.002): the cheap version of the study in benchmarks/BENCHMARKS.md
-("Coupled model vs rigid-link chain", ``python benchmarks/bench_beam_chain.py``).
+("Coupled model vs rigid-link chain", ``python verification/verify_beam_chain.py``).
 
 Spin-up: θ₀ = 0.5 rad, torque +τ for 50 ms then −τ for 50 ms, no gravity, 0.2 s, the
 default tolerances (rtol 1e-8: the errors below are those at 1e-10 to two digits). The

@@ -117,6 +117,6 @@ def test_derived_limits_on_the_database_and_the_docs_table():
         assert r.fit.high_cm is None or r.fit.d50_cm < r.fit.high_cm
         assert r.fit.low_cm is None or r.fit.low_cm < r.fit.d50_cm
         assert 0 < r.fit.perforated < r.fit.shots
-    script = runpy.run_path(str(ROOT / "benchmarks" / "test_derived_limits.py"))
+    script = runpy.run_path(str(ROOT / "validation" / "test_derived_limits.py"))
     assert (ROOT / "docs" / "test_derived_limits.md").read_text(encoding="utf-8") == script["markdown"](), \
-        "docs/test_derived_limits.md is out of date: python benchmarks/test_derived_limits.py"
+        "docs/test_derived_limits.md is out of date: python validation/test_derived_limits.py"

@@ -71,7 +71,7 @@ def test_a_yielded_wall_keeps_a_permanent_bulge_below_its_peak():
 
 def _struck_plate() -> tuple[wall.WallSolver, int]:
     """A clamped elastic–plastic plate struck on a central patch (0.025 cm/µs, the kind of
-    benchmarks/verify_wall_calculix.py), at t = 0, and its rear-face centre node."""
+    verification/verify_wall_calculix.py), at t = 0, and its rear-face centre node."""
     card = dataclasses.replace(AL_6061_T6_MAT13, failure_strain=0.0, failure_pressure=-1.0e30)
     grid = WallGrid.uniform((0.0, 1.0), (0.0, 0.16), (-1.0, 1.0), (11, 5, 21))
     mesh = wall.build_mesh(grid, card.density, 1, 1, "clamped")
@@ -87,7 +87,7 @@ def _struck_plate() -> tuple[wall.WallSolver, int]:
 def ringing_mean() -> float:
     """The struck plate yields in its first swing (peak ~0.127 cm at 15 µs) and then rings
     elastically: the mean of its centre deflection over 50–100 µs, the permanent shape it rings
-    about (the measure of benchmarks/verify_wall_calculix.py)."""
+    about (the measure of verification/verify_wall_calculix.py)."""
     solver, centre = _struck_plate()
     ringing = []
     while solver.time < 100.0:

@@ -4,7 +4,7 @@ The wall stage is loaded by momentum records only; these tests check that a comp
 sphere laid on a fine face grid by :func:`impactdyn.wallgrid.sphere_deposition` carries the
 sphere's momentum at the rate and over the time a stopped rod would, and that the wall it
 strikes perforates on the near side of the Cour-Palais single-wall limit (S1,
-:mod:`impactdyn.ble`) and not far below it (benchmarks/fragment_crater.py, BENCHMARKS.md "one
+:mod:`impactdyn.ble`) and not far below it (studies/fragments/fragment_crater.py, BENCHMARKS.md "one
 compact fragment on the wall").
 """
 

@@ -11,7 +11,7 @@ from impactdyn.ble import read_database
 from impactdyn.whipple._selection import RULES_DIR, fix_rule, load_rule, rule_hash, select_shots
 
 #: The file lines of the validation sets as they were selected and run (sets 1-3 scored, set 4 unrun),
-#: by the rule in benchmarks/select_validation_shots.py before it became data.
+#: by the rule in validation/select_validation_shots.py before it became data.
 SETS_AS_RUN = {
     "set-1": [136, 138, 146, 164, 232, 292, 331, 332, 375, 569, 580, 609],
     "set-2": [224, 486, 533, 639, 674, 730, 751, 875, 882, 1000, 1008, 1020],

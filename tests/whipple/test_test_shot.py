@@ -11,7 +11,7 @@ from impactdyn.ble import read_database
 from impactdyn.cli import main
 from impactdyn.whipple import ALLOYS, WhippleCase, database_shot, database_shot_case, load_whipple_case
 
-#: Validation set 1's cases as ``benchmarks/run_validation_shots.py`` built them before its rules moved
+#: Validation set 1's cases as ``validation/run_validation_shots.py`` built them before its rules moved
 #: into the package: file line → {shot_id, case}.
 SET1 = json.loads((Path(__file__).parent / "data" / "validation_set1_cases.json").read_text())
 EXAMPLE = tomllib.loads((Path(__file__).parents[2] / "examples" / "whipple" / "table2_7a.toml").read_text())

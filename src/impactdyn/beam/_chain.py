@@ -40,7 +40,7 @@ frequencies the chain resolves only slowly: its hub angle converges irregularly 
 (at some instants the change halves, not quarters, from 32 to 64 links), and it stays
 ~2e-4 rad per N·m of torque from the converged linearised modal model at small torque,
 in proportion to τ. Large-deflection effects are compared through the part of the
-response nonlinear in τ, where this cancels (benchmarks/bench_beam_chain.py).
+response nonlinear in τ, where this cancels (verification/verify_beam_chain.py).
 """
 
 from __future__ import annotations

@@ -12,7 +12,7 @@ and loads it as :func:`impactdyn.wallgrid.sphere_deposition` lays a sphere down:
 stopped at the wall at the rate ρ v_y², the tangential momentum in proportion (v_x/v_y, v_z/v_y).
 Deformable, not rigid: at 2–7 km/s an aluminium fragment's impact pressure (tens of GPa) exceeds
 its strength a hundredfold, so it flattens like a fluid column; that load gives the resolved wall the
-Cour-Palais crater of one fragment within 20 % (benchmarks/fragment_crater.py).
+Cour-Palais crater of one fragment within 20 % (studies/fragments/fragment_crater.py).
 
 Half model (the wall's symmetry plane x = 0): a fragment on the plane (found whole with its image,
 centre at x = 0) lays down its x ≥ 0 half; one beside it (x_c > 0) lays down all of itself, the part

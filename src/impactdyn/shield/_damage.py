@@ -19,7 +19,7 @@ list of flaws): a volume V holds k V εᵐ flaws that activate at tensile strain
 The strain is ε = σ₁/E of the largest principal stress of the undamaged stress (Benz & Asphaug's
 local strain).  Because ε_min follows the particle's volume, a finer particle is stronger, as the
 Weibull size effect of the material says; the fragment statistics' convergence with resolution is
-checked, not assumed (benchmarks/fragments_mechanism.py).
+checked, not assumed (studies/fragments/fragments_mechanism.py).
 
 Ductile damage is the Johnson–Cook sum Σ Δεₚ/ε_f with the alloy's fracture-strain floor, none below
 the triaxiality −1/3 (:func:`impactdyn.constitutive.ductile_damage_increment`): compression, however

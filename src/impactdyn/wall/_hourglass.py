@@ -138,7 +138,7 @@ def assumed_strain_forces(H, dt, lam, shear):
     (:func:`tangent_ratio`): the hourglass strain is the strain's variation inside the element,
     which in a yielding element loads along with its mean strain at the material's tangent
     (CalculiX's C3D8R scales its hourglass stiffness by the current tangent C₁₁₁₁ likewise);
-    with the elastic G the plastically bending plate of benchmarks/verify_wall_calculix.py kept
+    with the elastic G the plastically bending plate of verification/verify_wall_calculix.py kept
     its hourglass energy elastic and came out 30 % stiff (0.177 cm against 0.249 at h 0.1).
     The tangent is used only for LOADING increments; unloading uses the elastic moduli, the
     rule of an elastic–hardening spring.  The plane-stress tangent is not proportional to the

@@ -53,7 +53,7 @@ class WallOptions(Section):
         (default: Johnson–Cook strength, Mie–Grüneisen EOS, JC damage, spall and erosion) or
         "mat13" (the report's DYNA3D type 13).  Why the default: chosen by a rule fixed before
         the runs, on a second set of 12 test shots disjoint from the first (validation set 2,
-        benchmarks/select_validation_shots.py): right on 7 of 12 with 5 perforations called
+        validation/select_validation_shots.py): right on 7 of 12 with 5 perforations called
         safe, against 6 of 12 and all 6 perforations called safe with the type-13 card, whose
         only failure criterion (an effective plastic strain of 1.5) no element reached on
         either set (BENCHMARKS.md, "validation set 2").

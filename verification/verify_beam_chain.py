@@ -18,7 +18,7 @@ same hub and beam. This script prints, for the record in BENCHMARKS.md:
 4. the smallest Schur complement s(q) = M₀₀ − M₀ᵀM_qq⁻¹M₀ of the coupled mass matrix along
    the coupled run, relative to s(0) (≤ 0 would be a singular mass matrix).
 
-    python benchmarks/bench_beam_chain.py [--links 8,16,32] [--modes 4] [--inertia-ratio 1.0]
+    python verification/verify_beam_chain.py [--links 8,16,32] [--modes 4] [--inertia-ratio 1.0]
 """
 
 from __future__ import annotations

@@ -18,7 +18,7 @@ whose core element the mesh rule sets, :func:`impactdyn.wall.core_element_size`)
 by more than a layer in a step under one fragment at a resolved mesh: the solver stops with its
 non-positive-volume error).  Run to ``end`` µs after the last arrival.
 
-    python benchmarks/fragment_crater.py [--diameter 0.06] [--velocity 6.0] [--cell 0.01]
+    python studies/fragments/fragment_crater.py [--diameter 0.06] [--velocity 6.0] [--cell 0.01]
         [--thickness 0.16 0.6] [--material al2024-t4] [--half-width 0.4] [--end 6]
         [--depth-per-diameter 1] [--bisect LO HI [--tolerance 0.0025]] [--sph SPACING] [--mesh-rule]
 
@@ -38,15 +38,19 @@ product option: nothing in the wall stage changes.
 from __future__ import annotations
 
 import argparse
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
 from impactdyn import ble, shield, wall
 from impactdyn.materials import get_material
 from impactdyn.wallgrid import WallGrid, sphere_deposition
-from _machine import describe_machine
-from _particles import linked_clusters, projectile_count
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))  # _machine lives there
+from _machine import describe_machine  # noqa: E402
+from _particles import linked_clusters, projectile_count  # noqa: E402
 
 PROJECTILE_DENSITY = 2.7
 #: The sphere's material in the SPH cross-check (ρ₀ 2.703).

@@ -7,7 +7,7 @@ not carry.  For each finished Whipple run this prints the arriving particles' ki
 (the share deposited on the wall grid; all of it and its wall-normal part ½ p_y²/m) beside the
 work the load did in the wall stage (``wall/wall.json``), and the particles' median mass.
 
-    python benchmarks/load_energy_share.py RUN_FOLDER [RUN_FOLDER ...]
+    python studies/wall-load/load_energy_share.py RUN_FOLDER [RUN_FOLDER ...]
 """
 
 from __future__ import annotations

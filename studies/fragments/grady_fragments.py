@@ -20,7 +20,7 @@ finished Whipple run it takes the projectile material at the shield stage's hand
   expected fragment heavier than it, (M_s/μ) exp(−M/μ) = 1, as a sphere's diameter;
 * and, for scale, the Cour-Palais single-wall limit (S1, :mod:`impactdyn.ble`) of the run's wall
   at the projectile material's mean speed along the shot line, and the wall stage's own limit
-  for one compact fragment on a resolved mesh, 0.67–0.82 d_c (benchmarks/fragment_crater.py).
+  for one compact fragment on a resolved mesh, 0.67–0.82 d_c (studies/fragments/fragment_crater.py).
 
 ``--local`` replaces the bulk rate by each particle's own: the symmetric part of ∂v/∂X, the
 hand-off velocities' least-squares gradient over the particle's neighbours in the initial lattice
@@ -33,7 +33,7 @@ largest fragment is the mass M with one expected fragment heavier than it,
 K_IC: typical handbook values of plane-strain fracture toughness (MMPDS / ASM ranges for
 plate), **not checked against a primary table here**; the estimate is an order of magnitude.
 
-    python benchmarks/grady_fragments.py RUN_FOLDER [RUN_FOLDER ...] [--local]
+    python studies/fragments/grady_fragments.py RUN_FOLDER [RUN_FOLDER ...] [--local]
 """
 
 from __future__ import annotations

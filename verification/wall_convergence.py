@@ -21,7 +21,7 @@ The work of the load is the energy the impulses bring, Σ I·½(v⁻ + v⁺): fo
 at rest |I|²/2m, so it grows as the nodes under the load get lighter — the reason the crater
 depth of an impulsively loaded wall is not a mesh-converged measure (BENCHMARKS.md).
 
-    OMP_WAIT_POLICY=passive python benchmarks/wall_convergence.py RUN_FOLDER [--json FILE]
+    OMP_WAIT_POLICY=passive python verification/wall_convergence.py RUN_FOLDER [--json FILE]
         [--refinement 2] [--no-spreads] [--split] [--thickness-series N] [--deposition-depth D]
         [--failure-switches] [--model-option KEY=VALUE ...]
 """

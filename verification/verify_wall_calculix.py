@@ -49,7 +49,7 @@ output included) × its increments (ceil(end time / its constant increment)).  B
 runs alternate because the machine this was written on is shared: the 1-minute load
 average is printed with the numbers.
 
-    OMP_WAIT_POLICY=passive python benchmarks/verify_wall_calculix.py [--mesh 0.1 0.05]
+    OMP_WAIT_POLICY=passive python verification/verify_wall_calculix.py [--mesh 0.1 0.05]
         [--layers 4] [--v0 0.025] [--patch 0.5] [--end-time 100] [--repeat 3] [--threads 2]
         [--ccx ccx] [--keep DIR] [--json FILE] [--no-diagnostics]
 
@@ -62,7 +62,7 @@ without failure, the same initial-velocity patch about (x, z) = (0, 0) and a sho
 above (the same deck writer and the same alternating timing); no deflection comparison and
 no pass/fail.  Exits 0.
 
-    OMP_WAIT_POLICY=passive python benchmarks/verify_wall_calculix.py --report-wall 1 2 \
+    OMP_WAIT_POLICY=passive python verification/verify_wall_calculix.py --report-wall 1 2 \
         --end-time 10 --repeat 3
 
 (``OMP_WAIT_POLICY=passive``: on an oversubscribed machine numba's spin-waiting OpenMP threads
@@ -86,6 +86,7 @@ import sys
 import tempfile
 import time
 from dataclasses import replace
+from pathlib import Path
 
 THREADS_DEFAULT = 2
 if "--threads" in sys.argv:  # numba reads its thread count when it is first imported
@@ -143,7 +144,8 @@ def centre_node(mesh: wall.WallMesh) -> int:
 
 def report_wall_mesh(refinement: int) -> wall.WallMesh:
     """The report's wall (:func:`bench_wall.report_wall`) refined ``refinement`` times, every edge clamped."""
-    from bench_wall import report_wall  # benchmarks/ is on sys.path when this file runs as a script
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from bench_wall import report_wall  # the benchmark's wall, from benchmarks/
     return wall.build_mesh(report_wall(), CARD.density, refinement, refinement, "clamped")
 
 

@@ -59,7 +59,7 @@ effect is reported on those 9 walls of the spent sets 1–3 (wall stage rerun on
 depositions, with and without them), not judged; set 4 stays reserved for the next change to the
 wall's load or failure model.
 
-    python benchmarks/select_validation_shots.py [--set N] [--json]
+    python validation/select_validation_shots.py [--set N] [--json]
 """
 
 from __future__ import annotations

@@ -16,7 +16,7 @@ alarms) of the simulated verdicts beside the JSC equation's (the package default
 shots), and ``scores.json`` go to OUT; each row keeps the wall's failed mass by the criterion
 that failed it (``failed_mass_by_cause_g``).  No constant of the pipeline is calibrated on them.
 
-    OMP_WAIT_POLICY=passive python benchmarks/run_validation_shots.py -o OUT [--set N] [--only LINE ...]
+    OMP_WAIT_POLICY=passive python validation/run_validation_shots.py -o OUT [--set N] [--only LINE ...]
         [--from-wall] [--score-only] [--wall-model MODEL] [--model-option KEY=VALUE ...]
         [--wall-option KEY=VALUE ...] [--wall-refinement R [--thickness-only]]
 
@@ -24,7 +24,7 @@ that failed it (``failed_mass_by_cause_g``).  No constant of the pipeline is cal
 disjoint set that decides the default wall model).
 
 ``--wall-model``: score the finished shots with the wall stage rerun under another material
-model (``benchmarks/wall_convergence.rerun_wall``; nothing is written but
+model (``verification/wall_convergence.rerun_wall``; nothing is written but
 ``scores_MODEL.json``); with ``--wall-refinement R`` the rerun wall is refined R× through the
 thickness and in the plane (the shots' cases use 1), into ``scores_MODEL_Rx.json``, or with
 ``--thickness-only`` through the thickness alone, into ``scores_MODEL_tRx.json``.
@@ -44,6 +44,7 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
+sys.path.insert(1, str(HERE.parent / "verification"))  # wall_convergence's rerun of the wall stage
 
 from select_validation_shots import select  # noqa: E402
 from wall_convergence import key_value_option, rerun_wall  # noqa: E402

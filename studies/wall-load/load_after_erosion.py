@@ -9,7 +9,7 @@ eroded, and prints the share of the deposited impulse (by magnitude) that arrive
 its front element had eroded, and after its whole column had, with the hourglass share at the
 last arrival.  Nothing is written.
 
-    python benchmarks/load_after_erosion.py RUN_FOLDER [--every 0.25]
+    python studies/wall-load/load_after_erosion.py RUN_FOLDER [--every 0.25]
 """
 
 from __future__ import annotations

@@ -7,9 +7,9 @@ spacing, the largest debris fragments (centre-of-mass velocity toward the wall >
 speed, so the bumper's remnant is left out) as fractions of the projectile's mass, the intact
 and the melted share of the projectile.
 
-    python benchmarks/fragments_mechanism.py                         # t/D 0.1–0.4 at 6 km/s, Δ = d/10
-    python benchmarks/fragments_mechanism.py --speeds 2 3 4 6 --ratios 0.2
-    python benchmarks/fragments_mechanism.py --spacings 0.0318 0.0159 --model threshold
+    python studies/fragments/fragments_mechanism.py                         # t/D 0.1–0.4 at 6 km/s, Δ = d/10
+    python studies/fragments/fragments_mechanism.py --speeds 2 3 4 6 --ratios 0.2
+    python studies/fragments/fragments_mechanism.py --spacings 0.0318 0.0159 --model threshold
 
 What the checks ask: the largest surviving fragment grows as the bumper thins; fragmentation
 begins near the published onset speeds for Al on Al; the statistics converge with the spacing.

@@ -7,7 +7,7 @@ cluster at about the reference density.  For each finished Whipple run and each 
 prints the number of clusters and the three largest, as fractions of the (half-model) projectile's
 mass, with their mean density over the projectile material's ρ₀, their speeds and particle counts.
 
-    python benchmarks/shield_clusters.py RUN_FOLDER [RUN_FOLDER ...] [--links 1.05 1.2 1.5] [--min-speed 1]
+    python studies/fragments/shield_clusters.py RUN_FOLDER [RUN_FOLDER ...] [--links 1.05 1.2 1.5] [--min-speed 1]
 """
 
 from __future__ import annotations

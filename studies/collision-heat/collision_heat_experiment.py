@@ -10,7 +10,7 @@ softens the Johnson–Cook wall (T*) and raises its Grüneisen pressure.  F_WALL
 equal-material collision's dissipation each side takes; 1.0 is an upper bound (all of it).  The heat
 is not in the solver's energy balance, and refinement 1 only (the case's mesh).  Nothing was tuned.
 
-    OMP_WAIT_POLICY=passive python benchmarks/collision_heat_experiment.py F_WALL RUN_FOLDER [RUN_FOLDER ...]
+    OMP_WAIT_POLICY=passive python studies/collision-heat/collision_heat_experiment.py F_WALL RUN_FOLDER [RUN_FOLDER ...]
 """
 
 from __future__ import annotations
