@@ -44,6 +44,15 @@ Sources
        Weibull-distributed flaws n(ε) = k εᵐ.
 [BA94] W. Benz, E. Asphaug, *Impact simulations with fracture. I. Method and tests*,
        Icarus 107 (1994) 98–116: the SPH form, crack growth at 0.4 c_L.
+[G82]  D. E. Grady, *Local inertial effects in dynamic fragmentation*, J. Appl. Phys. 53 (1982)
+       322–325: the fragment size s = (24 Γ / (ρ ε̇²))^{1/3} of a body breaking while it stretches at
+       ε̇, Γ the fracture energy (written with Γ = K_Ic²/E as in F. Zhou, J. F. Molinari, K. T. Ramesh,
+       Int. J. Solids Struct. 42 (2005) 5181–5207, who compare it with resolved cohesive fragmentation).
+[MMPDS] Metallic Materials Properties Development and Standardization, MMPDS-14 (2019): 2024-T351 plate
+       K_Ic, average 34.06 MPa√m (minimum 29.66), as quoted by P. Iyengar, J. Mardaras, S. Soe,
+       Procedia Struct. Integrity 68 (2025) 446–452, Table 1.
+[C07]  W. D. Callister, *Materials science and engineering*, 7th ed. (2007), App. B, Table B.5:
+       room-temperature plane-strain K_Ic of 7075-T651, 24 MPa√m.
 [ASM]  ASM Handbook vol. 2 (aluminium, copper) and vol. 1 (steel): specific heat
        and elongation at break. The elongation is used as the plastic-strain
        failure limit — a simple, conservative (early-failing) choice.
@@ -564,3 +573,24 @@ AL_WEIBULL = weibull_from_spall(AL_6061_T6, (_gpa(1.0), 1.0e-2), (_gpa(1.7), 1.0
 #: a material without an entry (naming it).
 WEIBULL_FLAWS: dict[str, WeibullFlaws] = {
     "al6061-t6": AL_WEIBULL, "al2024-t4": AL_WEIBULL, "al7075-t6": AL_WEIBULL}
+
+
+# --- Fracture toughness (the fragments of failed material, Grady's energy balance) -----------------
+
+def _mpa_sqrt_m(x: float) -> float:
+    """MPa·m^½ → Mbar·cm^½ (1 MPa·√m = 10⁶ Pa · 10 √cm = 10⁻⁴ Mbar·√cm)."""
+    return x * 1.0e-4
+
+
+#: Plane-strain fracture toughness K_Ic, Mbar·cm^½, by library material name: what sizes the fragments
+#: of failed material through Grady's energy balance [G82] (:func:`impactdyn.shield.grady_fragments`).
+#: Room-temperature, quasi-static handbook values; the dynamic toughness at 10⁵–10⁷ s⁻¹ is not known
+#: for these alloys, and the size goes as K_Ic^{2/3} (±20 % in K_Ic moves it ±13 %).
+#: * al2024-t4 (the library's 2024-T351/2017-T4): 34 MPa√m, [MMPDS] average for 2024-T351 plate.
+#: * al7075-t6: 24 MPa√m, [C07] (7075-T651).
+#: * al6061-t6: 29 MPa√m, the value commonly tabulated for 6061-T651 (ASM/Aluminum Association
+#:   typical properties); UNCERTAIN: not read from a primary table here.
+#: A material without an entry (copper, steel: ductile beyond the K_Ic test's validity) cannot be
+#: given fragments of failed material; the shield stage refuses it, naming it.
+FRACTURE_TOUGHNESS: dict[str, float] = {
+    "al6061-t6": _mpa_sqrt_m(29.0), "al2024-t4": _mpa_sqrt_m(34.0), "al7075-t6": _mpa_sqrt_m(24.0)}

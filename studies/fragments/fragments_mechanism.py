@@ -10,6 +10,11 @@ and the melted share of the projectile.
     python studies/fragments/fragments_mechanism.py                         # t/D 0.1–0.4 at 6 km/s, Δ = d/10
     python studies/fragments/fragments_mechanism.py --speeds 2 3 4 6 --ratios 0.2
     python studies/fragments/fragments_mechanism.py --spacings 0.0318 0.0159 --model threshold
+    python studies/fragments/fragments_mechanism.py --failed grady      # with the fragments of failed material
+
+``--failed grady`` adds the fragments of the failed solid material (:func:`impactdyn.shield.grady_fragments`)
+to the intact ones; the table then also gives the debris fragments the wall resolves (diameter ≥ 0.06 cm)
+and their mass.
 
 What the checks ask: the largest surviving fragment grows as the bumper thins; fragmentation
 begins near the published onset speeds for Al on Al; the statistics converge with the spacing.
@@ -28,9 +33,10 @@ from impactdyn.materials import get_material
 
 DIAMETER_CM = 0.3175
 MATERIAL = "al6061-t6"
+RESOLVED_CM = 0.06   # the fragment the wall's mesh rule is built to crater (impactdyn.wall.FRAGMENT_DIAMETER_CM)
 
 
-def survey(speed_km_s: float, ratio: float, spacing_cm: float, model: str, time_us: float) -> dict:
+def survey(speed_km_s: float, ratio: float, spacing_cm: float, model: str, time_us: float, failed: str) -> dict:
     problem = shield.sphere_on_plate(MATERIAL, MATERIAL, DIAMETER_CM, speed_km_s, 0.0, ratio * DIAMETER_CM,
                                      spacing_cm)
     projectile = problem.particles.velocity[:, 1] > 0
@@ -38,6 +44,8 @@ def survey(speed_km_s: float, ratio: float, spacing_cm: float, model: str, time_
     state = shield.run(problem, time_us, options=shield.SPHOptions(failure_model=model)).state
     seconds = time.perf_counter() - start
     fragments = shield.fragments_of(state, link_length_cm=1.5 * spacing_cm)
+    if failed == "grady":
+        fragments = shield.join_fragments(fragments, shield.grady_fragments(state, link_length_cm=1.5 * spacing_cm))
     debris = fragments.velocity[:, 1] > 0.05 * speed_km_s * 0.1        # cm/µs
     mat = get_material(MATERIAL)
     m_proj = mat.rho0 * math.pi * DIAMETER_CM ** 3 / 6
@@ -45,6 +53,9 @@ def survey(speed_km_s: float, ratio: float, spacing_cm: float, model: str, time_
     return {"speed": speed_km_s, "ratio": ratio, "spacing": spacing_cm, "model": model,
             "largest": fragments.mass[debris][:3] / m_proj, "count": fragments.count[debris][:3],
             "n_debris_fragments": int(np.sum(debris & (fragments.count >= 4))),
+            "resolved": int(np.sum(debris & (fragments.diameter_cm >= RESOLVED_CM))),
+            "resolved_mass": float(fragments.mass[debris & (fragments.diameter_cm >= RESOLVED_CM)].sum() / m_proj),
+            "largest_cm": float(fragments.diameter_cm[debris][0]) if np.any(debris) else 0.0,
             "intact_projectile": float(np.mean(intact[projectile])),
             "melted_projectile": float(np.mean(state.temperature[projectile] >= mat.johnson_cook.t_melt)),
             "particles": len(state.mass), "seconds": seconds}
@@ -57,17 +68,21 @@ def main() -> None:
     parser.add_argument("--spacings", type=float, nargs="+", default=[DIAMETER_CM / 10])
     parser.add_argument("--model", default="fragmentation", choices=shield.FAILURE_MODELS)
     parser.add_argument("--time", type=float, default=3.0, help="µs after first contact (default 3)")
+    parser.add_argument("--failed", default="spray", choices=("spray", "grady"),
+                        help="the failed solid material: spray (default) or Grady fragments")
     args = parser.parse_args()
-    print("| model | V km/s | t/D | Δ cm | particles | largest debris fragments / m_proj (particles) "
-          "| fragments ≥ 4 particles | projectile intact | projectile melted | SPH s |")
-    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    print("| model | V km/s | t/D | Δ cm | particles | largest debris fragments / m_proj (particles) | largest cm "
+          "| fragments ≥ 4 particles | ≥ 0.06 cm (mass / m_proj) | projectile intact | projectile melted | SPH s |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for spacing in args.spacings:
         for speed in args.speeds:
             for ratio in args.ratios:
-                r = survey(speed, ratio, spacing, args.model, args.time)
+                r = survey(speed, ratio, spacing, args.model, args.time, args.failed)
                 largest = ", ".join(f"{f:.4f} ({c})" for f, c in zip(r["largest"], r["count"])) or "none"
-                print(f"| {r['model']} | {speed:g} | {ratio:g} | {spacing:g} | {r['particles']} | {largest} "
-                      f"| {r['n_debris_fragments']} | {r['intact_projectile']:.2f} | {r['melted_projectile']:.2f} "
+                print(f"| {r['model']}{' + grady' if args.failed == 'grady' else ''} | {speed:g} | {ratio:g} "
+                      f"| {spacing:g} | {r['particles']} | {largest} | {r['largest_cm']:.3f} "
+                      f"| {r['n_debris_fragments']} | {r['resolved']} ({r['resolved_mass']:.3f}) "
+                      f"| {r['intact_projectile']:.2f} | {r['melted_projectile']:.2f} "
                       f"| {r['seconds']:.0f} |", flush=True)
 
 

@@ -3,7 +3,8 @@
 Updated-Lagrangian SPH with a Mie–Grüneisen EOS, elastic–plastic deviatoric
 stress (Jaumann rate, von Mises radial return, Johnson–Cook optional), Monaghan
 artificial viscosity and artificial stress, failure (a spall / plastic-strain threshold, or damage
-that leaves fragments: :mod:`._damage`, found by :func:`fragments_of`),
+that leaves fragments: :mod:`._damage`, found by :func:`fragments_of`; the fragments of failed
+material sized by Grady's energy balance, :func:`grady_fragments`),
 variable smoothing length and a cell-list neighbour search in compiled parallel
 kernels (:mod:`._equations` states the equations). Units cm, g, µs, Mbar.
 
@@ -18,7 +19,8 @@ Typical use::
 
 from impactdyn.shield._binning import BinningMethod, bin_to_hydrogrid
 from impactdyn.shield._fragments import (Fragments, cumulative_number, find_fragments, fragment_rows, fragments_of,
-                                         plot_fragment_masses)
+                                         join_fragments, plot_fragment_masses)
+from impactdyn.shield._grady import grady_fragment_size, grady_fragments
 from impactdyn.shield._integrate import SPHError, run
 from impactdyn.shield._io import read_particles, write_particles
 from impactdyn.shield._neighbours import Domain, neighbour_pairs
@@ -29,6 +31,7 @@ from impactdyn.shield._state import TENSOR_COMPONENTS, History, Particles, RunRe
 __all__ = [
     "BinningMethod", "Domain", "FAILURE_MODELS", "FLOW_STRESS_MODELS", "FailureModel", "FlowStress", "Fragments",
     "History", "Particles", "Problem", "RunResult", "SPHError", "SPHOptions", "TENSOR_COMPONENTS", "bin_to_hydrogrid",
-    "cumulative_number", "find_fragments", "fragment_rows", "fragments_of", "neighbour_pairs", "planar_impact",
+    "cumulative_number", "find_fragments", "fragment_rows", "fragments_of", "grady_fragment_size", "grady_fragments",
+    "join_fragments", "neighbour_pairs", "planar_impact",
     "plot_fragment_masses", "read_particles", "run", "sphere_on_plate", "write_particles",
 ]

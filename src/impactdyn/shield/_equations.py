@@ -383,11 +383,13 @@ def kick_drift_predict(x, v, acc, rho, dlnrho, e, de, S, dS, eps_p, rate, damage
 @njit(parallel=True, cache=True)
 def finish_step(pos, st, S_p, damage, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v, acc_new,
                 dlnrho_new, de_new, dS_new, rate, dt_i, v, m, rho, dlnrho, e, de, S, dS, eps_p, johnson_cook, failure,
-                dtable, flaw_strain, flaw_count, growth, ductile, dt):
+                dtable, flaw_strain, flaw_count, growth, ductile, failure_rate, dt):
     """The rates at the step's end (:func:`_particle_rates` of the predicted state S_p), then the corrector.
 
     Corrector: second half kick with acc_new, trapezoidal ln ρ, e, S of the old and new rates, radial return
-    (εₚ), damage (:func:`_damage_update`). Returns the totals of the corrected state (:func:`totals`).
+    (εₚ), damage (:func:`_damage_update`); a particle that fails on this step records its largest stretching
+    rate in failure_rate (:func:`largest_stretching_rate`). Returns the totals of the corrected state
+    (:func:`totals`).
     """
     mass = px = py = pz = kin = internal = 0.0
     for i in prange(m.size):
@@ -407,6 +409,8 @@ def finish_step(pos, st, S_p, damage, mat, params, rho_floor, alpha, beta, cfl, 
         if failure != NO_FAILURE and damage[i] < 1.0:
             _damage_update(i, k, failure, plastic, T, rho, e, S, eps_p, rate, params, dtable, flaw_strain,
                            flaw_count, growth, ductile, damage, dt)
+            if damage[i] >= 1.0:
+                failure_rate[i] = largest_stretching_rate(grad_v, i)
         if damage[i] >= 1.0:
             for d in range(6):
                 S[i, d] = 0.0
@@ -417,6 +421,17 @@ def finish_step(pos, st, S_p, damage, mat, params, rho_floor, alpha, beta, cfl, 
         kin += 0.5 * m[i] * (v[i, 0] ** 2 + v[i, 1] ** 2 + v[i, 2] ** 2)
         internal += m[i] * e[i]
     return mass, px, py, pz, kin, internal
+
+
+@njit(cache=True, inline="always")
+def largest_stretching_rate(L, i):
+    """max(0, d₁), d₁ the largest principal value of the rate of deformation d = ½(L + Lᵀ) of particle i
+    (µs⁻¹): how fast the material stretches where it opens; 0 where it is compressed in every direction."""
+    dxx, dyy, dzz = L[i, 0, 0], L[i, 1, 1], L[i, 2, 2]
+    mean = (dxx + dyy + dzz) / 3.0
+    d1 = largest_principal_stress(-mean, dxx - mean, dyy - mean, dzz - mean, 0.5 * (L[i, 0, 1] + L[i, 1, 0]),
+                                  0.5 * (L[i, 1, 2] + L[i, 2, 1]), 0.5 * (L[i, 2, 0] + L[i, 0, 2]))
+    return max(d1, 0.0)
 
 
 @njit(cache=True, inline="always")
@@ -438,12 +453,13 @@ def _damage_update(i, k, failure, plastic, T, rho, e, S, eps_p, rate, params, dt
     sigma1 = largest_principal_stress(pi, S[i, 0], S[i, 1], S[i, 2], S[i, 3], S[i, 4], S[i, 5])
     damage[i] = grady_kipp_damage(damage[i], sigma1 / dtable[k, DM_YOUNG], flaw_strain[i], flaw_count[i],
                                   dtable[k, DM_M], growth[i], dt)
-    if plastic > 0.0:  # yielding: σ_eq = Y > 0
+    sigma_eq = von_mises(S, i)
+    if plastic > 0.0 and sigma_eq > 0.0:  # yielding; σ_eq = Y is 0 at melt (Johnson–Cook), where σ* is undefined
         rate_ratio, tstar = 1.0, 0.0
         if params[k, HAS_JC] != 0.0:
             rate_ratio = rate[i] / params[k, JC_RATE0]
             tstar = min(max((T - params[k, JC_TROOM]) / (params[k, JC_TMELT] - params[k, JC_TROOM]), 0.0), 1.0)
-        ductile[i] += ductile_damage_increment(dtable, k, plastic, -pi / von_mises(S, i), rate_ratio, tstar)
+        ductile[i] += ductile_damage_increment(dtable, k, plastic, -pi / sigma_eq, rate_ratio, tstar)
         if ductile[i] >= 1.0:
             damage[i] = 1.0
 

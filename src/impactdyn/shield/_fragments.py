@@ -69,7 +69,8 @@ from impactdyn._errors import InputError
 UNRESOLVED = 1e-9
 
 _FIELDS = {"mass": (), "position": (3,), "velocity": (3,), "spin": (3,), "diameter_cm": (), "axes_cm": (3,),
-           "count": ()}
+           "count": (), "from_failed": ()}
+_DTYPES = {"count": np.int64, "from_failed": np.bool_}
 
 
 @dataclass(frozen=True, eq=False)
@@ -95,6 +96,9 @@ class Fragments:
         Particles in each fragment.
     ptr : (F + 1,) int, members : (M,) int
         The particle indices of fragment f are ``members[ptr[f]:ptr[f + 1]]`` (ascending), M = Σ count.
+    from_failed : (F,) bool, optional
+        True: a fragment of failed material, sized by the strain rate at failure
+        (:func:`impactdyn.shield.grady_fragments`); False (the default): an intact region.
     """
 
     mass: np.ndarray
@@ -106,11 +110,14 @@ class Fragments:
     count: np.ndarray
     ptr: np.ndarray
     members: np.ndarray
+    from_failed: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         n = np.shape(self.mass)[0] if np.ndim(self.mass) == 1 else -1
+        if self.from_failed is None:
+            object.__setattr__(self, "from_failed", np.zeros(max(n, 0), dtype=bool))
         for name, tail in _FIELDS.items():
-            a = np.array(getattr(self, name), dtype=np.int64 if name == "count" else np.float64)
+            a = np.array(getattr(self, name), dtype=_DTYPES.get(name, np.float64))
             if a.shape != (n,) + tail:
                 raise InputError(f"Fragments.{name}: shape {a.shape}, expected {(n,) + tail}")
             a.flags.writeable = False
@@ -209,23 +216,39 @@ def find_fragments(position, velocity, mass, volume, intact, *, link_length_cm: 
     if intact.dtype != bool or intact.shape != (n,):
         raise InputError(f"find_fragments: intact: expected a boolean mask of shape ({n},), "
                          f"got {intact.dtype} of shape {intact.shape}")
-    b = float(link_length_cm)
-
     idx = np.flatnonzero(intact)
+    return fragments_of_groups(position, velocity, mass, volume, idx,
+                               linked_groups(position[idx], float(link_length_cm)))
+
+
+def linked_groups(x: np.ndarray, b: float) -> np.ndarray:
+    """(k,) int: the friends-of-friends group of each point of x (k, 3): the connected components of the
+    links |x_p − x_q| < b (module docstring), numbered from 0."""
+    k = x.shape[0]
+    if k == 0:
+        return np.zeros(0, dtype=np.int64)
+    pairs = cKDTree(x).query_pairs(b, output_type="ndarray")
+    if len(pairs):  # query_pairs keeps distance ≤ b; the link is < b
+        pairs = pairs[np.einsum("nd,nd->n", x[pairs[:, 0]] - x[pairs[:, 1]],
+                                x[pairs[:, 0]] - x[pairs[:, 1]]) < b * b]
+    graph = coo_matrix((np.ones(len(pairs), dtype=np.int8), (pairs[:, 0], pairs[:, 1])), shape=(k, k))
+    return connected_components(graph, directed=False)[1].astype(np.int64)
+
+
+def fragments_of_groups(position, velocity, mass, volume, idx: np.ndarray, group: np.ndarray, *,
+                        from_failed: bool = False) -> Fragments:
+    """The :class:`Fragments` whose particles are ``idx`` (k,) grouped by ``group`` (k,) ≥ 0 (a group
+    number per particle; the numbers need not be consecutive): the module docstring's figures."""
     k = idx.size
     if k == 0:
         return Fragments(mass=np.empty(0), position=np.empty((0, 3)), velocity=np.empty((0, 3)),
                          spin=np.empty((0, 3)), diameter_cm=np.empty(0), axes_cm=np.empty((0, 3)),
                          count=np.empty(0, dtype=np.int64), ptr=np.zeros(1, dtype=np.int64),
                          members=np.empty(0, dtype=np.int64))
+    _, label = np.unique(group, return_inverse=True)
+    label = label.reshape(-1)
+    n_frag = int(label.max()) + 1
     x = position[idx]
-    pairs = cKDTree(x).query_pairs(b, output_type="ndarray")
-    if len(pairs):  # query_pairs keeps distance ≤ b; the link is < b
-        pairs = pairs[np.einsum("nd,nd->n", x[pairs[:, 0]] - x[pairs[:, 1]],
-                                x[pairs[:, 0]] - x[pairs[:, 1]]) < b * b]
-    graph = coo_matrix((np.ones(len(pairs), dtype=np.int8), (pairs[:, 0], pairs[:, 1])), shape=(k, k))
-    n_frag, label = connected_components(graph, directed=False)
-
     m, v_p, V = mass[idx], velocity[idx], volume[idx]
     M = np.bincount(label, weights=m, minlength=n_frag)
     first = np.full(n_frag, k, dtype=np.int64)
@@ -265,7 +288,20 @@ def find_fragments(position, velocity, mass, volume, intact, *, link_length_cm: 
     members = idx[np.argsort(label, kind="stable")]
     ptr = np.concatenate([[0], np.cumsum(count)])
     return Fragments(mass=M, position=r_c, velocity=v_c, spin=spin, diameter_cm=diameter, axes_cm=axes,
-                     count=count, ptr=ptr, members=members)
+                     count=count, ptr=ptr, members=members, from_failed=np.full(n_frag, from_failed))
+
+
+def join_fragments(*parts: Fragments) -> Fragments:
+    """The fragments of ``parts`` (of one particle set, disjoint) in one record, largest mass first
+    (equal masses: by their lowest particle index)."""
+    values = {name: np.concatenate([getattr(p, name) for p in parts]) for name in _FIELDS}
+    members = [p.indices(f) for p in parts for f in range(len(p))]
+    first = np.array([m[0] if m.size else -1 for m in members], dtype=np.int64)
+    order = np.lexsort((first, -values["mass"]))
+    members = [members[f] for f in order]
+    return Fragments(**{name: a[order] for name, a in values.items()},
+                     ptr=np.concatenate([[0], np.cumsum(values["count"][order])]),
+                     members=np.concatenate(members) if members else np.zeros(0, dtype=np.int64))
 
 
 def cumulative_number(fragments: Fragments) -> tuple[np.ndarray, np.ndarray]:
@@ -279,8 +315,10 @@ def cumulative_number(fragments: Fragments) -> tuple[np.ndarray, np.ndarray]:
 
 
 FRAGMENT_COLUMNS = ("rank", "mass_g", "diameter_cm", "count", "x_cm", "y_cm", "z_cm",
-                    "vx_cm_per_us", "vy_cm_per_us", "vz_cm_per_us", "spin_rad_per_us", "b_over_a", "c_over_a")
-"""The columns of :func:`fragment_rows`: rank 1 the most massive; spin |ω|; b/a, c/a the ratios of ``axes_cm``."""
+                    "vx_cm_per_us", "vy_cm_per_us", "vz_cm_per_us", "spin_rad_per_us", "b_over_a", "c_over_a",
+                    "origin")
+"""The columns of :func:`fragment_rows`: rank 1 the most massive; spin |ω|; b/a, c/a the ratios of ``axes_cm``;
+origin "intact" (a region the cracks did not reach) or "failed" (failed material, :func:`grady_fragments`)."""
 
 
 def fragment_rows(fragments: Fragments, n: int | None = None) -> tuple[tuple[str, ...], list[list]]:
@@ -289,7 +327,8 @@ def fragment_rows(fragments: Fragments, n: int | None = None) -> tuple[tuple[str
     spin = np.linalg.norm(f.spin, axis=1)
     ratio = f.axes_cm[:, 1:] / f.axes_cm[:, :1]
     rows = [[i + 1, float(f.mass[i]), float(f.diameter_cm[i]), int(f.count[i]),
-             *map(float, f.position[i]), *map(float, f.velocity[i]), float(spin[i]), *map(float, ratio[i])]
+             *map(float, f.position[i]), *map(float, f.velocity[i]), float(spin[i]), *map(float, ratio[i]),
+             "failed" if f.from_failed[i] else "intact"]
             for i in range(len(f))]
     return FRAGMENT_COLUMNS, rows
 
@@ -325,7 +364,7 @@ def plot_fragment_masses(path: str | os.PathLike, fragments: Fragments, *, proje
             top_axis = ax.secondary_xaxis("top", functions=(lambda x: x / mp, lambda x: x * mp))
             top_axis.set_xlabel("m / projectile mass")
     else:
-        ax.text(0.5, 0.5, "no intact fragments", transform=ax.transAxes, ha="center")
+        ax.text(0.5, 0.5, "no fragments", transform=ax.transAxes, ha="center")
     ax.set_xlabel("fragment mass m (g)")
     ax.set_ylabel("N(≥ m)")
     ax.set_title(title)

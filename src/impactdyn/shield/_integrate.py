@@ -42,7 +42,7 @@ class _Solver:
 
     REORDER_EVERY = 10
     STATE = ("x", "v", "m", "rho", "e", "S", "eps_p", "damage", "ductile", "flaw_strain", "flaw_count", "growth",
-             "mat", "ids", "acc", "dlnrho", "de", "dS", "rate")
+             "failure_rate", "mat", "ids", "acc", "dlnrho", "de", "dS", "rate")
 
     def __init__(self, problem, options: SPHOptions):
         init = problem.particles
@@ -57,6 +57,7 @@ class _Solver:
                         FRAGMENTATION if options.failure_model == "fragmentation" else THRESHOLD)
         self.damage_table = pack_damage(problem.materials)
         self.ductile = np.zeros(n)
+        self.failure_rate = init.failure_strain_rate.copy()
         if self.failure == FRAGMENTATION:
             self.flaw_strain, self.flaw_count, self.growth = seed_flaws(
                 self.m, self.mat, self.names, self.params, self.damage_table, options.flaw_seed)
@@ -126,7 +127,7 @@ class _Solver:
                                  self.dlnrho_new, self.de_new, self.dS_new, self.rate, self.dt_i, self.v, self.m,
                                  self.rho, self.dlnrho, self.e, self.de, self.S, self.dS, self.eps_p, self.jc,
                                  self.failure, self.damage_table, self.flaw_strain, self.flaw_count, self.growth,
-                                 self.ductile, dt)
+                                 self.ductile, self.failure_rate, dt)
         self.dt = float(self.dt_i.min())
         self.acc, self.acc_new = self.acc_new, self.acc
         self.dlnrho, self.dlnrho_new = self.dlnrho_new, self.dlnrho
@@ -143,7 +144,7 @@ class _Solver:
         return Particles(position=self.x[back], velocity=self.v[back], mass=self.m[back], density=self.rho[back],
                          pressure=self.p[back], specific_energy=self.e[back], deviatoric_stress=self.S[back],
                          plastic_strain=self.eps_p[back], failed=self.damage[back] >= 1.0, damage=self.damage[back],
-                         smoothing_length=self.h[back],
+                         failure_strain_rate=self.failure_rate[back], smoothing_length=self.h[back],
                          sound_speed=self.c[back], temperature=T[back], material=self.mat[back],
                          materials=self.names, time=time)
 

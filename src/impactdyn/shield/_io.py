@@ -25,7 +25,7 @@ FORMAT = "impactdyn-sph-particles"
 VERSION = 1
 _PARTICLE_FIELDS = tuple(f.name for f in fields(Particles) if f.name not in ("materials", "time"))
 #: Fields a file may lack: written by a version that did not record them (the record fills them in).
-_OPTIONAL_FIELDS = ("damage",)
+_OPTIONAL_FIELDS = ("damage", "failure_strain_rate")
 _HISTORY_FIELDS = tuple(f.name for f in fields(History))
 
 

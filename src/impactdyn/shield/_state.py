@@ -14,7 +14,7 @@ TENSOR_COMPONENTS = ("xx", "yy", "zz", "xy", "yz", "zx")
 _SHAPES = {
     "position": (3,), "velocity": (3,), "mass": (), "density": (), "pressure": (), "specific_energy": (),
     "deviatoric_stress": (6,), "plastic_strain": (), "failed": (), "smoothing_length": (), "sound_speed": (),
-    "temperature": (), "material": (), "damage": (),
+    "temperature": (), "material": (), "damage": (), "failure_strain_rate": (),
 }
 
 
@@ -43,6 +43,11 @@ class Particles:
     damage : (N,) in [0, 1], optional
         D: the particle carries (1 − D) of its tension and deviatoric stress (D = 1: failed);
         None (a state written before damage was recorded): 1 where failed, else 0.
+    failure_strain_rate : (N,) ≥ 0, optional
+        µs⁻¹: the largest principal stretching rate of a particle on the step it failed (what sizes the
+        fragments of failed material, :func:`impactdyn.shield.grady_fragments`); 0 where it did not fail
+        in the run, or failed compressed in every direction.  None (a state written before it was
+        recorded): 0.
     smoothing_length : (N,)
         h, cm (kernel support 2h).
     sound_speed : (N,)
@@ -73,11 +78,14 @@ class Particles:
     materials: tuple[str, ...]
     time: float = 0.0
     damage: np.ndarray | None = None
+    failure_strain_rate: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         n = np.shape(self.mass)[0] if np.ndim(self.mass) == 1 else -1
         if self.damage is None:
             object.__setattr__(self, "damage", np.asarray(self.failed, dtype=float))
+        if self.failure_strain_rate is None:
+            object.__setattr__(self, "failure_strain_rate", np.zeros(max(n, 0)))
         for name, tail in _SHAPES.items():
             dtype = bool if name == "failed" else np.int64 if name == "material" else np.float64
             a = np.array(getattr(self, name), dtype=dtype)
@@ -89,6 +97,8 @@ class Particles:
             object.__setattr__(self, name, a)
         if n and not np.all((self.damage >= 0.0) & (self.damage <= 1.0)):
             raise InputError("Particles.damage: outside [0, 1]")
+        if n and np.any(self.failure_strain_rate < 0.0):
+            raise InputError("Particles.failure_strain_rate: negative")
         if n and (self.material.min() < 0 or self.material.max() >= len(self.materials)):
             raise InputError("Particles.material: index outside the material list")
         object.__setattr__(self, "materials", tuple(self.materials))

@@ -18,7 +18,7 @@ z ∈ [−4, 12] cm about the impact point).
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, get_type_hints
+from typing import Annotated, Literal, get_type_hints
 
 from pydantic import Field, field_validator, model_validator
 
@@ -90,17 +90,30 @@ class _ShieldBase(Section):
         separates two fragments).
     fragment_damage_threshold : a particle with damage below it (and below its melting temperature) is
         intact, part of a fragment (1: every particle that has not failed).
+    failed_fragments : what the failed solid material of the debris becomes: ``"spray"``, the binned
+        cloud; ``"grady"``, fragments of the size Grady's energy balance gives at the stretching rate
+        at failure (:func:`impactdyn.shield.grady_fragments`, seeded by ``flaw_seed``), those the wall
+        resolves flying to it as compact bodies.  Needs ``failure_model = "fragmentation"``.
     """
 
     spacing_cm: Positive = 0.0254
     handoff_us: Positive = 4.0
     fragment_link_spacings: Positive = 1.5
     fragment_damage_threshold: Annotated[float, Field(gt=0, le=1)] = 1.0
+    failed_fragments: Literal["spray", "grady"] = "spray"
+
+    @model_validator(mode="after")
+    def _grady_needs_fragmentation(self) -> "_ShieldBase":
+        if self.failed_fragments == "grady" and self.failure_model != "fragmentation":
+            raise ValueError(f"failed_fragments = \"grady\" needs failure_model = \"fragmentation\" (got "
+                             f"{self.failure_model!r}): the threshold model fails material in compression, "
+                             "which breaks nothing")
+        return self
 
     def sph_options(self) -> SPHOptions:
         """The :class:`impactdyn.shield.SPHOptions` of this table."""
         return SPHOptions(**self.model_dump(exclude={"spacing_cm", "handoff_us", "fragment_link_spacings",
-                                                     "fragment_damage_threshold"}))
+                                                     "fragment_damage_threshold", "failed_fragments"}))
 
 
 ShieldSection = section_of("ShieldSection", _ShieldBase, SPHOptions,
@@ -174,6 +187,14 @@ class WhippleCase(Section):
     @model_validator(mode="after")
     def _fits(self) -> "WhippleCase":
         p, b, w, s = self.projectile, self.bumper, self.wall, self.shield
+        if s.failed_fragments == "grady":
+            from impactdyn.materials import FRACTURE_TOUGHNESS
+
+            lacking = [f"{key}.material = {m.material!r}" for key, m in (("projectile", p), ("bumper", b))
+                       if get_material(m.material).name not in FRACTURE_TOUGHNESS]
+            if lacking:
+                raise ValueError(f"shield.failed_fragments = \"grady\": no fracture toughness for "
+                                 f"{', '.join(lacking)} (impactdyn.materials.FRACTURE_TOUGHNESS)")
         if s.spacing_cm > p.diameter_cm / 4:
             raise ValueError(f"shield.spacing_cm = {s.spacing_cm} is too coarse for the {p.diameter_cm} cm "
                              "projectile: at least 4 particles across it")

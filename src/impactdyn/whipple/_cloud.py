@@ -79,15 +79,20 @@ DEBRIS_FRAGMENT_SPEED_FRACTION = 0.05
 def debris_fragments(particles, case):
     """The solid fragments of the debris (:func:`impactdyn.shield.fragments_of` with the case's
     ``[shield]`` link length and damage threshold, images of the half model included so that masses
-    are the full model's): those moving toward the wall (v_y > 5 % of the projectile's speed,
-    :data:`DEBRIS_FRAGMENT_SPEED_FRACTION`), which leaves out the bumper's remnant; a fragment still
-    crossing the bumper's plane counts."""
-    from impactdyn.shield import fragments_of
+    are the full model's; with ``failed_fragments = "grady"`` also those of the failed solid material,
+    :func:`impactdyn.shield.grady_fragments`): those moving toward the wall (v_y > 5 % of the
+    projectile's speed, :data:`DEBRIS_FRAGMENT_SPEED_FRACTION`), which leaves out the bumper's
+    remnant; a fragment still crossing the bumper's plane counts."""
+    from impactdyn.shield import fragments_of, grady_fragments, join_fragments
     from impactdyn.units import km_s_to_cm_us
 
     s = case.shield
-    fragments = fragments_of(particles, link_length_cm=s.fragment_link_spacings * s.spacing_cm,
-                             damage_threshold=s.fragment_damage_threshold)
+    link = s.fragment_link_spacings * s.spacing_cm
+    fragments = fragments_of(particles, link_length_cm=link, damage_threshold=s.fragment_damage_threshold)
+    if s.failed_fragments == "grady":
+        fragments = join_fragments(fragments, grady_fragments(particles, link_length_cm=link,
+                                                              damage_threshold=s.fragment_damage_threshold,
+                                                              seed=s.flaw_seed))
     speed = km_s_to_cm_us(case.projectile.velocity_km_s)
     return fragments.select(fragments.velocity[:, 1] > DEBRIS_FRAGMENT_SPEED_FRACTION * speed)
 
@@ -105,7 +110,7 @@ def fragment_figures(fragments, projectile_mass_g: float) -> dict:
     return figures
 
 
-#: A debris fragment flies to the wall as a compact body (:func:`impactdyn.debris.compact_deposition`)
+#: An intact debris fragment flies to the wall as a compact body (:func:`impactdyn.debris.compact_deposition`)
 #: when the SPH resolves it (at least this many particles: two across) ...
 COMPACT_MIN_PARTICLES = 8
 
@@ -114,15 +119,17 @@ def compact_fragments(fragments, case):
     """The debris fragments carried to the wall as compact bodies, not binned (the second of the
     two populations to the wall, docs/theory/shield.md): with the fragmentation model only (the
     threshold model's intact particles are what its compressive-strain criterion left, not
-    fragments), resolved by the SPH
-    (:data:`COMPACT_MIN_PARTICLES`) and at least as large as the fragment the wall's mesh rule is built
-    to crater (:data:`impactdyn.wall.FRAGMENT_DIAMETER_CM`, 0.06 cm: its crater spans ≥ 4 core
-    elements).  Smaller fragments stay in the binned cloud with their momentum."""
+    fragments), at least as large as the fragment the wall's mesh rule is built to crater
+    (:data:`impactdyn.wall.FRAGMENT_DIAMETER_CM`, 0.06 cm: its crater spans ≥ 4 core elements), and,
+    for an intact region, resolved by the SPH (:data:`COMPACT_MIN_PARTICLES`; a fragment of failed
+    material has the size of the model that drew it, :func:`impactdyn.shield.grady_fragments`).
+    Smaller fragments stay in the binned cloud with their momentum."""
     from impactdyn.wall import FRAGMENT_DIAMETER_CM
 
     carried = np.zeros(len(fragments), dtype=bool)
     if case.shield.failure_model == "fragmentation":
-        carried = (fragments.count >= COMPACT_MIN_PARTICLES) & (fragments.diameter_cm >= FRAGMENT_DIAMETER_CM)
+        carried = (((fragments.count >= COMPACT_MIN_PARTICLES) | fragments.from_failed)
+                   & (fragments.diameter_cm >= FRAGMENT_DIAMETER_CM))
     return fragments.select(carried)
 
 

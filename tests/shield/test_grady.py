@@ -1,0 +1,128 @@
+"""Fragments of failed material (:func:`impactdyn.shield.grady_fragments`): Grady's size, the Poisson
+partition of the failed particles, its conservation, its seed and its mirror; and the SPH's record of
+the stretching rate at failure that feeds it."""
+
+import math
+
+import numpy as np
+import pytest
+
+from impactdyn import shield
+from impactdyn._errors import InputError
+from impactdyn.materials import AL_6061_T6, FRACTURE_TOUGHNESS
+
+
+def test_grady_size_is_the_energy_balance_in_si_units():
+    """s = (24 K² / (E ρ ε̇²))^{1/3} evaluated independently in SI: K = 29 MPa√m, the library's ρ₀ and
+    E of 6061-T6, ε̇ = 10⁶ s⁻¹ — about half a millimetre."""
+    young_pa = AL_6061_T6.young_modulus * 1e11
+    expected_m = (24 * 29e6 ** 2 / (young_pa * AL_6061_T6.rho0 * 1e3 * 1e6 ** 2)) ** (1 / 3)
+    size_cm = shield.grady_fragment_size(FRACTURE_TOUGHNESS["al6061-t6"], AL_6061_T6.rho0,
+                                         AL_6061_T6.young_modulus, 1.0)       # 1 µs⁻¹ = 10⁶ s⁻¹
+    assert size_cm == pytest.approx(100 * expected_m, rel=1e-12)
+    assert 0.04 < size_cm < 0.06
+    # s ∝ ε̇^{-2/3} K^{2/3}
+    assert shield.grady_fragment_size(0.0029, 2.7, 0.7, 8.0) == pytest.approx(
+        shield.grady_fragment_size(0.0029, 2.7, 0.7, 1.0) / 4)
+    assert shield.grady_fragment_size(8 * 0.0029, 2.7, 0.7, 1.0) == pytest.approx(
+        4 * shield.grady_fragment_size(0.0029, 2.7, 0.7, 1.0))
+
+
+def _block(n=16, spacing=0.01, rate_us=1.0, x0=0.0, material="al6061-t6", **fields):
+    """A cube of n³ failed particles of ``material`` (lattice ``spacing``, corner at x = x0) that broke
+    stretching at ``rate_us``, moving with a linear velocity field."""
+    g = (np.arange(n) + 0.5) * spacing
+    x = np.stack(np.meshgrid(g + x0, g, g, indexing="ij"), axis=-1).reshape(-1, 3)
+    count = x.shape[0]
+    rho0 = 2.703 if material == "al6061-t6" else 8.93
+    values = dict(position=x, velocity=0.5 + 0.1 * x[:, [1, 2, 0]], mass=np.full(count, rho0 * spacing ** 3),
+                  density=np.full(count, rho0), pressure=np.zeros(count), specific_energy=np.zeros(count),
+                  deviatoric_stress=np.zeros((count, 6)), plastic_strain=np.zeros(count),
+                  failed=np.ones(count, bool), smoothing_length=np.full(count, 1.3 * spacing),
+                  sound_speed=np.full(count, 0.5), temperature=np.full(count, 300.0),
+                  material=np.zeros(count, int), materials=(material,), damage=np.ones(count),
+                  failure_strain_rate=np.full(count, rate_us))
+    values.update(fields)
+    return shield.Particles(**values)
+
+
+def _rate_for_size(size_cm):
+    """The stretching rate (µs⁻¹) at which 6061-T6 breaks into fragments of Grady size ``size_cm``."""
+    return (24 * FRACTURE_TOUGHNESS["al6061-t6"] ** 2
+            / (AL_6061_T6.young_modulus * AL_6061_T6.rho0 * size_cm ** 3)) ** 0.5
+
+
+def test_the_partition_has_the_mean_fragment_volume_of_the_model_and_conserves_mass_and_momentum():
+    """4096 failed particles at a rate for s = 3Δ: each holds a centre with probability 1/27, so
+    ~152 ± 12 fragments of mean volume s³; every particle is in one, and the fragments carry the
+    particles' mass and momentum exactly."""
+    spacing = 0.01
+    state = _block(spacing=spacing, rate_us=_rate_for_size(3 * spacing))
+    fragments = shield.grady_fragments(state, link_length_cm=1.5 * spacing, mirror_x0=False)
+    assert np.all(fragments.from_failed)
+    assert np.array_equal(np.sort(fragments.members), np.arange(len(state)))
+    assert fragments.total_mass() == pytest.approx(state.total_mass(), rel=1e-12)
+    np.testing.assert_allclose(fragments.momentum(), state.total_momentum(), rtol=1e-12)
+    expected = len(state) / 27
+    assert abs(len(fragments) - expected) < 4 * math.sqrt(expected)
+    mean_volume = state.total_mass() / 2.703 / len(fragments)
+    assert mean_volume == pytest.approx((3 * spacing) ** 3, rel=4 / math.sqrt(expected))
+
+
+def test_the_partition_is_drawn_from_its_seed():
+    state = _block(rate_us=_rate_for_size(0.03))
+    a, b, c = (shield.grady_fragments(state, link_length_cm=0.015, seed=s, mirror_x0=False) for s in (4, 4, 5))
+    assert np.array_equal(a.members, b.members) and np.array_equal(a.mass, b.mass)
+    assert not (len(a) == len(c) and np.array_equal(a.mass, c.mass))
+
+
+def test_only_failed_solid_material_that_breaks_coarser_than_a_particle_forms_fragments():
+    """Stretching too fast (s < Δ: fragments finer than a particle) leaves spray; so does a melted,
+    an undamaged or a failed particle without a recorded rate."""
+    spacing = 0.01
+    assert len(shield.grady_fragments(_block(rate_us=_rate_for_size(0.5 * spacing)), link_length_cm=0.015,
+                                      mirror_x0=False)) == 0
+    coarse = _rate_for_size(3 * spacing)
+    n = 16 ** 3
+    half = np.arange(n) < n // 2
+    for fields in ({"temperature": np.where(half, 1e4, 300.0)}, {"damage": np.where(half, 0.5, 1.0)},
+                   {"failure_strain_rate": np.where(half, 0.0, coarse)}):
+        fragments = shield.grady_fragments(_block(rate_us=coarse, **fields), link_length_cm=0.015,
+                                           mirror_x0=False)
+        assert np.all(fragments.members >= n // 2)
+        assert fragments.count.sum() == n // 2
+
+
+def test_the_half_models_fragments_are_mirror_images():
+    """A block against the symmetry plane: with its image every fragment is found whole, either its
+    own mirror image (on the plane) or one of a pair at ±x; the whole model holds twice the half."""
+    state = _block(rate_us=_rate_for_size(0.03))
+    fragments = shield.grady_fragments(state, link_length_cm=0.015)
+    assert fragments.total_mass() == pytest.approx(2 * state.total_mass(), rel=1e-12)
+    on_plane = np.abs(fragments.position[:, 0]) < 1e-9
+    assert on_plane.any()
+    off = fragments.position[~on_plane]
+    twins = {(round(x, 9), round(y, 9), round(z, 9)) for x, y, z in off}
+    assert all((round(-x, 9), round(y, 9), round(z, 9)) in twins for x, y, z in off)
+
+
+def test_a_material_without_a_fracture_toughness_is_refused_by_name():
+    with pytest.raises(InputError, match="no fracture toughness for cu-ofhc"):
+        shield.grady_fragments(_block(material="cu-ofhc"), link_length_cm=0.015)
+
+
+def test_the_sph_records_the_stretching_rate_where_material_fails(tmp_path):
+    """The 0.5 km/s spall of a plate: the particles that failed have the stretching rate they failed at
+    (a spall's 10⁴–10⁶ s⁻¹; 0 only where a particle failed compressed in every direction, which its
+    tension and ductile damage allow but rarely), the others none; the file keeps it."""
+    problem = shield.planar_impact("al6061-t6", "al6061-t6", 0.5, 0.1, 0.2, 0.01)
+    state = shield.run(problem, 1.2, options=shield.SPHOptions(failure_model="fragmentation")).state
+    failed = state.damage >= 1.0
+    assert failed.sum() > 0
+    assert np.all(state.failure_strain_rate[~failed] == 0.0)
+    rate = state.failure_strain_rate[failed]
+    assert np.mean(rate > 0.0) > 0.95
+    assert 1e-2 < np.median(rate) < 1.0                     # µs⁻¹
+    shield.write_particles(tmp_path / "p.h5", state)
+    back, _ = shield.read_particles(tmp_path / "p.h5")
+    assert np.array_equal(back.failure_strain_rate, state.failure_strain_rate)
