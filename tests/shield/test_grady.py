@@ -112,9 +112,9 @@ def test_a_material_without_a_fracture_toughness_is_refused_by_name():
 
 
 def test_the_sph_records_the_stretching_rate_where_material_fails(tmp_path):
-    """The 0.5 km/s spall of a plate: the particles that failed have the stretching rate they failed at
-    (a spall's 10⁴–10⁶ s⁻¹; 0 only where a particle failed compressed in every direction, which its
-    tension and ductile damage allow but rarely), the others none; the file keeps it."""
+    """The 0.5 km/s spall of a plate: the particles that failed have the stretching rate they broke apart
+    at (a spall's 10⁴–10⁶ s⁻¹; 0 only where a failed particle has not expanded beyond ρ₀ since), the
+    others none; the file keeps it."""
     problem = shield.planar_impact("al6061-t6", "al6061-t6", 0.5, 0.1, 0.2, 0.01)
     state = shield.run(problem, 1.2, options=shield.SPHOptions(failure_model="fragmentation")).state
     failed = state.damage >= 1.0

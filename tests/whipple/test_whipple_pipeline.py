@@ -228,6 +228,10 @@ def test_restart_needs_a_run_folder(tmp_path, capsys, make_case):
     (dict(shield__failure_model="fragmentation", projectile__material="cu-ofhc"),
      "no Weibull flaw constants for cu-ofhc"),
     (dict(wall_solver__max_time_us=1.0), "wall_solver.max_time_us = 1 us is before the last arrival on the wall"),
+    (dict(shield__failed_fragments="dust"), "shield.failed_fragments: "),
+    (dict(shield__failed_fragments="grady"), "failed_fragments = \"grady\" needs failure_model = \"fragmentation\""),
+    (dict(shield__failed_fragments="grady", shield__failure_model="fragmentation", projectile__material="cu-ofhc"),
+     "no fracture toughness for projectile.material = 'cu-ofhc'"),
 ])
 def test_bad_input_exits_2_and_writes_nothing(tmp_path, capsys, make_case, change, message):
     case = make_case(tmp_path, **change)
@@ -363,12 +367,17 @@ def test_bad_wall_solver_settings_exit_2_before_any_work(tmp_path, capsys, make_
     assert not out.exists()
 
 
-def test_a_fragmenting_shot_reports_its_solid_fragments(tmp_path, make_case):
+@pytest.mark.parametrize("failed, wall_end_us", [("spray", 30.0), ("grady", 250.0)])
+def test_a_fragmenting_shot_reports_its_solid_fragments(tmp_path, make_case, failed, wall_end_us):
     """At 2 km/s the fragmentation model leaves the projectile in pieces the SPH resolves: the shield stage
-    lists them (largest first, their mass within the debris's), and the report draws and names them."""
-    # 3 µs: the projectile's remains have passed behind the bumper; the wall's response is not asked here
+    lists them (largest first, their mass within the debris's), and the report draws and names them.
+    With ``failed_fragments = "grady"`` the failed solid material adds fragments of its own, and the
+    split into the two populations still conserves mass and momentum exactly."""
+    # 3 µs: the projectile's remains have passed behind the bumper; the wall's response is not asked here,
+    # but it must run until the last fragment arrives (Grady fragments of the bumper's rim fly slowly)
     case = make_case(tmp_path, shield__failure_model="fragmentation", shield__spacing_cm=0.05,
-                     shield__handoff_us=3.0, projectile__velocity_km_s=2.0, wall_solver__max_time_us=30.0)
+                     shield__handoff_us=3.0, projectile__velocity_km_s=2.0, wall_solver__max_time_us=wall_end_us,
+                     shield__failed_fragments=failed)
     out = tmp_path / "run"
     assert main(["whipple", "run", str(case), "-o", str(out)]) == 0
     figures = json.loads((out / "summary.json").read_text())["stages"]["shield"]["fragments"]
@@ -378,6 +387,8 @@ def test_a_fragmenting_shot_reports_its_solid_fragments(tmp_path, make_case):
     assert masses == sorted(masses, reverse=True) and masses[0] == pytest.approx(figures["largest_g"])
     assert 0 < figures["largest_over_projectile"] < 1
     assert all(float(r["vy_cm_per_us"]) > 0 for r in rows)
+    origins = {r["origin"] for r in rows}
+    assert origins == ({"intact", "failed"} if failed == "grady" else {"intact"})
     assert "Solid fragments of the debris" in (out / "report.html").read_text()
 
     # two populations: the compact fragments are not binned, and fly to the wall on their own;

@@ -387,9 +387,10 @@ def finish_step(pos, st, S_p, damage, mat, params, rho_floor, alpha, beta, cfl, 
     """The rates at the step's end (:func:`_particle_rates` of the predicted state S_p), then the corrector.
 
     Corrector: second half kick with acc_new, trapezoidal ln ρ, e, S of the old and new rates, radial return
-    (εₚ), damage (:func:`_damage_update`); a particle that fails on this step records its largest stretching
-    rate in failure_rate (:func:`largest_stretching_rate`). Returns the totals of the corrected state
-    (:func:`totals`).
+    (εₚ), damage (:func:`_damage_update`); a failed particle records its largest stretching rate
+    (:func:`largest_stretching_rate`) in failure_rate on the first step it is failed and expanded beyond its
+    reference density (at failure for one that failed in tension; when it expands for one that failed
+    compressed). Returns the totals of the corrected state (:func:`totals`).
     """
     mass = px = py = pz = kin = internal = 0.0
     for i in prange(m.size):
@@ -409,8 +410,8 @@ def finish_step(pos, st, S_p, damage, mat, params, rho_floor, alpha, beta, cfl, 
         if failure != NO_FAILURE and damage[i] < 1.0:
             _damage_update(i, k, failure, plastic, T, rho, e, S, eps_p, rate, params, dtable, flaw_strain,
                            flaw_count, growth, ductile, damage, dt)
-            if damage[i] >= 1.0:
-                failure_rate[i] = largest_stretching_rate(grad_v, i)
+        if damage[i] >= 1.0 and failure_rate[i] == 0.0 and rho[i] < params[k, RHO0]:
+            failure_rate[i] = largest_stretching_rate(grad_v, i)
         if damage[i] >= 1.0:
             for d in range(6):
                 S[i, d] = 0.0

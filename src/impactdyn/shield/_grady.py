@@ -13,7 +13,14 @@ stretches): material stretching at the rate ε̇ when it breaks forms fragments 
 the size at which the kinetic energy of the fragment's motion relative to its centre pays for the
 new surfaces (Γ the fracture energy, K_Ic the fracture toughness, E Young's modulus: the form Zhou,
 Molinari & Ramesh 2005 compare with resolved cohesive fragmentation).  ε̇ is the largest principal
-stretching rate of the particle on the step it failed (``Particles.failure_strain_rate``).
+stretching rate of the particle when it breaks apart: on the first step it is failed and expanded
+beyond ρ₀ (``Particles.failure_strain_rate``).
+
+**Not converged (measured, BENCHMARKS.md):** the SPH's rate at failure is a kernel-scale rate, and it
+grows as the particles shrink (median 0.85 → 1.27 ×10⁶ s⁻¹ from Δ = d/10 to d/20 at 6 km/s, about
+Δ^{-0.6}); the sizes follow (s ∝ ε̇^{-2/3}).  Until the rate is measured on a scale of the
+material's own, the fragments' sizes depend on the particle spacing, which is why this is an
+option (``[shield] failed_fragments = "grady"``), not the default.
 
 **Partition.**  The fragments' centres are a Poisson process of intensity 1/s³ in the failed solid
 material, so the mean fragment volume is s³ (the cells of a Poisson–Voronoi tessellation; Grady &

@@ -44,10 +44,10 @@ class Particles:
         D: the particle carries (1 − D) of its tension and deviatoric stress (D = 1: failed);
         None (a state written before damage was recorded): 1 where failed, else 0.
     failure_strain_rate : (N,) ≥ 0, optional
-        µs⁻¹: the largest principal stretching rate of a particle on the step it failed (what sizes the
-        fragments of failed material, :func:`impactdyn.shield.grady_fragments`); 0 where it did not fail
-        in the run, or failed compressed in every direction.  None (a state written before it was
-        recorded): 0.
+        µs⁻¹: the largest principal stretching rate of a failed particle on the first step it was failed
+        and expanded beyond its reference density ρ₀ (what sizes the fragments of failed material,
+        :func:`impactdyn.shield.grady_fragments`); 0 where it did not fail in the run, or has not
+        expanded since.  None (a state written before it was recorded): 0.
     smoothing_length : (N,)
         h, cm (kernel support 2h).
     sound_speed : (N,)
