@@ -7,7 +7,7 @@ from hypothesis import strategies as st
 
 from impactdyn._errors import InputError
 from impactdyn.shield._fragments import (FRAGMENT_COLUMNS, Fragments, cumulative_number, find_fragments,
-                                         fragment_rows, plot_fragment_masses)
+                                         fragment_rows, join_fragments, plot_fragment_masses)
 
 D = 0.1  # lattice spacing, cm
 B = 1.5 * D  # link length
@@ -160,6 +160,30 @@ def test_sorted_by_mass_and_the_members_partition_the_intact_particles():
     top = f.largest(3)
     assert len(top) == 3 and top.ptr[-1] == f.ptr[3]
     np.testing.assert_array_equal(top.members, f.members[:f.ptr[3]])
+
+
+def test_joined_fragments_keep_their_members_and_origin_sorted_by_mass():
+    """Two disjoint records (intact and failed particles of one set) joined: largest first, each fragment
+    with its own particles and origin, and the CSR index whole."""
+    rng = np.random.default_rng(3)
+    n = 2000
+    position = rng.uniform(0, 1, (n, 3))
+    mass = rng.uniform(0.5, 2.0, n)
+    intact = rng.random(n) < 0.5
+    a = find_fragments(position, np.zeros((n, 3)), mass, mass / 2.7, intact, link_length_cm=0.06)
+    b = find_fragments(position, np.zeros((n, 3)), mass, mass / 2.7, ~intact, link_length_cm=0.06)
+    b = Fragments(**{name: getattr(b, name) for name in ("mass", "position", "velocity", "spin", "diameter_cm",
+                                                         "axes_cm", "count", "ptr", "members")},
+                  from_failed=np.ones(len(b), dtype=bool))
+    joined = join_fragments(a, b)
+    assert len(joined) == len(a) + len(b) and np.all(np.diff(joined.mass) <= 0)
+    np.testing.assert_array_equal(np.sort(joined.members), np.arange(n))
+    np.testing.assert_array_equal(np.diff(joined.ptr), joined.count)
+    for f in range(len(joined)):
+        members = joined.indices(f)
+        assert mass[members].sum() == pytest.approx(joined.mass[f], rel=1e-13)
+        assert np.all(intact[members] != joined.from_failed[f])
+    assert fragment_rows(joined)[1][0][-1] == ("failed" if joined.from_failed[0] else "intact")
 
 
 def test_linked_means_closer_than_the_link_length():
