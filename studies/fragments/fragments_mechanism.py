@@ -36,6 +36,15 @@ MATERIAL = "al6061-t6"
 RESOLVED_CM = 0.06   # the fragment the wall's mesh rule is built to crater (impactdyn.wall.FRAGMENT_DIAMETER_CM)
 
 
+def largest_of(fragments, debris, projectile) -> float:
+    """The mass of the largest debris fragment made mostly (by mass: equal particle masses) of projectile
+    particles (``projectile`` over the half model and its images), g; 0 if none."""
+    for f in np.flatnonzero(debris):
+        if np.mean(projectile[fragments.indices(f)]) > 0.5:
+            return float(fragments.mass[f])
+    return 0.0
+
+
 def survey(speed_km_s: float, ratio: float, spacing_cm: float, model: str, time_us: float, failed: str) -> dict:
     problem = shield.sphere_on_plate(MATERIAL, MATERIAL, DIAMETER_CM, speed_km_s, 0.0, ratio * DIAMETER_CM,
                                      spacing_cm)
@@ -56,6 +65,7 @@ def survey(speed_km_s: float, ratio: float, spacing_cm: float, model: str, time_
             "resolved": int(np.sum(debris & (fragments.diameter_cm >= RESOLVED_CM))),
             "resolved_mass": float(fragments.mass[debris & (fragments.diameter_cm >= RESOLVED_CM)].sum() / m_proj),
             "largest_cm": float(fragments.diameter_cm[debris][0]) if np.any(debris) else 0.0,
+            "largest_projectile": largest_of(fragments, debris, np.concatenate([projectile, projectile])) / m_proj,
             "intact_projectile": float(np.mean(intact[projectile])),
             "melted_projectile": float(np.mean(state.temperature[projectile] >= mat.johnson_cook.t_melt)),
             "particles": len(state.mass), "seconds": seconds}
@@ -72,15 +82,15 @@ def main() -> None:
                         help="the failed solid material: spray (default) or Grady fragments")
     args = parser.parse_args()
     print("| model | V km/s | t/D | Δ cm | particles | largest debris fragments / m_proj (particles) | largest cm "
-          "| fragments ≥ 4 particles | ≥ 0.06 cm (mass / m_proj) | projectile intact | projectile melted | SPH s |")
-    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+          "| largest of projectile / m_proj | fragments ≥ 4 particles | ≥ 0.06 cm (mass / m_proj) | projectile intact | projectile melted | SPH s |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for spacing in args.spacings:
         for speed in args.speeds:
             for ratio in args.ratios:
                 r = survey(speed, ratio, spacing, args.model, args.time, args.failed)
                 largest = ", ".join(f"{f:.4f} ({c})" for f, c in zip(r["largest"], r["count"])) or "none"
                 print(f"| {r['model']}{' + grady' if args.failed == 'grady' else ''} | {speed:g} | {ratio:g} "
-                      f"| {spacing:g} | {r['particles']} | {largest} | {r['largest_cm']:.3f} "
+                      f"| {spacing:g} | {r['particles']} | {largest} | {r['largest_cm']:.3f} | {r['largest_projectile']:.4f} "
                       f"| {r['n_debris_fragments']} | {r['resolved']} ({r['resolved_mass']:.3f}) "
                       f"| {r['intact_projectile']:.2f} | {r['melted_projectile']:.2f} "
                       f"| {r['seconds']:.0f} |", flush=True)
