@@ -18,7 +18,7 @@ from impactdyn.debris._integrators import (
     INTEGRATORS, Failure, IntegratorOptions, PropagationStats, propagate, register_integrator)
 from impactdyn.debris._particle import (
     ParticleMaterial, check_wave_speed, pack_state, state_rates, total_energy, unpack_state)
-from impactdyn.debris._compact import compact_deposition
+from impactdyn.debris._compact import compact_arrival_us, compact_deposition, half_model_share
 from impactdyn.debris._debris_h5 import read_arrivals, read_deposition
 from impactdyn.debris._decks import DeckOptions, write_decks
 from impactdyn.debris._outputs import write_debris_files, write_debris_run
@@ -42,7 +42,8 @@ __all__ = [
     "DepositionOptions", "Failure", "FilterSection", "HydroGrid", "INTEGRATORS", "IntegratorOptions",
     "IntegratorSection", "LegacySection", "OutputSection", "ParticleMaterial", "POINTS_PER_PARTICLE", "ParticleCloud",
     "PropagationStats", "SeedFilter", "SeedOptions", "ShellCloud", "WallDeposition", "WallGrid", "WallSection",
-    "Mat13Card", "affine_velocity_fit", "compact_deposition", "areal_density", "arrival_points", "arrival_times", "build",
+    "Mat13Card", "affine_velocity_fit", "compact_arrival_us", "compact_deposition", "half_model_share",
+    "areal_density", "arrival_points", "arrival_times", "build",
     "cell_nodes", "check_bulk_modulus", "check_seeding", "check_wave_speed", "deposit",
     "element_impulse", "element_records", "face_areas", "face_element", "gather_tets", "inertia_tensor",
     "initial_state", "load_debris_case", "momentum_enhancement", "pack_state", "propagate", "propagate_chunked",

@@ -50,15 +50,13 @@ def compact_deposition(wall: WallGrid, wall_y_cm: float, mass: np.ndarray, diame
     position, velocity = np.asarray(position, float), np.asarray(velocity, float)
     if np.any(velocity[:, 1] <= 0.0):
         raise InputError("compact_deposition: every fragment must move toward the wall (v_y > 0)")
-    share = np.ones(mass.size)
-    if half_model:
-        on_plane = np.abs(position[:, 0]) <= ON_PLANE * diameter
-        share = np.where(on_plane, 0.5, np.where(position[:, 0] > 0.0, 1.0, 0.0))
+    share = half_model_share(position, diameter) if half_model else np.ones(mass.size)
     momentum = (share * mass)[:, None] * velocity
+    arrival = compact_arrival_us(wall_y_cm, diameter, position, velocity)
     parts = []
     for f in np.flatnonzero(share > 0.0):
         v = velocity[f]
-        t0 = (wall_y_cm - position[f, 1] - 0.5 * diameter[f]) / v[1]
+        t0 = arrival[f]
         x, z = position[f, 0] + v[0] * t0, position[f, 2] + v[2] * t0
         density = mass[f] / (np.pi * diameter[f] ** 3 / 6.0)
         centres = [x] if (not half_model or share[f] == 0.5) else [x, -x]   # the image's part beyond x = 0
@@ -76,6 +74,22 @@ def compact_deposition(wall: WallGrid, wall_y_cm: float, mass: np.ndarray, diame
     return WallDeposition(element=np.concatenate([p.element for p in parts]),
                           time=np.concatenate([p.time for p in parts]),
                           impulse=np.concatenate([p.impulse for p in parts])), share
+
+
+def half_model_share(position: np.ndarray, diameter_cm: np.ndarray) -> np.ndarray:
+    """(F,) each whole fragment's share of itself in the half model (module docstring): ½ on the plane,
+    0 for an image (x_c < 0), 1 beside the plane."""
+    position, diameter = np.asarray(position, float), np.asarray(diameter_cm, float)
+    on_plane = np.abs(position[:, 0]) <= ON_PLANE * diameter
+    return np.where(on_plane, 0.5, np.where(position[:, 0] > 0.0, 1.0, 0.0))
+
+
+def compact_arrival_us(wall_y_cm: float, diameter_cm: np.ndarray, position: np.ndarray,
+                       velocity: np.ndarray) -> np.ndarray:
+    """(F,) t₀ = (y_w − y_c − d/2) / v_y: when each fragment's front reaches the wall's face, µs after
+    hand-off."""
+    position, velocity = np.asarray(position, float), np.asarray(velocity, float)
+    return (wall_y_cm - position[:, 1] - 0.5 * np.asarray(diameter_cm, float)) / velocity[:, 1]
 
 
 def _on_grid(wall: WallGrid, x: float, z: float, radius: float, half_model: bool) -> bool:

@@ -169,9 +169,13 @@ def _debris(s: StageContext) -> dict:
 def _with_compact_fragments(case: WhippleCase, folder: Path, result):
     """The debris result with the compact fragments' records (:func:`impactdyn.debris.compact_deposition`)
     added to the cloud's: the wall and the decks read one deposition, the two populations in it.
+    A fragment whose front reaches the wall outside the case's arrival window (``[filter]`` t_min_us,
+    t_cut_us, as the cloud's particles) lays down nothing, as a cloud particle outside it does.
     Returns the result and the fragments' record (how many, their mass and momentum in the half model,
-    the momentum their records deposit; ``momentum_deposited`` of the summary holds both populations)."""
-    from impactdyn.debris import areal_density, compact_deposition, element_impulse
+    how many and how much mass arrive outside the window, the momentum their records deposit;
+    ``momentum_deposited`` of the summary holds both populations)."""
+    from impactdyn.debris import (areal_density, compact_arrival_us, compact_deposition, element_impulse,
+                                  half_model_share)
     from impactdyn.shield import read_particles
     from impactdyn.wallgrid import WallDeposition
     from impactdyn.whipple._cloud import compact_fragments, debris_fragments
@@ -179,11 +183,17 @@ def _with_compact_fragments(case: WhippleCase, folder: Path, result):
     particles, _ = read_particles(folder / "shield" / "particles.h5")
     fragments = compact_fragments(debris_fragments(particles, case), case)
     wall_y = case.bumper.thickness_cm + case.wall.spacing_cm
-    records, share = compact_deposition(result.wall, wall_y, fragments.mass, fragments.diameter_cm,
-                                        fragments.position, fragments.velocity)
+    arrival = compact_arrival_us(wall_y, fragments.diameter_cm, fragments.position, fragments.velocity)
+    inside = (arrival >= case.filter.t_min_us) & (arrival <= case.filter.t_cut_us)
+    landing = fragments.select(inside)
+    records, _ = compact_deposition(result.wall, wall_y, landing.mass, landing.diameter_cm, landing.position,
+                                    landing.velocity)
+    share = half_model_share(fragments.position, fragments.diameter_cm)
     mass = share * fragments.mass          # in the half model: images carry none of their own
     record = {"n_fragments": int(np.count_nonzero(share)), "mass_g": float(mass.sum()),
               "momentum": (mass @ fragments.velocity).tolist(),
+              "n_outside_window": int(np.count_nonzero(share[~inside])),
+              "mass_outside_window_g": float(mass[~inside].sum()),
               "momentum_deposited": records.impulse.sum(axis=0).tolist()}
     if not len(records.element):
         return result, record
