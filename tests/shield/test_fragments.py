@@ -143,13 +143,16 @@ def test_fragments_and_spray_hold_all_the_mass_and_momentum(n, b, damaged, seed)
     assert np.all(np.isfinite(f.spin)) and np.all(np.isfinite(f.axes_cm))
 
 
+def random_cloud(seed, n, intact_share):
+    """n particles at random in the unit cube, masses in [0.5, 2], a random ``intact_share`` of them intact."""
+    rng = np.random.default_rng(seed)
+    return rng.uniform(0, 1, (n, 3)), rng.uniform(0.5, 2.0, n), rng.random(n) < intact_share
+
+
 def test_sorted_by_mass_and_the_members_partition_the_intact_particles():
     """Masses descending, count = diff(ptr), every intact particle in exactly one fragment, no damaged one."""
-    rng = np.random.default_rng(11)
     n = 3000
-    position = rng.uniform(0, 1, (n, 3))
-    mass = rng.uniform(0.5, 2.0, n)
-    intact = rng.random(n) < 0.7
+    position, mass, intact = random_cloud(11, n, 0.7)
     f = find_fragments(position, np.zeros((n, 3)), mass, mass / 2.7, intact, link_length_cm=0.06)
     assert len(f) > 10 and np.any(f.count == 1) and f.count[0] > 10  # singles, and a large cluster
     assert np.all(np.diff(f.mass) <= 0)
@@ -165,11 +168,8 @@ def test_sorted_by_mass_and_the_members_partition_the_intact_particles():
 def test_joined_fragments_keep_their_members_and_origin_sorted_by_mass():
     """Two disjoint records (intact and failed particles of one set) joined: largest first, each fragment
     with its own particles and origin, and the CSR index whole."""
-    rng = np.random.default_rng(3)
     n = 2000
-    position = rng.uniform(0, 1, (n, 3))
-    mass = rng.uniform(0.5, 2.0, n)
-    intact = rng.random(n) < 0.5
+    position, mass, intact = random_cloud(3, n, 0.5)
     a = find_fragments(position, np.zeros((n, 3)), mass, mass / 2.7, intact, link_length_cm=0.06)
     b = find_fragments(position, np.zeros((n, 3)), mass, mass / 2.7, ~intact, link_length_cm=0.06)
     b = Fragments(**{name: getattr(b, name) for name in ("mass", "position", "velocity", "spin", "diameter_cm",
