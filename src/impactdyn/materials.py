@@ -585,12 +585,11 @@ def _mpa_sqrt_m(x: float) -> float:
 #: Plane-strain fracture toughness K_Ic, Mbar·cm^½, by library material name: what sizes the fragments
 #: of failed material through Grady's energy balance [G82] (:func:`impactdyn.shield.grady_fragments`).
 #: Room-temperature, quasi-static handbook values; the dynamic toughness at 10⁵–10⁷ s⁻¹ is not known
-#: for these alloys, and the size goes as K_Ic^{2/3} (±20 % in K_Ic moves it ±13 %).
-#: * al2024-t4 (the library's 2024-T351/2017-T4): 34 MPa√m, [MMPDS] average for 2024-T351 plate.
-#: * al7075-t6: 24 MPa√m, [C07] (7075-T651).
-#: * al6061-t6: 29 MPa√m, the value commonly tabulated for 6061-T651 (ASM/Aluminum Association
-#:   typical properties); UNCERTAIN: not read from a primary table here.
-#: A material without an entry (copper, steel: ductile beyond the K_Ic test's validity) cannot be
-#: given fragments of failed material; the shield stage refuses it, naming it.
+#: for these alloys, and the size goes as K_Ic^{2/3} (±20 % in K_Ic moves it ±13 %).  al2024-t4 (the
+#: library's 2024-T351/2017-T4): 34 MPa√m, the [MMPDS] average for 2024-T351 plate.  al7075-t6:
+#: 24 MPa√m, [C07] (7075-T651).  al6061-t6: 29 MPa√m, the value commonly tabulated for 6061-T651
+#: (ASM/Aluminum Association typical properties); UNCERTAIN: not read from a primary table here.  A
+#: material without an entry (copper, steel: ductile beyond the K_Ic test's validity) cannot be given
+#: fragments of failed material; the shield stage refuses it, naming it.
 FRACTURE_TOUGHNESS: dict[str, float] = {
     "al6061-t6": _mpa_sqrt_m(29.0), "al2024-t4": _mpa_sqrt_m(34.0), "al7075-t6": _mpa_sqrt_m(24.0)}
