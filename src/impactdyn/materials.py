@@ -53,9 +53,17 @@ Sources
        Procedia Struct. Integrity 68 (2025) 446–452, Table 1.
 [C07]  W. D. Callister, *Materials science and engineering*, 7th ed. (2007), App. B, Table B.5:
        room-temperature plane-strain K_Ic of 7075-T651, 24 MPa√m.
-[ASM]  ASM Handbook vol. 2 (aluminium, copper) and vol. 1 (steel): specific heat
-       and elongation at break. The elongation is used as the plastic-strain
+[ASM]  ASM Handbook vol. 2 (aluminium, copper) and vol. 1 (steel): specific heat,
+       elongation at break, and the alloys' melting ranges (solidus–liquidus: 6061 582–652 °C,
+       2024 502–638 °C, 7075 477–635 °C, 304 stainless steel 1400–1455 °C). The elongation is used as the plastic-strain
        failure limit — a simple, conservative (early-failing) choice.
+[CRC]  *CRC Handbook of Chemistry and Physics*, 97th ed. (2016), §6 "Enthalpy of fusion" and
+       "Enthalpy of vaporization" and §4 "Melting, boiling … points of the elements": aluminium
+       T_m 933.47 K, ΔH_fus 10.71 kJ/mol (397 J/g), T_b 2792 K, ΔH_vap 294 kJ/mol (10.9 kJ/g); copper
+       T_m 1357.77 K, 13.26 kJ/mol (209 J/g), T_b 2835 K, 300 kJ/mol (4.72 kJ/g); iron 13.81 kJ/mol
+       (247 J/g), T_b 3134 K, 340 kJ/mol (6.09 kJ/g).  The alloys take their base metal's latent heats
+       and boiling point (the alloying elements move them by a few per cent, below what the constant
+       specific heat already misses).
 """
 
 from __future__ import annotations
@@ -112,6 +120,32 @@ class JohnsonCook:
 
 
 @dataclass(frozen=True)
+class PhaseChange:
+    """Melting and vaporisation at ambient pressure, what melt on release is judged by
+    (:mod:`impactdyn.constitutive._phase`): K and cm²/µs² ([ASM], [CRC]).
+
+    solidus, liquidus : the melting range (equal for a pure metal);
+    latent_fusion : the latent heat of fusion L_f;
+    boiling : the boiling point T_b;
+    latent_vaporisation : the latent heat of vaporisation L_v.
+    """
+
+    solidus: float
+    liquidus: float
+    latent_fusion: float
+    boiling: float
+    latent_vaporisation: float
+    source: str = ""
+
+    def __post_init__(self) -> None:
+        _require_numbers(self, ("solidus", "liquidus", "latent_fusion", "boiling", "latent_vaporisation"),
+                         positive=True)
+        if not self.solidus <= self.liquidus < self.boiling:
+            raise InputError(f"PhaseChange: needs solidus <= liquidus < boiling, got {self.solidus!r}, "
+                             f"{self.liquidus!r}, {self.boiling!r}")
+
+
+@dataclass(frozen=True)
 class Material:
     """One material of the shield stage (units cm, g, µs, Mbar, K).
 
@@ -131,6 +165,8 @@ class Material:
     failure_strain : float | None
         Plastic-strain limit εₚ,f: the particle fails when εₚ > εₚ,f. None: none.
     johnson_cook : JohnsonCook | None
+    phase : PhaseChange | None
+        Melting range, boiling point and latent heats; None: melt is not judged (never melted).
     source : str
         Where the numbers come from (keys of the module docstring).
     """
@@ -146,6 +182,7 @@ class Material:
     spall_strength: float | None = None
     failure_strain: float | None = None
     johnson_cook: JohnsonCook | None = None
+    phase: PhaseChange | None = None
     source: str = ""
 
     def __post_init__(self) -> None:
@@ -194,6 +231,16 @@ def _km_s(x: float) -> float:
     return x * CM_US_PER_KM_S
 
 
+def _phase(solidus_c: float, liquidus_c: float, fusion_j_g: float, boiling_k: float, vaporisation_j_g: float,
+           source: str) -> PhaseChange:
+    return PhaseChange(solidus=solidus_c + 273.15, liquidus=liquidus_c + 273.15,
+                       latent_fusion=fusion_j_g * _CM2_US2_PER_J_G, boiling=boiling_k,
+                       latent_vaporisation=vaporisation_j_g * _CM2_US2_PER_J_G, source=source)
+
+
+_ALUMINIUM_LATENT = dict(fusion_j_g=397.0, boiling_k=2792.0, vaporisation_j_g=10.9e3)
+
+
 def _jc(a_mpa: float, b_mpa: float, n: float, c: float, m: float, t_melt: float) -> JohnsonCook:
     return JohnsonCook(A=a_mpa * _MBAR_PER_MPA, B=b_mpa * _MBAR_PER_MPA, n=n, C=c, m=m, t_melt=t_melt)
 
@@ -203,6 +250,7 @@ AL_6061_T6 = Material(
     shear_modulus=_gpa(27.6), yield_stress=_gpa(0.29), specific_heat=0.896 * _CM2_US2_PER_J_G,
     spall_strength=_gpa(1.2), failure_strain=0.12,
     johnson_cook=_jc(324.0, 114.0, 0.42, 0.002, 1.34, 925.0),
+    phase=_phase(582.0, 652.0, **_ALUMINIUM_LATENT, source="[ASM] melting range; [CRC] aluminium latent heats, T_b"),
     source="[S91] EOS, G, Y0; [L01] Johnson-Cook; [K04] spall; [ASM] c_v, elongation 12 %",
 )
 AL_2024_T4 = Material(
@@ -210,12 +258,14 @@ AL_2024_T4 = Material(
     shear_modulus=_gpa(28.6), yield_stress=_gpa(0.26), specific_heat=0.875 * _CM2_US2_PER_J_G,
     spall_strength=_gpa(1.2), failure_strain=0.20,
     johnson_cook=_jc(265.0, 426.0, 0.34, 0.015, 1.0, 775.0),
+    phase=_phase(502.0, 638.0, **_ALUMINIUM_LATENT, source="[ASM] melting range; [CRC] aluminium latent heats, T_b"),
     source="[S91] EOS, G, Y0; [JC83] Johnson-Cook of 2024-T351; [K04] spall; [ASM] c_v, elongation 20 %",
 )
 AL_7075_T6 = Material(
     name="al7075-t6", rho0=2.803, c0=_km_s(5.20), s=1.36, gamma0=2.20,
     shear_modulus=_gpa(26.7), yield_stress=_gpa(0.42), specific_heat=0.960 * _CM2_US2_PER_J_G,
     spall_strength=_gpa(1.2), failure_strain=0.11,
+    phase=_phase(477.0, 635.0, **_ALUMINIUM_LATENT, source="[ASM] melting range; [CRC] aluminium latent heats, T_b"),
     source="[S91] EOS, G, Y0; [K04] spall; [ASM] c_v, elongation 11 %",
 )
 CU_OFHC = Material(
@@ -223,12 +273,14 @@ CU_OFHC = Material(
     shear_modulus=_gpa(47.7), yield_stress=_gpa(0.12), specific_heat=0.385 * _CM2_US2_PER_J_G,
     spall_strength=_gpa(1.4), failure_strain=0.45,
     johnson_cook=_jc(90.0, 292.0, 0.31, 0.025, 1.09, 1356.0),
+    phase=_phase(1084.62, 1084.62, 209.0, 2835.0, 4.72e3, source="[CRC] copper"),
     source="[S91] EOS, G, Y0; [JC83] Johnson-Cook; [K04] spall; [ASM] c_v, elongation 45 %",
 )
 SS_304 = Material(
     name="ss304", rho0=7.90, c0=_km_s(4.57), s=1.49, gamma0=1.93,
     shear_modulus=_gpa(77.0), yield_stress=_gpa(0.34), specific_heat=0.500 * _CM2_US2_PER_J_G,
     failure_strain=0.40,
+    phase=_phase(1400.0, 1455.0, 247.0, 3134.0, 6.09e3, source="[ASM] melting range; [CRC] iron latent heats, T_b"),
     source="[S91] EOS, G, Y0 (304 stainless steel); [ASM] c_v, elongation 40 %; no spall data entered",
 )
 
@@ -499,13 +551,12 @@ TULER_BUTCHER: dict[str, TulerButcher] = {
 
 @dataclass(frozen=True)
 class WeibullFlaws:
-    """The flaws of a brittle-damage model [GK80, BA94]: the number of flaws per unit volume that
-    activate at a tensile strain ≤ ε is n(ε) = k εᵐ.
+    """The flaws of a brittle-damage model [GK80]: the number of flaws per unit volume that activate at
+    a tensile strain ≤ ε is n(ε) = k εᵐ.
 
-    k in cm⁻³, m dimensionless; ``source`` says where they come from.  A volume V holds no flaw
-    active below the strain ε_min with probability exp(−k V ε_minᵐ): the weakest-flaw strain of
-    each SPH particle is drawn from it (:mod:`impactdyn.shield._damage`), so smaller volumes are
-    stronger, as the Weibull size effect says.
+    k in cm⁻³, m dimensionless; ``source`` says where they come from.  The shield stage's tensile damage
+    grows cracks from these flaws per unit volume (:func:`impactdyn.constitutive.grady_kipp_damage`), so
+    the particle's size does not enter it.
     """
 
     k: float
@@ -515,35 +566,38 @@ class WeibullFlaws:
     def __post_init__(self) -> None:
         _require_numbers(self, ("k", "m"), positive=True)
 
-    def median_activation_strain(self, volume: float) -> float:
-        """The median weakest-flaw strain of a volume V (cm³): (ln 2 / (k V))^{1/m}."""
-        return (math.log(2.0) / (self.k * volume)) ** (1.0 / self.m)
+    def fracture_time(self, strain_rate: float, crack_speed: float) -> float:
+        """The time t_f at which the damage reaches 1 under the ramp ε = ε̇t, µs ([GK80])::
+
+            D(t) = 8π c_g³ k ε̇ᵐ t^{m+3} / ((m+1)(m+2)(m+3))
+
+        ``strain_rate`` ε̇ in µs⁻¹, ``crack_speed`` c_g in cm/µs.
+        """
+        m = self.m
+        return ((m + 1.0) * (m + 2.0) * (m + 3.0) / (8.0 * math.pi * crack_speed ** 3 * self.k * strain_rate ** m)
+                ) ** (1.0 / (m + 3.0))
 
 
 #: Spheral's aluminium: k = 7×10¹¹/2.63^2.55 cm⁻³ (5.9×10¹⁰), m = 2.55, as LLNL's Spheral material
 #: library enters "aluminum" (its note: read from the plots of DOI 10.1007/s11661-010-0364-6, a paper
-#: not identified here).  Not the library's default: under the Grady–Kipp growth law of the shield stage
-#: an SPH particle of 0.016–0.032 cm spalls at 0.3–0.5, 0.6–0.8 and 1.9–2.0 GPa at 10⁴, 10⁵ and
-#: 10⁶ s⁻¹, below [K04]'s 1.0–1.7 GPa for aluminium alloys at the lower rates; kept for comparison.
+#: not identified here).  Not the library's default: under the Grady–Kipp law of the shield stage it
+#: spalls aluminium at 0.18, 0.64 and 2.2 GPa at 10⁴, 10⁵ and 10⁶ s⁻¹ (:meth:`WeibullFlaws.fracture_time`),
+#: below [K04]'s 1.0–1.7 GPa for aluminium alloys at the lower rates; kept for comparison.
 SPHERAL_ALUMINIUM_WEIBULL = WeibullFlaws(
     k=7.0e11 / 2.63 ** 2.55, m=2.55,
     source="LLNL Spheral material library, 'aluminum' (from plots of DOI 10.1007/s11661-010-0364-6); "
            "the paper not identified here",
 )
 
+
 def weibull_from_spall(material: Material, low: tuple[float, float], high: tuple[float, float]) -> WeibullFlaws:
     """The Weibull constants that give ``material`` the spall strengths σ at the strain rates ε̇ of
     ``low`` and ``high`` ((σ Mbar, ε̇ µs⁻¹) each) under the Grady–Kipp damage of the shield stage.
 
-    Under a uniaxial-strain ramp ε = ε̇t with n_a = k V εᵐ ≫ 1 active flaws, d D^{1/3}/dt =
-    n_a^{1/3} c_g / R_s = (4πk/3)^{1/3} ε^{m/3} c_g (R_s = (3V/4π)^{1/3}: the volume cancels) reaches
-    D = 1 at::
-
-        t_f^{(m+3)/3} = (m + 3) / (3 (4πk/3)^{1/3} c_g ε̇^{m/3}),   σ_f = E ε̇ t_f ∝ ε̇^{3/(m+3)}
-
-    (Grady & Kipp's rate dependence of the fragmentation strength), so m = 3/s − 3 with s the
-    logarithmic slope of σ over ε̇ between the two points, and k from σ_f at their geometric mean.
-    E and c_g: :attr:`Material.young_modulus`, :attr:`Material.crack_speed`.
+    Under the uniaxial-strain ramp ε = ε̇t the damage reaches 1 at t_f (:meth:`WeibullFlaws.fracture_time`),
+    so σ_f = E ε̇ t_f ∝ ε̇^{3/(m+3)} (Grady & Kipp's rate dependence of the fragmentation strength):
+    m = 3/s − 3 with s the logarithmic slope of σ over ε̇ between the two points, and k from σ_f at their
+    geometric mean.  E and c_g: :attr:`Material.young_modulus`, :attr:`Material.crack_speed`.
     """
     (s_lo, r_lo), (s_hi, r_hi) = low, high
     slope = math.log(s_hi / s_lo) / math.log(r_hi / r_lo)
@@ -551,22 +605,22 @@ def weibull_from_spall(material: Material, low: tuple[float, float], high: tuple
     young, growth = material.young_modulus, material.crack_speed
     rate, sigma = math.sqrt(r_lo * r_hi), math.sqrt(s_lo * s_hi)
     t_f = sigma / (young * rate)
-    k = 3.0 / (4.0 * math.pi) * ((m + 3.0) / (3.0 * growth * rate ** (m / 3.0) * t_f ** ((m + 3.0) / 3.0))) ** 3
+    k = (m + 1.0) * (m + 2.0) * (m + 3.0) / (8.0 * math.pi * growth ** 3 * rate ** m * t_f ** (m + 3.0))
     return WeibullFlaws(k=k, m=m, source=(
         f"FALLBACK calibrated to [K04] spall strengths of aluminium alloys ({s_lo / _gpa(1.0):.1f} GPa at "
-        f"{r_lo * 1e6:.0e}/s, {s_hi / _gpa(1.0):.1f} GPa at {r_hi * 1e6:.0e}/s) under the Grady-Kipp growth law; "
+        f"{r_lo * 1e6:.0e}/s, {s_hi / _gpa(1.0):.1f} GPa at {r_hi * 1e6:.0e}/s) under the Grady-Kipp law; "
         "not a measured flaw distribution, uncertain"))
 
 
 #: The library's aluminium flaws: a documented FALLBACK, not a measured flaw distribution.  No
 #: Weibull constants measured for 6061-T6 or 2024 could be found (searched: Spheral's library, whose
-#: aluminium set is above; Benz & Asphaug's tables are for rock).  They are calibrated, by
-#: :func:`weibull_from_spall`, to the spall strengths of [K04] (the same data the library's p_spall
-#: and the wall's Tuler–Butcher fallback rest on), the range 1.0–1.7 GPa read as the strength at
-#: 10⁴ and 10⁶ s⁻¹: m = 23.0, k = 3.8×10⁴⁶ cm⁻³, a spall strength of 1.3 GPa at 10⁵ s⁻¹.  m ≈ 23
-#: makes the weakest-flaw strain nearly independent of the particle's volume (V^{-1/m}), as metals'
-#: narrow scatter of strength suggests.  UNCERTAIN: reading [K04]'s spread across alloys as a rate
-#: dependence sets m; a factor 2 in the rate slope moves m between 10 and 50.
+#: aluminium set is above; Benz & Asphaug's tables are for rock; miluphcuda's material files hold
+#: basalt and ice).  They are calibrated, by :func:`weibull_from_spall`, to the spall strengths of [K04]
+#: (the same data the library's p_spall and the wall's Tuler–Butcher fallback rest on), the range
+#: 1.0–1.7 GPa read as the strength at 10⁴ and 10⁶ s⁻¹: m = 23.0, a spall strength of 1.3 GPa at
+#: 10⁵ s⁻¹.  UNCERTAIN: reading [K04]'s spread across alloys as a rate dependence sets m; a factor 2 in
+#: the rate slope moves m between 10 and 50.  These constants decide where the tensile damage begins,
+#: and so the shield stage's break-up onset.
 AL_WEIBULL = weibull_from_spall(AL_6061_T6, (_gpa(1.0), 1.0e-2), (_gpa(1.7), 1.0))
 
 #: Weibull flaw constants by library material name; the shield stage's fragmentation model refuses

@@ -1,5 +1,6 @@
 """Failure laws shared by the solvers: the floored Johnson–Cook fracture strain, Tuler–Butcher spall,
-and the tensile (Grady–Kipp) and ductile damage of the SPH shield stage's fragmentation.
+and the tensile (Grady–Kipp, flaws per unit volume) and ductile damage of the SPH shield stage's
+fragmentation.
 
 Pure scalar functions, inlined into the material kernels (the wall's
 :func:`impactdyn.wall._johnson_cook.jc_update`, the SPH shield stage's
@@ -68,24 +69,41 @@ def largest_principal_stress(p, sxx, syy, szz, sxy, syz, szx):
     return -p + 2.0 * math.sqrt(j2 / 3.0) * math.cos(math.acos(c3) / 3.0)
 
 
+#: Columns of a particle's flaw record (:func:`grady_kipp_damage`): the largest tensile strain so far
+#: ε_max, and the moments M₀ … M₃ of its activated flaws (cm⁻³·µsᵏ).
+FLAW_STRAIN, FLAW_M0, FLAW_M1, FLAW_M2, FLAW_M3 = range(5)
+N_FLAW = 5
+
+
 @njit(cache=True, inline="always")
-def grady_kipp_damage(damage, strain, flaw_strain, flaws_at_unit_strain, m, growth_rate, dt):
-    """Tensile damage D after a step Δt under the tensile strain ε (Grady & Kipp 1980; Benz & Asphaug
-    1994, 1995 in SPH).
+def grady_kipp_damage(flaws, i, strain, k, m, growth_speed, dt):
+    """Tensile damage from flaws per unit volume (Grady & Kipp 1980, the continuum form), after a step Δt
+    under the tensile strain ε; updates the flaw record flaws[i] (``FLAW_*``) and returns D.
 
-    Once ε exceeds the volume's weakest-flaw strain ε_min (``flaw_strain``), n_a = max(1, k V εᵐ)
-    flaws (``flaws_at_unit_strain`` = k V) grow cracks at c_g; n_a cracks of radius c_g t damage the
-    fraction D = n_a (c_g t / R_s)³ of a sphere of radius R_s, so::
+    n(ε) = k εᵐ flaws per unit volume activate as the largest tensile strain ε_max so far passes their
+    strain; a flaw activated at t' has grown a crack of radius c_g (t − t') (c_g = ``growth_speed``)
+    while the material is in tension.  The cracks' volume per unit volume is the damage::
 
-        d D^{1/3} / dt = n_a^{1/3} c_g / R_s         (``growth_rate`` = c_g / R_s, µs⁻¹)
+        D = (4π/3) c_g³ M₃,   M_j(t) = ∫ (t − t')ʲ dn(t')
 
-    D grows at a bounded rate (at least R_s/c_g from 0 to 1 with one flaw) and never heals.
+    advanced exactly for the flaws already active (dM₃/dt = 3M₂, dM₂/dt = 2M₁, dM₁/dt = M₀ = n) and with
+    the step's new flaws Δn activated at mid-step.  Under the ramp ε = ε̇t this is Grady & Kipp's
+    D = 8π c_g³ k ε̇ᵐ t^{m+3} / ((m+1)(m+2)(m+3)).  Nothing here depends on the particle's size: a
+    finer particle is neither weaker nor stronger (the Weibull size effect belongs to specimens, whose
+    volume a particle is not).  The cracks do not grow in compression (ε ≤ 0) and D never heals.
     """
-    if strain <= flaw_strain or damage >= 1.0:
-        return damage
-    active = max(1.0, flaws_at_unit_strain * strain ** m)
-    root = damage ** (1.0 / 3.0) + dt * growth_rate * active ** (1.0 / 3.0)
-    return min(1.0, root * root * root)
+    new = 0.0
+    if strain > flaws[i, FLAW_STRAIN]:
+        new = max(k * strain ** m - flaws[i, FLAW_M0], 0.0)
+        flaws[i, FLAW_STRAIN] = strain
+    if strain > 0.0:
+        m0, m1, m2 = flaws[i, FLAW_M0], flaws[i, FLAW_M1], flaws[i, FLAW_M2]
+        half = 0.5 * dt
+        flaws[i, FLAW_M3] += dt * (3.0 * m2 + dt * (3.0 * m1 + dt * m0)) + new * half * half * half
+        flaws[i, FLAW_M2] += dt * (2.0 * m1 + dt * m0) + new * half * half
+        flaws[i, FLAW_M1] += dt * m0 + new * half
+    flaws[i, FLAW_M0] += new
+    return min(1.0, 4.0 * math.pi / 3.0 * growth_speed ** 3 * flaws[i, FLAW_M3])
 
 
 @njit(cache=True, inline="always")

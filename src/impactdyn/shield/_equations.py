@@ -25,10 +25,13 @@ x-momentum with the mirror half, as it must) and periodic axes conserve all thre
 
 * Artificial viscosity (Monaghan 1992, eq. 4.1), for vᵢⱼ·xᵢⱼ < 0::
 
-      Πᵢⱼ = (−α c̄ᵢⱼ μᵢⱼ + β μᵢⱼ²)/ρ̄ᵢⱼ,   μᵢⱼ = hᵢⱼ vᵢⱼ·xᵢⱼ / (|xᵢⱼ|² + 0.01 hᵢⱼ²)
+      Πᵢⱼ = f̄ᵢⱼ (−α c̄ᵢⱼ μᵢⱼ + β μᵢⱼ²)/ρ̄ᵢⱼ,   μᵢⱼ = hᵢⱼ vᵢⱼ·xᵢⱼ / (|xᵢⱼ|² + 0.01 hᵢⱼ²)
 
   defaults α = 1, β = 2 (a strong-shock setting; the linear term damps the
-  post-shock ringing, the quadratic one prevents interpenetration).
+  post-shock ringing, the quadratic one prevents interpenetration).  f̄ᵢⱼ = ½(fᵢ + fⱼ): 1 by default;
+  with ``viscosity_switch = "balsara"`` the factor of :func:`viscosity_switch` from the previous
+  step's velocity gradient (1 before the first), which confines the viscosity's heating to
+  converging flow.
 * Artificial stress Rᵢ (:mod:`._strength`) with fᵢⱼ = W(rᵢⱼ, hᵢⱼ)/W(hᵢⱼ/κ, hᵢⱼ)
   (the initial spacing Δp = h/κ), defaults ε = 0.3, n = 4 (Gray, Monaghan &
   Swift 2001).
@@ -89,7 +92,7 @@ import math
 import numpy as np
 from numba import get_thread_id, njit, prange
 
-from impactdyn.constitutive import (C0, DM_M, DM_YOUNG, EPS_FAIL, GAMMA0, HAS_JC, JC_RATE0, JC_TMELT, JC_TROOM, P_SPALL,
+from impactdyn.constitutive import (C0, DM_GROWTH, DM_K, DM_M, DM_YOUNG, EPS_FAIL, GAMMA0, HAS_JC, JC_RATE0, JC_TMELT, JC_TROOM, P_SPALL,
                                    RHO0, SHEAR, SLOPE, artificial_stress, ductile_damage_increment, flow_stress,
                                    grady_kipp_damage, jaumann_rate, largest_principal_stress, pressure, radial_return,
                                    sound_speed, temperature, von_mises)
@@ -130,16 +133,16 @@ def update_particles(m, rho, e, S, damage, mat, params, h_factor, rho_floor, eps
 
 
 #: Columns of the pair-loop rows ``st`` (:func:`pair_rows`).
-ST_V, ST_C, ST_RHO, ST_M, ST_VOL, ST_SR, ST_WIDTH = 0, 3, 4, 5, 6, 8, 16
+ST_V, ST_C, ST_RHO, ST_M, ST_VOL, ST_SWITCH, ST_SR, ST_WIDTH = 0, 3, 4, 5, 6, 7, 8, 16
 
 
 @njit(cache=True, inline="always")
-def _pair_row(i, x, h, v, c, rho, m, S, p, damage, pos, st):
+def _pair_row(i, x, h, v, c, rho, m, S, p, damage, switch, pos, st):
     """Row i of the pair loop's particle data (σ = −pI + (1 − D) S: damage D weakens the deviator).
 
     pos (N, 4): (x, y, z, h), what the support test reads for every listed pair;
-    st (N, 16): v (3), c, ρ, m, m/ρ, σ/ρ² (6; σ = −pI + S) in the columns
-    ``ST_*`` (7, 14, 15 unused), what an interacting pair reads. A neighbour j
+    st (N, 16): v (3), c, ρ, m, m/ρ, the viscosity switch fᵢ, σ/ρ² (6; σ = −pI + S) in the columns
+    ``ST_*`` (14, 15 unused), what an interacting pair reads. A neighbour j
     costs the pair loop a 32-byte and a 128-byte row instead of a cache line in
     each of nine per-quantity arrays, and σ/ρ² and m/ρ are formed once per
     particle, not once per pair.
@@ -152,6 +155,7 @@ def _pair_row(i, x, h, v, c, rho, m, S, p, damage, pos, st):
     st[i, ST_RHO] = rho[i]
     st[i, ST_M] = m[i]
     st[i, ST_VOL] = m[i] / rho[i]
+    st[i, ST_SWITCH] = switch[i]
     q = 1.0 / (rho[i] * rho[i])
     intact = 1.0 - damage[i]
     for d in range(6):
@@ -159,10 +163,10 @@ def _pair_row(i, x, h, v, c, rho, m, S, p, damage, pos, st):
 
 
 @njit(parallel=True, cache=True)
-def pair_rows(x, h, v, c, rho, m, S, p, damage, pos, st):
+def pair_rows(x, h, v, c, rho, m, S, p, damage, switch, pos, st):
     """The pair loop's rows (pos, st) of every particle (:func:`_pair_row`)."""
     for i in prange(m.size):
-        _pair_row(i, x, h, v, c, rho, m, S, p, damage, pos, st)
+        _pair_row(i, x, h, v, c, rho, m, S, p, damage, switch, pos, st)
 
 
 #: Columns of the per-thread pair sums (:func:`pair_sums`): Σ mⱼTᵢⱼ·∇ᵢWᵢⱼ (3), Σ mⱼvᵢⱼ·∇ᵢWᵢⱼ, ė,
@@ -196,7 +200,7 @@ def pair_sums(pos, st, R, tension, nbr, img, count, signs, offsets, alpha, beta,
         tid = get_thread_id()
         xi0, xi1, xi2, hi = pos[i, 0], pos[i, 1], pos[i, 2], pos[i, 3]
         vi0, vi1, vi2 = st[i, ST_V], st[i, ST_V + 1], st[i, ST_V + 2]
-        ci, rhoi, mi, voli = st[i, ST_C], st[i, ST_RHO], st[i, ST_M], st[i, ST_VOL]
+        ci, rhoi, mi, voli, fi = st[i, ST_C], st[i, ST_RHO], st[i, ST_M], st[i, ST_VOL], st[i, ST_SWITCH]
         axx, ayy, azz = st[i, ST_SR], st[i, ST_SR + 1], st[i, ST_SR + 2]
         axy, ayz, azx = st[i, ST_SR + 3], st[i, ST_SR + 4], st[i, ST_SR + 5]
         tension_i = tension[i]
@@ -236,7 +240,8 @@ def pair_sums(pos, st, R, tension, nbr, img, count, signs, offsets, alpha, beta,
             visc = mu = 0.0
             if vr < 0.0:
                 mu = hij * vr / (r2 + 0.01 * hij * hij)
-                visc = (-alpha * 0.5 * (ci + st[j, ST_C]) * mu + beta * mu * mu) / (0.5 * (rhoi + st[j, ST_RHO]))
+                visc = ((-alpha * 0.5 * (ci + st[j, ST_C]) * mu + beta * mu * mu) * 0.5 * (fi + st[j, ST_SWITCH])
+                        / (0.5 * (rhoi + st[j, ST_RHO])))
                 mu_max = max(mu_max, -mu)
             txx = axx + bxx - visc
             tyy = ayy + byy - visc
@@ -309,12 +314,13 @@ def pair_sums(pos, st, R, tension, nbr, img, count, signs, offsets, alpha, beta,
 
 
 @njit(cache=True, inline="always")
-def _particle_rates(i, pos, st, S, damage, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v, acc,
-                    dlnrho, de, dS, rate, dt_i):
+def _particle_rates(i, pos, st, S, damage, mat, params, rho_floor, alpha, beta, cfl, force_cfl, balsara, sums,
+                    grad_v, acc, dlnrho, de, dS, rate, switch, dt_i):
     """The rates of particle i from the pair sums (T, N, 16) of :func:`pair_sums`, whose rows of i it zeroes.
 
     Writes acc[i] (3), dlnrho[i] = ρ̇/ρ, de[i], grad_v[i] = L (3, 3), dS[i] = Ṡ (6, Jaumann),
-    rate[i] = ε̇_eq and the stable step dt_i[i] (module docstring).
+    rate[i] = ε̇_eq, the stable step dt_i[i] (module docstring) and, with ``balsara``, the viscosity
+    switch switch[i] of the next force pass (:func:`viscosity_switch`).
     """
     for t in range(1, sums.shape[0]):  # the other threads' partial sums into sums[0, i]
         for c in range(PS_MU):
@@ -333,6 +339,8 @@ def _particle_rates(i, pos, st, S, damage, mat, params, rho_floor, alpha, beta, 
     mu_max = sums[0, i, PS_MU]
     for c in range(PS_WIDTH):
         sums[0, i, c] = 0.0
+    if balsara:
+        switch[i] = viscosity_switch(grad_v, i, ci, hi)
     ds, rate[i] = jaumann_rate(S[i, 0], S[i, 1], S[i, 2], S[i, 3], S[i, 4], S[i, 5], grad_v, i,
                                params[mat[i], SHEAR])
     for k in range(6):
@@ -346,18 +354,18 @@ def _particle_rates(i, pos, st, S, damage, mat, params, rho_floor, alpha, beta, 
 
 
 @njit(parallel=True, cache=True)
-def particle_rates(pos, st, S, damage, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v, acc,
-                   dlnrho, de, dS, rate, dt_i):
+def particle_rates(pos, st, S, damage, mat, params, rho_floor, alpha, beta, cfl, force_cfl, balsara, sums, grad_v,
+                   acc, dlnrho, de, dS, rate, switch, dt_i):
     """The rates of every particle from the pair sums (:func:`_particle_rates`)."""
     for i in prange(pos.shape[0]):
-        _particle_rates(i, pos, st, S, damage, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v, acc,
-                        dlnrho, de, dS, rate, dt_i)
+        _particle_rates(i, pos, st, S, damage, mat, params, rho_floor, alpha, beta, cfl, force_cfl, balsara, sums,
+                        grad_v, acc, dlnrho, de, dS, rate, switch, dt_i)
 
 
 @njit(parallel=True, cache=True)
-def kick_drift_predict(x, v, acc, rho, dlnrho, e, de, S, dS, eps_p, rate, damage, m, mat, params, johnson_cook,
-                       h_factor, rho_floor, eps_as, dt, v_p, rho_p, e_p, S_p, p, c, h, R, tension, work_a, work_v, pos,
-                       st):
+def kick_drift_predict(x, v, acc, rho, dlnrho, e, de, S, dS, eps_p, rate, damage, switch, m, mat, params,
+                       johnson_cook, h_factor, rho_floor, eps_as, dt, v_p, rho_p, e_p, S_p, p, c, h, R, tension, work_a,
+                       work_v, pos, st):
     """Half kick v ← v + ½Δt a, drift x ← x + Δt v, and the predicted state at the step's end.
 
     Predicted: v_p = v + ½Δt a, (e, S)_p = (e, S) + Δt (ė, Ṡ), ρ_p = ρ exp(Δt ρ̇/ρ), S_p returned to the
@@ -377,13 +385,13 @@ def kick_drift_predict(x, v, acc, rho, dlnrho, e, de, S, dS, eps_p, rate, damage
         radial_return(S_p, i, Y, params[k, SHEAR])
         _particle_eos(i, m, rho_p, e_p, S_p, damage, mat, params, h_factor, rho_floor, eps_as, p, c, h, R,
                       tension, work_a, work_v)
-        _pair_row(i, x, h, v_p, c, rho_p, m, S_p, p, damage, pos, st)
+        _pair_row(i, x, h, v_p, c, rho_p, m, S_p, p, damage, switch, pos, st)
 
 
 @njit(parallel=True, cache=True)
 def finish_step(pos, st, S_p, damage, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v, acc_new,
                 dlnrho_new, de_new, dS_new, rate, dt_i, v, m, rho, dlnrho, e, de, S, dS, eps_p, johnson_cook, failure,
-                dtable, flaw_strain, flaw_count, growth, ductile, failure_rate, dt):
+                dtable, flaws, ductile, failure_rate, balsara, switch, dt):
     """The rates at the step's end (:func:`_particle_rates` of the predicted state S_p), then the corrector.
 
     Corrector: second half kick with acc_new, trapezoidal ln ρ, e, S of the old and new rates, radial return
@@ -394,8 +402,8 @@ def finish_step(pos, st, S_p, damage, mat, params, rho_floor, alpha, beta, cfl, 
     """
     mass = px = py = pz = kin = internal = 0.0
     for i in prange(m.size):
-        _particle_rates(i, pos, st, S_p, damage, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v,
-                        acc_new, dlnrho_new, de_new, dS_new, rate, dt_i)
+        _particle_rates(i, pos, st, S_p, damage, mat, params, rho_floor, alpha, beta, cfl, force_cfl, balsara, sums,
+                        grad_v, acc_new, dlnrho_new, de_new, dS_new, rate, switch, dt_i)
         k = mat[i]
         for d in range(3):
             v[i, d] += 0.5 * dt * acc_new[i, d]
@@ -408,8 +416,8 @@ def finish_step(pos, st, S_p, damage, mat, params, rho_floor, alpha, beta, cfl, 
         plastic = radial_return(S, i, Y, params[k, SHEAR])
         eps_p[i] += plastic
         if failure != NO_FAILURE and damage[i] < 1.0:
-            _damage_update(i, k, failure, plastic, T, rho, e, S, eps_p, rate, params, dtable, flaw_strain,
-                           flaw_count, growth, ductile, damage, dt)
+            _damage_update(i, k, failure, plastic, T, rho, e, S, eps_p, rate, params, dtable, flaws, ductile, damage,
+                           dt)
         if damage[i] >= 1.0 and failure_rate[i] == 0.0 and rho[i] < params[k, RHO0]:
             failure_rate[i] = largest_stretching_rate(grad_v, i)
         if damage[i] >= 1.0:
@@ -425,6 +433,23 @@ def finish_step(pos, st, S_p, damage, mat, params, rho_floor, alpha, beta, cfl, 
 
 
 @njit(cache=True, inline="always")
+def viscosity_switch(L, i, c, h):
+    """Balsara's factor restricted to converging flow, of particle i from its velocity gradient L[i]::
+
+        fᵢ = max(−∇·v, 0) / (|∇·v| + |∇×v| + 10⁻⁴ cᵢ/hᵢ)
+
+    1 in a shock (compression without rotation), → 0 in shear (|∇×v| ≫ |∇·v|; Balsara, J. Comput. Phys.
+    121 (1995) 357) and 0 where the flow expands (∇·v ≥ 0: a rarefaction, failed debris flying apart),
+    where a shock cannot be, as Cullen & Dehnen's shock indicator (MNRAS 408 (2010) 669) is zero there.
+    Monaghan's Πᵢⱼ already vanishes for receding pairs; what this takes away is the heat it made in
+    approaching pairs of a shearing or expanding flow.
+    """
+    div = L[i, 0, 0] + L[i, 1, 1] + L[i, 2, 2]
+    wx, wy, wz = L[i, 2, 1] - L[i, 1, 2], L[i, 0, 2] - L[i, 2, 0], L[i, 1, 0] - L[i, 0, 1]
+    return max(-div, 0.0) / (abs(div) + math.sqrt(wx * wx + wy * wy + wz * wz) + 1.0e-4 * c / h)
+
+
+@njit(cache=True, inline="always")
 def largest_stretching_rate(L, i):
     """max(0, d₁), d₁ the largest principal value of the rate of deformation d = ½(L + Lᵀ) of particle i
     (µs⁻¹): how fast the material stretches where it opens; 0 where it is compressed in every direction."""
@@ -436,8 +461,7 @@ def largest_stretching_rate(L, i):
 
 
 @njit(cache=True, inline="always")
-def _damage_update(i, k, failure, plastic, T, rho, e, S, eps_p, rate, params, dtable, flaw_strain, flaw_count,
-                   growth, ductile, damage, dt):
+def _damage_update(i, k, failure, plastic, T, rho, e, S, eps_p, rate, params, dtable, flaws, ductile, damage, dt):
     """The damage D of particle i at the step's end, from its corrected (undamaged) stress.
 
     ``THRESHOLD``: D = 1 once p < −p_spall or εₚ > εₚ,f (the material's elongation at break).
@@ -452,8 +476,9 @@ def _damage_update(i, k, failure, plastic, T, rho, e, S, eps_p, rate, params, dt
             damage[i] = 1.0
         return
     sigma1 = largest_principal_stress(pi, S[i, 0], S[i, 1], S[i, 2], S[i, 3], S[i, 4], S[i, 5])
-    damage[i] = grady_kipp_damage(damage[i], sigma1 / dtable[k, DM_YOUNG], flaw_strain[i], flaw_count[i],
-                                  dtable[k, DM_M], growth[i], dt)
+    tensile = grady_kipp_damage(flaws, i, sigma1 / dtable[k, DM_YOUNG], dtable[k, DM_K], dtable[k, DM_M],
+                                dtable[k, DM_GROWTH], dt)
+    damage[i] = max(damage[i], tensile)
     sigma_eq = von_mises(S, i)
     if plastic > 0.0 and sigma_eq > 0.0:  # yielding; σ_eq = Y is 0 at melt (Johnson–Cook), where σ* is undefined
         rate_ratio, tstar = 1.0, 0.0

@@ -63,6 +63,7 @@ from scipy.spatial import cKDTree
 
 from impactdyn._config import Positive, checked
 from impactdyn._errors import InputError
+from impactdyn.shield._melt import solid_particles
 
 #: A principal direction of I_pts with an eigenvalue at most this fraction of I's largest is not
 #: resolved by the particles (module docstring, ``spin``); its spin component is reported as 0.
@@ -376,8 +377,9 @@ def fragments_of(particles, *, link_length_cm: float, damage_threshold: float = 
                  mirror_x0: bool = True) -> Fragments:
     """The fragments of an SPH state (:class:`impactdyn.shield.Particles`).
 
-    Intact: damage D < ``damage_threshold`` and below the melting temperature of the particle's
-    material (its Johnson–Cook T_m; a material without one is never counted melted): a liquid
+    Intact: damage D < ``damage_threshold`` and less than half melted on release
+    (:func:`impactdyn.shield.released_phase`, the latent heat counted; a material without phase data is
+    never melted): a liquid
     particle is spray, not part of a solid fragment.  Volumes m/ρ₀ of the library material.
     ``mirror_x0``: the state is the half model of a symmetry plane x = 0 (the shield stage's sphere on
     plate): the image particles (−x, y, z) are added first, so a fragment across the plane is found
@@ -389,8 +391,7 @@ def fragments_of(particles, *, link_length_cm: float, damage_threshold: float = 
         raise InputError(f"damage_threshold = {damage_threshold}: must lie in (0, 1]")
     mats = [get_material(name) for name in particles.materials]
     rho0 = np.array([m.rho0 for m in mats])[particles.material]
-    t_melt = np.array([m.johnson_cook.t_melt if m.johnson_cook else np.inf for m in mats])[particles.material]
-    intact = (particles.damage < damage_threshold) & (particles.temperature < t_melt)
+    intact = (particles.damage < damage_threshold) & solid_particles(particles)
     position, velocity, mass = particles.position, particles.velocity, particles.mass
     if mirror_x0:
         image = np.array([-1.0, 1.0, 1.0])

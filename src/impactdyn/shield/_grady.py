@@ -34,7 +34,7 @@ The particles with λ < 1 are linked into regions by friends-of-friends (link le
 fragments are, :func:`impactdyn.shield.linked_groups`); each particle joins the nearest centre of its
 region, and a region without a centre is one fragment.  Each fragment is a set of particles, so the
 mass and momentum of the fragments and the rest are the particles' exactly.  Melted particles
-(above their Johnson–Cook melting temperature) form no solid fragment.  The partition is drawn on
+(at least half melted on release, :func:`impactdyn.shield.released_phase`) form no solid fragment.  The partition is drawn on
 the half model and mirrored, so a fragment across the symmetry plane x = 0 is found whole and is its
 own image (as :func:`impactdyn.shield.fragments_of` finds the intact ones): a centre closer to the
 plane than s/2 and its image are one centre on the plane (the mirrored pair's two cells, which the
@@ -51,6 +51,7 @@ from scipy.spatial import cKDTree
 
 from impactdyn._errors import InputError
 from impactdyn.shield._fragments import Fragments, fragments_of_groups, linked_groups
+from impactdyn.shield._melt import solid_particles
 
 
 def grady_fragment_size(toughness, density, young_modulus, strain_rate):
@@ -69,7 +70,7 @@ def grady_fragments(particles, *, link_length_cm: float, damage_threshold: float
     """The fragments of the failed solid particles of an SPH state (module docstring).
 
     Failed: damage ≥ ``damage_threshold`` with a recorded stretching rate at failure
-    (``Particles.failure_strain_rate`` > 0), below the material's melting temperature.
+    (``Particles.failure_strain_rate`` > 0), less than half melted on release.
     ``mirror_x0`` as :func:`impactdyn.shield.fragments_of`.  Returns fragments marked ``from_failed``.
     Raises :class:`InputError` naming a material of a failed particle without a fracture toughness
     (:data:`impactdyn.materials.FRACTURE_TOUGHNESS`).
@@ -81,9 +82,8 @@ def grady_fragments(particles, *, link_length_cm: float, damage_threshold: float
     mats = [get_material(name) for name in particles.materials]
     kind = particles.material
     rho0 = np.array([m.rho0 for m in mats])[kind]
-    t_melt = np.array([m.johnson_cook.t_melt if m.johnson_cook else np.inf for m in mats])[kind]
     rate = particles.failure_strain_rate
-    failed = (particles.damage >= damage_threshold) & (rate > 0.0) & (particles.temperature < t_melt)
+    failed = (particles.damage >= damage_threshold) & (rate > 0.0) & solid_particles(particles)
     missing = sorted({particles.materials[k] for k in np.unique(kind[failed])
                       if particles.materials[k] not in FRACTURE_TOUGHNESS})
     if missing:

@@ -16,7 +16,8 @@ from numba import get_num_threads
 
 from impactdyn._errors import InputError, SimulationError
 from impactdyn.constitutive import pack_damage, pack_materials
-from impactdyn.shield._damage import seed_flaws
+from impactdyn.constitutive import N_FLAW
+from impactdyn.shield._damage import new_flaws
 from impactdyn.shield._equations import (FRAGMENTATION, NO_FAILURE, PS_WIDTH, ST_WIDTH, THRESHOLD, finish_step,
                                          kick_drift_predict, pair_rows, pair_sums, particle_rates, temperatures,
                                          totals, update_particles)
@@ -41,8 +42,8 @@ class _Solver:
     """
 
     REORDER_EVERY = 10
-    STATE = ("x", "v", "m", "rho", "e", "S", "eps_p", "damage", "ductile", "flaw_strain", "flaw_count", "growth",
-             "failure_rate", "mat", "ids", "acc", "dlnrho", "de", "dS", "rate")
+    STATE = ("x", "v", "m", "rho", "e", "S", "eps_p", "damage", "ductile", "flaws", "failure_rate", "switch", "mat",
+             "ids", "acc", "dlnrho", "de", "dS", "rate")
 
     def __init__(self, problem, options: SPHOptions):
         init = problem.particles
@@ -58,11 +59,10 @@ class _Solver:
         self.damage_table = pack_damage(problem.materials)
         self.ductile = np.zeros(n)
         self.failure_rate = init.failure_strain_rate.copy()
-        if self.failure == FRAGMENTATION:
-            self.flaw_strain, self.flaw_count, self.growth = seed_flaws(
-                self.m, self.mat, self.names, self.params, self.damage_table, options.flaw_seed)
-        else:
-            self.flaw_strain, self.flaw_count, self.growth = np.full(n, np.inf), np.zeros(n), np.zeros(n)
+        self.flaws = (new_flaws(self.mat, self.names, self.damage_table) if self.failure == FRAGMENTATION
+                      else np.zeros((n, N_FLAW)))
+        self.balsara = options.viscosity_switch == "balsara"
+        self.switch = np.ones(n)  # the viscosity switch fᵢ: 1 until a velocity gradient is known
         z1, z3, z6 = (lambda: np.zeros(n)), (lambda: np.zeros((n, 3))), (lambda: np.zeros((n, 6)))
         self.p, self.c, self.h, self.rate, self.dt_i = z1(), z1(), z1(), z1(), z1()
         self.R, self.tension = z6(), np.zeros(n, dtype=np.bool_)
@@ -78,11 +78,12 @@ class _Solver:
         self.as_norm = 1.0 / float(w_shape(1.0 / options.h_factor))
         self.steps = 0
         self._eos(self.rho, self.e, self.S)
-        pair_rows(self.x, self.h, self.v, self.c, self.rho, self.m, self.S, self.p, self.damage, self.pos, self.st)
+        pair_rows(self.x, self.h, self.v, self.c, self.rho, self.m, self.S, self.p, self.damage, self.switch, self.pos,
+                  self.st)
         self._pair_sums()
         particle_rates(self.pos, self.st, self.S, self.damage, self.mat, self.params, self.rho_floor, options.alpha,
-                       options.beta, options.cfl, options.force_cfl, self.sums, self.grad_v, self.acc, self.dlnrho,
-                       self.de, self.dS, self.rate, self.dt_i)
+                       options.beta, options.cfl, options.force_cfl, self.balsara, self.sums, self.grad_v, self.acc,
+                       self.dlnrho, self.de, self.dS, self.rate, self.switch, self.dt_i)
         self.dt = float(self.dt_i.min())
 
     def _eos(self, rho, e, S) -> None:
@@ -114,20 +115,21 @@ class _Solver:
             self.neighbours.permute(order)
         o = self.options
         kick_drift_predict(self.x, self.v, self.acc, self.rho, self.dlnrho, self.e, self.de, self.S, self.dS,
-                           self.eps_p, self.rate, self.damage, self.m, self.mat, self.params, self.jc, o.h_factor,
+                           self.eps_p, self.rate, self.damage, self.switch, self.m, self.mat, self.params, self.jc,
+                           o.h_factor,
                            self.rho_floor, o.artificial_stress, dt, self.v_p, self.rho_p, self.e_p, self.S_p,
                            self.p, self.c, self.h, self.R, self.tension, self.work_a, self.work_v, self.pos, self.st)
         if self.domain.wrap(self.x):
             self.neighbours.invalidate()
-            pair_rows(self.x, self.h, self.v_p, self.c, self.rho_p, self.m, self.S_p, self.p, self.damage, self.pos,
-                      self.st)
+            pair_rows(self.x, self.h, self.v_p, self.c, self.rho_p, self.m, self.S_p, self.p, self.damage, self.switch,
+                      self.pos, self.st)
         self._pair_sums()
         new_totals = finish_step(self.pos, self.st, self.S_p, self.damage, self.mat, self.params, self.rho_floor,
                                  o.alpha, o.beta, o.cfl, o.force_cfl, self.sums, self.grad_v, self.acc_new,
                                  self.dlnrho_new, self.de_new, self.dS_new, self.rate, self.dt_i, self.v, self.m,
                                  self.rho, self.dlnrho, self.e, self.de, self.S, self.dS, self.eps_p, self.jc,
-                                 self.failure, self.damage_table, self.flaw_strain, self.flaw_count, self.growth,
-                                 self.ductile, self.failure_rate, dt)
+                                 self.failure, self.damage_table, self.flaws, self.ductile, self.failure_rate,
+                                 self.balsara, self.switch, dt)
         self.dt = float(self.dt_i.min())
         self.acc, self.acc_new = self.acc_new, self.acc
         self.dlnrho, self.dlnrho_new = self.dlnrho_new, self.dlnrho

@@ -21,11 +21,18 @@ FailureModel = Literal["threshold", "fragmentation"]
 fragments (:mod:`._damage`)."""
 FAILURE_MODELS: tuple[str, ...] = get_args(FailureModel)
 
+ViscositySwitch = Literal["none", "balsara"]
+"""Where the artificial viscosity acts (:func:`._equations.viscosity_switch`): everywhere two particles
+approach, or only where the flow converges without shear."""
+VISCOSITY_SWITCHES: tuple[str, ...] = get_args(ViscositySwitch)
+
 
 class SPHOptions(Section):
     """Numerical parameters of the SPH stage (:mod:`._equations`).
 
     alpha, beta : artificial viscosity coefficients.
+    viscosity_switch : "none" (the viscosity acts on every approaching pair) or "balsara" (scaled by
+        Balsara's factor, zero where the flow expands: its heating confined to shocks).
     artificial_stress, artificial_stress_power : ε and n of the artificial stress (ε = 0 disables it).
     h_factor : κ in h = κ (m/ρ)^{1/3} (h over the particle spacing).
     h_max_factor : the largest growth of h under expansion.
@@ -34,9 +41,9 @@ class SPHOptions(Section):
     failure : apply the materials' failure (``failure_model``); false: no particle fails.
     failure_model : "threshold": a particle fails at once when p < −p_spall or εₚ exceeds the
         alloy's elongation at break (compressive flow fails it as readily as tension);
-        "fragmentation": tensile damage from Weibull flaws growing at a bounded rate and
-        Johnson–Cook ductile damage that compression does not accumulate (:mod:`._damage`).
-    flaw_seed : seed of the particles' weakest-flaw strains (fragmentation).
+        "fragmentation": tensile damage from Weibull flaws per unit volume growing cracks at a bounded
+        speed (Grady–Kipp) and Johnson–Cook ductile damage that compression does not accumulate
+        (:mod:`._damage`).
     neighbour_skin : skin ℓ of the reused neighbour list as a fraction of the largest h
         (:mod:`._neighbours`): the list is searched again only after the particles
         have moved (or h grown) by ℓ/2. It changes the cost, not the interacting
@@ -48,6 +55,7 @@ class SPHOptions(Section):
 
     alpha: NonNegative = 1.0
     beta: NonNegative = 2.0
+    viscosity_switch: ViscositySwitch = "none"
     artificial_stress: NonNegative = 0.3
     artificial_stress_power: Annotated[int, Field(ge=1, le=8)] = 4
     h_factor: Annotated[float, Field(ge=0.8, le=2.5)] = 1.3
@@ -57,5 +65,4 @@ class SPHOptions(Section):
     flow_stress: FlowStress = "perfectly_plastic"
     failure: bool = True
     failure_model: FailureModel = "threshold"
-    flaw_seed: Annotated[int, Field(ge=0)] = 1
     neighbour_skin: NonNegative = 0.15

@@ -88,12 +88,13 @@ class _ShieldBase(Section):
     fragment_link_spacings : the friends-of-friends link length of the fragments at hand-off, in
         particle spacings (1.5 links a particle to its 18 nearest lattice neighbours; one broken layer
         separates two fragments).
-    fragment_damage_threshold : a particle with damage below it (and below its melting temperature) is
-        intact, part of a fragment (1: every particle that has not failed).
+    fragment_damage_threshold : a particle with damage below it (and less than half melted on release)
+        is intact, part of a fragment (1: every particle that has not failed).
     failed_fragments : what the failed solid material of the debris becomes: ``"spray"``, the binned
         cloud; ``"grady"``, fragments of the size Grady's energy balance gives at the stretching rate
-        at failure (:func:`impactdyn.shield.grady_fragments`, seeded by ``flaw_seed``), those the wall
+        at failure (:func:`impactdyn.shield.grady_fragments`, seeded by ``fragment_seed``), those the wall
         resolves flying to it as compact bodies.  Needs ``failure_model = "fragmentation"``.
+    fragment_seed : the seed of the random partition of the failed material into Grady's fragments.
     """
 
     spacing_cm: Positive = 0.0254
@@ -101,6 +102,7 @@ class _ShieldBase(Section):
     fragment_link_spacings: Positive = 1.5
     fragment_damage_threshold: Annotated[float, Field(gt=0, le=1)] = 1.0
     failed_fragments: Literal["spray", "grady"] = "spray"
+    fragment_seed: Annotated[int, Field(ge=0)] = 1
 
     @model_validator(mode="after")
     def _grady_needs_fragmentation(self) -> "_ShieldBase":
@@ -113,11 +115,12 @@ class _ShieldBase(Section):
     def sph_options(self) -> SPHOptions:
         """The :class:`impactdyn.shield.SPHOptions` of this table."""
         return SPHOptions(**self.model_dump(exclude={"spacing_cm", "handoff_us", "fragment_link_spacings",
-                                                     "fragment_damage_threshold", "failed_fragments"}))
+                                                     "fragment_damage_threshold", "failed_fragments",
+                                                     "fragment_seed"}))
 
 
 ShieldSection = section_of("ShieldSection", _ShieldBase, SPHOptions,
-                           ("flow_stress", "failure", "failure_model", "flaw_seed", "alpha", "beta",
+                           ("flow_stress", "failure", "failure_model", "viscosity_switch", "alpha", "beta",
                             "artificial_stress", "h_factor", "cfl"),
                            __name__)
 

@@ -92,7 +92,7 @@ def debris_fragments(particles, case):
     if s.failed_fragments == "grady":
         fragments = join_fragments(fragments, grady_fragments(particles, link_length_cm=link,
                                                               damage_threshold=s.fragment_damage_threshold,
-                                                              seed=s.flaw_seed))
+                                                              seed=s.fragment_seed))
     speed = km_s_to_cm_us(case.projectile.velocity_km_s)
     return fragments.select(fragments.velocity[:, 1] > DEBRIS_FRAGMENT_SPEED_FRACTION * speed)
 
