@@ -92,12 +92,15 @@ class Ledger:
         return row
 
 
-def onset(ledger: Ledger, ratio: float) -> dict:
-    """The bracket check at V_LV ± 0.5 and the onset speed (decision file, check 1)."""
+def onset(ledger: Ledger, ratio: float, bracket_only: bool = False) -> dict:
+    """The bracket check at V_LV ± 0.5 and the onset speed (decision file, check 1); ``bracket_only``:
+    the two bracket shots alone (the onset speed left unsearched)."""
     centre = round(v_lv(ratio), 3)
     low, high = round(centre - 0.5, 3), round(centre + 0.5, 3)
     whole = lambda v: ledger.get(v, ratio)["largest_projectile_piece"] >= 0.5     # noqa: E731
     holds = whole(low) and not whole(high)
+    if bracket_only:
+        return {"ratio": ratio, "v_lv": centre, "bracket_holds": holds, "onset": None}
     if not holds and whole(high):                   # the onset lies above: step up within 7 km/s
         while whole(high) and high + 0.5 <= 7.0:
             low, high = high, round(high + 0.5, 3)
@@ -130,11 +133,12 @@ def main() -> None:
     parser.add_argument("--out", type=Path, help="the JSON-lines ledger of this spacing's shots")
     parser.add_argument("--only", choices=("onset", "melt"), help="run one of the two checks")
     parser.add_argument("--ratios", type=float, nargs="+", default=list(RATIOS))
+    parser.add_argument("--bracket-only", action="store_true", help="onset: the V_LV ± 0.5 shots alone")
     args = parser.parse_args()
     ledger = Ledger(args.out, args.spacing)
     if args.only != "melt":
         for ratio in args.ratios:
-            print("ONSET", json.dumps(onset(ledger, ratio)), flush=True)
+            print("ONSET", json.dumps(onset(ledger, ratio, args.bracket_only)), flush=True)
     if args.only != "onset":
         for row in melt(ledger):
             print("MELT", json.dumps(row), flush=True)
