@@ -56,17 +56,19 @@ def test_grady_kipp_damage_follows_the_closed_form_of_a_ramp_to_second_order():
     assert errors[1] / errors[2] == pytest.approx(4.0, rel=0.15)
 
 
-def test_grady_kipp_cracks_grow_only_in_tension_and_damage_never_heals():
+def test_grady_kipp_cracks_grow_only_near_their_activation_strain_and_damage_never_heals():
+    """The cracks grow while ε ≥ 2^{−1/m} ε_max (the median activation strain of the active flaws), so
+    not in compression nor under a tension well below the one that activated them."""
     k, m, c, dt = 1.0e5, 3.0, 0.25, 0.01
     flaws = np.zeros((1, N_FLAW))
-    d = grady_kipp_damage(flaws, 0, 0.2, k, m, c, dt)
-    for _ in range(20):
+    for _ in range(21):
         d = grady_kipp_damage(flaws, 0, 0.2, k, m, c, dt)
     held = flaws.copy()
     assert 0 < d < 1
-    for _ in range(20):                                                  # compression: the cracks stop
-        assert grady_kipp_damage(flaws, 0, -0.1, k, m, c, dt) == d
+    for strain in (-0.1, 0.0, 0.5 * 0.2, 0.99 * 0.5 ** (1 / m) * 0.2):   # the cracks stop
+        assert grady_kipp_damage(flaws, 0, strain, k, m, c, dt) == d
     assert np.array_equal(flaws, held)
+    assert grady_kipp_damage(flaws, 0, 1.01 * 0.5 ** (1 / m) * 0.2, k, m, c, dt) > d   # they grow again
     assert grady_kipp_damage(flaws, 0, 1.0, k, m, c, 100.0) == 1.0       # bounded by 1
 
 
