@@ -221,6 +221,7 @@ def test_restart_needs_a_run_folder(tmp_path, capsys, make_case):
     (dict(wall__nodes=[16, 1, 31]), "wall.nodes[1]: must be greater than or equal to 2"),
     (dict(shield__handoff_us="4"), "shield.handoff_us: must be a valid number"),
     (dict(shield__failure_model="brittle"), "shield.failure_model: "),
+    (dict(shield__viscosity_switch="cullen"), "shield.viscosity_switch: "),
     (dict(shield__fragment_seed=-1), "shield.fragment_seed: must be greater than or equal to 0"),
     (dict(shield__fragment_link_spacings=-1.5), "shield.fragment_link_spacings: must be greater than 0"),
     (dict(shield__fragment_damage_threshold=0.0), "shield.fragment_damage_threshold: must be greater than 0"),
