@@ -17,7 +17,7 @@ from impactdyn.materials import Mat13Card
 from impactdyn.shield._io import read_particles
 from impactdyn.whipple import ble_verdict, load_whipple_case, wall_ending
 from impactdyn.wall import ENDINGS, LSDYNA_HOURGLASS_TYPE
-from impactdyn.whipple._case import ble_shield
+from impactdyn.whipple._case import ble_shield, projectile_mass
 from impactdyn.whipple._pipeline import deck_options, run_whipple
 
 EXAMPLES = Path(__file__).parents[2] / "examples" / "whipple"
@@ -126,6 +126,52 @@ def test_summary_has_the_verdict_and_the_cloud_figures(run):
     html = (out / "report.html").read_text()
     assert html.count("data:image/png;base64,") == 8  # cloud, fragments, BLE, load, conservation; 3 of the wall
     assert s["ble"]["verdict"] in html
+
+
+PHASES = ("solid_mass_fraction", "liquid_mass_fraction", "vapour_mass_fraction")
+
+
+def check_debris_state(state: dict, projectile_mass_g: float) -> None:
+    """The shield stage's ``debris_state``: solid, liquid and vapour shares in [0, 1] summing to 1 for the
+    debris, its projectile and its bumper particles, whose masses add up; the largest intact projectile
+    piece no heavier than the projectile (or none at all)."""
+    for part in (state, state["projectile"], state["bumper"]):
+        assert set(PHASES) <= set(part) and part["mass_g"] >= 0
+        if part["mass_g"] > 0:
+            assert all(0.0 <= part[k] <= 1.0 for k in PHASES)
+            assert sum(part[k] for k in PHASES) == pytest.approx(1.0, abs=1e-12)
+    assert state["projectile"]["mass_g"] + state["bumper"]["mass_g"] == pytest.approx(state["mass_g"], rel=1e-12)
+    piece = state["largest_projectile_piece_g"]
+    keys = ("largest_projectile_piece_over_projectile", "largest_projectile_piece_diameter_cm",
+            "largest_projectile_piece_particles")
+    if piece is None:
+        assert all(state[k] is None for k in keys)
+    else:
+        assert 0 < piece <= projectile_mass_g * (1 + 1e-12)
+        assert state["largest_projectile_piece_over_projectile"] == pytest.approx(piece / projectile_mass_g)
+        assert state["largest_projectile_piece_diameter_cm"] > 0 and state["largest_projectile_piece_particles"] >= 1
+
+
+def test_summary_and_report_show_the_debris_state_at_hand_off(run):
+    """Issue 38: every run says how much of its debris is solid, liquid and vapour (released to zero
+    pressure), of the projectile's material alone too, and its largest intact projectile piece."""
+    from impactdyn.shield import released_phase
+    from impactdyn.whipple._cloud import debris_mask
+
+    case, out, s = run
+    c = load_whipple_case(case)
+    state = s["stages"]["shield"]["debris_state"]
+    check_debris_state(state, projectile_mass(c))
+    assert state["mass_g"] == pytest.approx(s["cloud"]["debris_mass_g"], rel=1e-12) and state["mass_g"] > 0
+    assert state["projectile"]["mass_g"] > 0 and state["bumper"]["mass_g"] > 0
+    particles, _ = read_particles(out / "shield" / "particles.h5")
+    debris = debris_mask(particles, c.bumper.thickness_cm)
+    m = particles.mass[debris]
+    assert state["solid_mass_fraction"] == pytest.approx(
+        1.0 - m @ released_phase(particles).melted[debris] / m.sum(), rel=1e-12, abs=1e-15)
+    text = (out / "report.html").read_text()
+    assert "debris state at hand-off" in text and "largest intact projectile piece" in text
+    assert "projectile&#x27;s debris, solid / liquid / vapour" in text
 
 
 def test_restart_from_a_stage_reuses_the_earlier_ones(run, tmp_path, make_case):
@@ -390,6 +436,10 @@ def test_a_fragmenting_shot_reports_its_solid_fragments(tmp_path, make_case, fai
     origins = {r["origin"] for r in rows}
     assert origins == ({"intact", "failed"} if failed == "grady" else {"intact"})
     assert "Solid fragments of the debris" in (out / "report.html").read_text()
+    # the projectile breaks into solid pieces: the largest of them, no heavier than the largest fragment
+    state = json.loads((out / "summary.json").read_text())["stages"]["shield"]["debris_state"]
+    check_debris_state(state, projectile_mass(load_whipple_case(case)))
+    assert 0 < state["largest_projectile_piece_g"] <= figures["largest_g"]
 
     # two populations: the compact fragments are not binned, and fly to the wall on their own;
     # mass and momentum are conserved exactly across the split

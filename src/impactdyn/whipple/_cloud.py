@@ -133,6 +133,69 @@ def compact_fragments(fragments, case):
     return fragments.select(carried)
 
 
+def projectile_particles(problem) -> np.ndarray:
+    """``(N,)`` bool: the projectile's particles of the shield stage's problem (the sphere on plate): those
+    moving at t = 0, the bumper being at rest.  The SPH state keeps the problem's particle order
+    (:func:`impactdyn.shield.run`), so the mask holds for the state at hand-off too.  (Material id 0 is
+    the projectile's only where the bumper is of another material.)"""
+    return np.any(problem.particles.velocity != 0.0, axis=1)
+
+
+def _phase_shares(mass: np.ndarray, melted: np.ndarray, vapour: np.ndarray) -> dict:
+    """The mass and its solid, liquid and vapour shares by mass (None for no mass)."""
+    total = float(mass.sum())
+    if total <= 0.0:
+        return {"mass_g": 0.0, "solid_mass_fraction": None, "liquid_mass_fraction": None,
+                "vapour_mass_fraction": None}
+    m_melted, m_vapour = float(mass @ melted) / total, float(mass @ vapour) / total
+    return {"mass_g": total, "solid_mass_fraction": 1.0 - m_melted, "liquid_mass_fraction": m_melted - m_vapour,
+            "vapour_mass_fraction": m_vapour}
+
+
+def debris_state(particles, projectile: np.ndarray, fragments, bumper_back_y: float,
+                 projectile_mass_g: float) -> dict:
+    """The debris's state at hand-off: how much of it is solid, liquid and vapour, and the largest
+    intact piece of the projectile.
+
+    The debris is :func:`debris_mask`'s (half model).  Each particle released along its isentrope to zero
+    pressure (:func:`impactdyn.shield.released_phase`) is 1 − χ_m solid, χ_m − χ_v liquid and χ_v vapour;
+    the shares are mass-weighted over the debris, over its projectile particles (``projectile``, (N,) bool,
+    :func:`projectile_particles`) and over its bumper particles; ``mass_g`` is each one's mass in the half
+    model; the shares are None where there is no such debris.
+
+    The largest projectile piece: the heaviest of ``fragments`` (:func:`debris_fragments`, whose members
+    count the images of the half model from N on and whose masses are the full model's) that is an intact
+    region (not a fragment of failed material) and more than half projectile by mass; its mass (g, full
+    model), its share of the projectile's mass ``projectile_mass_g`` (the full sphere), its equivalent
+    diameter and particle count (images included); None for each where there is none."""
+    from impactdyn.shield import released_phase
+
+    debris = debris_mask(particles, bumper_back_y)
+    phase = released_phase(particles)
+    mass = particles.mass
+
+    def shares(mask):
+        return _phase_shares(mass[mask], phase.melted[mask], phase.vapour[mask])
+
+    state = shares(debris) | {"projectile": shares(debris & projectile), "bumper": shares(debris & ~projectile)}
+    both = np.concatenate([projectile, projectile])  # the fragments' member indices count the images
+    m_both = np.concatenate([mass, mass])
+    piece = None
+    for f in range(len(fragments)):  # largest first
+        members = fragments.indices(f)
+        if not fragments.from_failed[f] and m_both[members[both[members]]].sum() > 0.5 * m_both[members].sum():
+            piece = f
+            break
+    if piece is None:
+        return state | {"largest_projectile_piece_g": None, "largest_projectile_piece_over_projectile": None,
+                        "largest_projectile_piece_diameter_cm": None, "largest_projectile_piece_particles": None}
+    return state | {
+        "largest_projectile_piece_g": float(fragments.mass[piece]),
+        "largest_projectile_piece_over_projectile": float(fragments.mass[piece] / projectile_mass_g),
+        "largest_projectile_piece_diameter_cm": float(fragments.diameter_cm[piece]),
+        "largest_projectile_piece_particles": int(fragments.count[piece])}
+
+
 def compact_particles(fragments, n_particles: int) -> np.ndarray:
     """``(n_particles,)`` bool: the particles of the half model in ``fragments`` (whose member indices
     count the images of :func:`impactdyn.shield.fragments_of` from ``n_particles`` on)."""

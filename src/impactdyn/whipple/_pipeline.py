@@ -61,7 +61,7 @@ from impactdyn.whipple._stages import DEPENDS, KEEP, STAGES, Progress, StageCont
 def _shield(s: StageContext) -> dict:
     from impactdyn.shield import fragment_rows, run, write_particles
     from impactdyn.whipple._case import projectile_mass, shield_problem
-    from impactdyn.whipple._cloud import debris_fragments, fragment_figures
+    from impactdyn.whipple._cloud import debris_fragments, debris_state, fragment_figures, projectile_particles
 
     problem, options = shield_problem(s.case)
     t_end = s.case.shield.handoff_us
@@ -91,6 +91,8 @@ def _shield(s: StageContext) -> dict:
         "internal_final": float(h.internal[-1]),
         "n_failed": int(result.state.failed.sum()),
         "fragments": fragment_figures(fragments, projectile_mass(s.case)),
+        "debris_state": debris_state(result.state, projectile_particles(problem), fragments,
+                                     s.case.bumper.thickness_cm, projectile_mass(s.case)),
     }
 
 

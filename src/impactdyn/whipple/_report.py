@@ -116,6 +116,36 @@ def _fragments(figures: dict | None) -> str:
             f"{figures['largest_speed_km_s']:.3g} km/s)")
 
 
+def _phases(shares: dict | None) -> str:
+    """Solid / liquid / vapour shares by mass of a part of the debris (:func:`impactdyn.whipple._cloud.debris_state`)."""
+    if shares is None:
+        return "–"
+    if shares["solid_mass_fraction"] is None:
+        return "no debris"
+    return (f"{100 * shares['solid_mass_fraction']:.3g} % / {100 * shares['liquid_mass_fraction']:.3g} % / "
+            f"{100 * shares['vapour_mass_fraction']:.3g} % of {shares['mass_g']:.4g} g")
+
+
+def _largest_piece(state: dict) -> str:
+    """The report's line on the largest intact projectile piece of the debris (full model)."""
+    if state.get("largest_projectile_piece_g") is None:
+        return "none: no intact fragment of the debris is mostly projectile"
+    return (f"{state['largest_projectile_piece_g']:.3g} g ({100 * state['largest_projectile_piece_over_projectile']:.3g} % "
+            f"of the projectile), {state['largest_projectile_piece_diameter_cm']:.3g} cm, "
+            f"{state['largest_projectile_piece_particles']} particles")
+
+
+def _debris_state_rows(state: dict | None) -> list[tuple[str, str]]:
+    """The report's "debris state at hand-off" rows (the shield stage's ``debris_state`` record; a shield
+    stage written before it was recorded gives "–")."""
+    if state is None:
+        return [("debris state", "– (not recorded by this run's shield stage)")]
+    return [("debris, solid / liquid / vapour by mass (half model)", _phases(state)),
+            ("projectile's debris, solid / liquid / vapour", _phases(state["projectile"])),
+            ("bumper's debris, solid / liquid / vapour", _phases(state["bumper"])),
+            ("largest intact projectile piece (full model)", _largest_piece(state))]
+
+
 _NO_DECKS = "none written (a lean run: --from decks --keep all writes them)"
 
 #: What the report says of the files a run kept (``--keep``).
@@ -314,13 +344,16 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
         ("critical diameter d_c", _fmt(ble["critical_diameter_cm"], "cm") + (f" ({ble['note']})" if ble["note"] else "")),
         ("verdict (d vs d_c)", f"{ble['verdict']} (d = {p.diameter_cm:g} cm)"),
     ])
-    figures = _rows([
+    cloud_rows = _rows([
         ("cloud centre-of-mass velocity", _fmt(cloud.get("centre_of_mass_speed_km_s"), "km/s")
          + f" at {_fmt(cloud.get('axis_angle_from_normal_deg'))}° from the normal"),
         ("cloud leading-edge velocity", _fmt(cloud.get("leading_edge_velocity_km_s"), "km/s")),
         ("cone half-angle (95 % of momentum)", _fmt(cloud.get("cone_half_angle_deg"), "°")),
         ("debris mass (half model)", _fmt(cloud.get("debris_mass_g"), "g")),
         ("solid fragments in the debris (full model)", _fragments(st["shield"].get("fragments"))),
+    ])
+    state_rows = _rows(_debris_state_rows(st["shield"].get("debris_state")))
+    loading_rows = _rows([
         ("peak areal momentum on the wall", _fmt(dep["peak_areal_momentum_N_s_cm2"], "N·s/cm²")),
         ("impulse on the wall, normal (full model)", _fmt(dep["impulse_on_wall_normal_N_s_full_model"], "N·s")),
         ("arrival times (first, median, last)", "–" if not dep["arrival_time_us"] else
@@ -371,7 +404,11 @@ Half model (x ≥ 0); units as labelled.</p>
 <h2>Shot</h2><table>{shot}</table>
 <h2>Ballistic limit (NASA JSC equation)</h2><table>{verdict}</table>
 {_img(plots / "ballistic_limit.png")}
-<h2>Simulated debris cloud and wall loading</h2><table>{figures}</table>
+<h2>Simulated debris cloud and wall loading</h2><table><tbody>{cloud_rows}</tbody>
+<tbody><tr><th colspan="2"><strong>debris state at hand-off</strong> (released to zero pressure)</th></tr>
+{state_rows}</tbody>
+<tbody><tr><th colspan="2"><strong>wall loading</strong></th></tr>
+{loading_rows}</tbody></table>
 <h3>Cloud at hand-off</h3>{_img(plots / "cloud_handoff.png")}
 <h3>Solid fragments of the debris</h3>{_img(plots / "fragments.png")}
 <h3>Areal momentum density on the wall</h3>{_img(folder.path / "debris" / "plots" / "areal_density.png")}
