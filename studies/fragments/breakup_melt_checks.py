@@ -35,7 +35,13 @@ MATERIAL = "al6061-t6"
 PLATE_RADIUS_D = 1.5
 TIME_US = 3.0
 RATIOS = (0.1, 0.2, 0.4)
-CANDIDATE = dict(failure_model="fragmentation", flow_stress="johnson_cook", viscosity_switch="balsara")
+#: The candidates' SPH options (the decision file's; candidates 1 and 2 differ in the damage law's code,
+#: not in an option).
+CANDIDATES = {
+    "2": dict(failure_model="fragmentation", flow_stress="johnson_cook", viscosity_switch="balsara"),
+    "3": dict(failure_model="fragmentation", flow_stress="johnson_cook", viscosity_switch="balsara",
+              damage_coupling="pair"),
+}
 #: CALE's melted fraction of the projectile (NASA/TM-2009-214785 Table 4-4): (V km/s, t/D) → fraction;
 #: t/D 0.4 lies between the table's 0.3 and 0.5 rows, both 0.06 at 6 km/s.
 CALE_MELTED = {(6.0, 0.1): 0.05, (6.0, 0.2): 0.06, (6.0, 0.4): 0.06, (10.0, 0.2): 0.75}
@@ -47,13 +53,13 @@ def v_lv(ratio: float) -> float:
     return 1.853 + 0.397 * ratio ** -0.565
 
 
-def shot(speed_km_s: float, ratio: float, spacing_cm: float) -> dict:
+def shot(speed_km_s: float, ratio: float, spacing_cm: float, candidate: str) -> dict:
     """One SPH run of the set-up and its measures."""
     problem = shield.sphere_on_plate(MATERIAL, MATERIAL, DIAMETER_CM, speed_km_s, 0.0, ratio * DIAMETER_CM,
                                      spacing_cm, plate_radius_cm=PLATE_RADIUS_D * DIAMETER_CM)
     projectile = problem.particles.velocity[:, 1] > 0
     start = time.perf_counter()
-    state = shield.run(problem, TIME_US, options=shield.SPHOptions(**CANDIDATE)).state
+    state = shield.run(problem, TIME_US, options=shield.SPHOptions(**CANDIDATES[candidate])).state
     seconds = time.perf_counter() - start
     m_proj = get_material(MATERIAL).rho0 * math.pi * DIAMETER_CM ** 3 / 6
     fragments = shield.fragments_of(state, link_length_cm=1.5 * spacing_cm)
@@ -65,7 +71,7 @@ def shot(speed_km_s: float, ratio: float, spacing_cm: float) -> dict:
             break
     phase = shield.released_phase(state)
     mass = state.mass[projectile]
-    return {"speed": speed_km_s, "ratio": ratio, "spacing": spacing_cm,
+    return {"speed": speed_km_s, "ratio": ratio, "spacing": spacing_cm, "candidate": candidate,
             "largest_projectile_piece": largest / m_proj,
             "melted_projectile": float(mass @ phase.melted[projectile] / mass.sum()),
             "vapour_projectile": float(mass @ phase.vapour[projectile] / mass.sum()),
@@ -76,15 +82,16 @@ def shot(speed_km_s: float, ratio: float, spacing_cm: float) -> dict:
 class Ledger:
     """The shots of one spacing, kept in a JSON-lines file."""
 
-    def __init__(self, path: Path, spacing_cm: float):
-        self.path, self.spacing = path, spacing_cm
+    def __init__(self, path: Path, spacing_cm: float, candidate: str):
+        self.path, self.spacing, self.candidate = path, spacing_cm, candidate
         self.rows = [json.loads(line) for line in path.read_text().splitlines()] if path.exists() else []
 
     def get(self, speed: float, ratio: float) -> dict:
         for row in self.rows:
-            if row["speed"] == speed and row["ratio"] == ratio and row["spacing"] == self.spacing:
+            if (row["speed"] == speed and row["ratio"] == ratio and row["spacing"] == self.spacing
+                    and row.get("candidate", "2") == self.candidate):
                 return row
-        row = shot(speed, ratio, self.spacing)
+        row = shot(speed, ratio, self.spacing, self.candidate)
         self.rows.append(row)
         with self.path.open("a") as f:
             f.write(json.dumps(row) + "\n")
@@ -132,10 +139,11 @@ def main() -> None:
     parser.add_argument("--spacing", type=float, help="particle spacing, cm (d/20 = 0.015875, d/40 = 0.0079375)")
     parser.add_argument("--out", type=Path, help="the JSON-lines ledger of this spacing's shots")
     parser.add_argument("--only", choices=("onset", "melt"), help="run one of the two checks")
+    parser.add_argument("--candidate", choices=tuple(CANDIDATES), default="3", help="the decision file's candidate")
     parser.add_argument("--ratios", type=float, nargs="+", default=list(RATIOS))
     parser.add_argument("--bracket-only", action="store_true", help="onset: the V_LV ± 0.5 shots alone")
     args = parser.parse_args()
-    ledger = Ledger(args.out, args.spacing)
+    ledger = Ledger(args.out, args.spacing, args.candidate)
     if args.only != "melt":
         for ratio in args.ratios:
             print("ONSET", json.dumps(onset(ledger, ratio, args.bracket_only)), flush=True)
