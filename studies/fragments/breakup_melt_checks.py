@@ -10,6 +10,9 @@ volume, Johnson–Cook flow stress, the Balsara viscosity switch):
 * melt: the projectile's melted share on release (liquid and vapour, by mass) at 6 km/s for t/D 0.1,
   0.2, 0.4 and at 10 km/s for t/D 0.2, against CALE's (MMOD handbook Table 4-4).
 
+(Candidate 3, the pair-wise damage coupling, made the onset earlier still; it ran with this script
+and the ``damage_coupling`` option of commit af543fe, since removed.)
+
 Every shot is appended to ``--out`` (JSON lines) as it finishes; a shot already there is read back, not
 run again, so an interrupted check resumes.
 
@@ -35,13 +38,7 @@ MATERIAL = "al6061-t6"
 PLATE_RADIUS_D = 1.5
 TIME_US = 3.0
 RATIOS = (0.1, 0.2, 0.4)
-#: The candidates' SPH options (the decision file's; candidates 1 and 2 differ in the damage law's code,
-#: not in an option).
-CANDIDATES = {
-    "2": dict(failure_model="fragmentation", flow_stress="johnson_cook", viscosity_switch="balsara"),
-    "3": dict(failure_model="fragmentation", flow_stress="johnson_cook", viscosity_switch="balsara",
-              damage_coupling="pair"),
-}
+CANDIDATE = dict(failure_model="fragmentation", flow_stress="johnson_cook", viscosity_switch="balsara")
 #: CALE's melted fraction of the projectile (NASA/TM-2009-214785 Table 4-4): (V km/s, t/D) → fraction;
 #: t/D 0.4 lies between the table's 0.3 and 0.5 rows, both 0.06 at 6 km/s.
 CALE_MELTED = {(6.0, 0.1): 0.05, (6.0, 0.2): 0.06, (6.0, 0.4): 0.06, (10.0, 0.2): 0.75}
@@ -53,13 +50,13 @@ def v_lv(ratio: float) -> float:
     return 1.853 + 0.397 * ratio ** -0.565
 
 
-def shot(speed_km_s: float, ratio: float, spacing_cm: float, candidate: str) -> dict:
+def shot(speed_km_s: float, ratio: float, spacing_cm: float) -> dict:
     """One SPH run of the set-up and its measures."""
     problem = shield.sphere_on_plate(MATERIAL, MATERIAL, DIAMETER_CM, speed_km_s, 0.0, ratio * DIAMETER_CM,
                                      spacing_cm, plate_radius_cm=PLATE_RADIUS_D * DIAMETER_CM)
     projectile = problem.particles.velocity[:, 1] > 0
     start = time.perf_counter()
-    state = shield.run(problem, TIME_US, options=shield.SPHOptions(**CANDIDATES[candidate])).state
+    state = shield.run(problem, TIME_US, options=shield.SPHOptions(**CANDIDATE)).state
     seconds = time.perf_counter() - start
     m_proj = get_material(MATERIAL).rho0 * math.pi * DIAMETER_CM ** 3 / 6
     fragments = shield.fragments_of(state, link_length_cm=1.5 * spacing_cm)
@@ -71,7 +68,7 @@ def shot(speed_km_s: float, ratio: float, spacing_cm: float, candidate: str) -> 
             break
     phase = shield.released_phase(state)
     mass = state.mass[projectile]
-    return {"speed": speed_km_s, "ratio": ratio, "spacing": spacing_cm, "candidate": candidate,
+    return {"speed": speed_km_s, "ratio": ratio, "spacing": spacing_cm,
             "largest_projectile_piece": largest / m_proj,
             "melted_projectile": float(mass @ phase.melted[projectile] / mass.sum()),
             "vapour_projectile": float(mass @ phase.vapour[projectile] / mass.sum()),
@@ -82,16 +79,15 @@ def shot(speed_km_s: float, ratio: float, spacing_cm: float, candidate: str) -> 
 class Ledger:
     """The shots of one spacing, kept in a JSON-lines file."""
 
-    def __init__(self, path: Path, spacing_cm: float, candidate: str):
-        self.path, self.spacing, self.candidate = path, spacing_cm, candidate
+    def __init__(self, path: Path, spacing_cm: float):
+        self.path, self.spacing = path, spacing_cm
         self.rows = [json.loads(line) for line in path.read_text().splitlines()] if path.exists() else []
 
     def get(self, speed: float, ratio: float) -> dict:
         for row in self.rows:
-            if (row["speed"] == speed and row["ratio"] == ratio and row["spacing"] == self.spacing
-                    and row.get("candidate", "2") == self.candidate):
+            if row["speed"] == speed and row["ratio"] == ratio and row["spacing"] == self.spacing:
                 return row
-        row = shot(speed, ratio, self.spacing, self.candidate)
+        row = shot(speed, ratio, self.spacing)
         self.rows.append(row)
         with self.path.open("a") as f:
             f.write(json.dumps(row) + "\n")
@@ -139,11 +135,10 @@ def main() -> None:
     parser.add_argument("--spacing", type=float, help="particle spacing, cm (d/20 = 0.015875, d/40 = 0.0079375)")
     parser.add_argument("--out", type=Path, help="the JSON-lines ledger of this spacing's shots")
     parser.add_argument("--only", choices=("onset", "melt"), help="run one of the two checks")
-    parser.add_argument("--candidate", choices=tuple(CANDIDATES), default="3", help="the decision file's candidate")
     parser.add_argument("--ratios", type=float, nargs="+", default=list(RATIOS))
     parser.add_argument("--bracket-only", action="store_true", help="onset: the V_LV ± 0.5 shots alone")
     args = parser.parse_args()
-    ledger = Ledger(args.out, args.spacing, args.candidate)
+    ledger = Ledger(args.out, args.spacing)
     if args.only != "melt":
         for ratio in args.ratios:
             print("ONSET", json.dumps(onset(ledger, ratio, args.bracket_only)), flush=True)

@@ -57,8 +57,6 @@ x-momentum with the mirror half, as it must) and periodic axes conserve all thre
   (:mod:`._damage`): D grows at a bounded rate under tension from Weibull flaws (Grady–Kipp,
   Benz–Asphaug), and Johnson–Cook ductile damage, which does not accumulate in compression, sets
   D = 1 when it reaches 1; intact regions stay cohesive and become the fragments at hand-off.
-  With ``damage_coupling = "pair"`` the pair term's tension and deviator are also scaled by
-  1 − max(Dᵢ, Dⱼ) (:func:`_coupled`): no tension crosses a pair with a failed particle.
   Failed material expands freely, and its continuity density falls with the local divergence: in a
   fragment cloud a particle's density is the bulk density of the cloud around it (the binning's
   mass and bulk density (1 − φ)ρ are unaffected by this).
@@ -135,7 +133,7 @@ def update_particles(m, rho, e, S, damage, mat, params, h_factor, rho_floor, eps
 
 
 #: Columns of the pair-loop rows ``st`` (:func:`pair_rows`).
-ST_V, ST_C, ST_RHO, ST_M, ST_VOL, ST_SWITCH, ST_SR, ST_COMP, ST_DAMAGE, ST_WIDTH = 0, 3, 4, 5, 6, 7, 8, 14, 15, 16
+ST_V, ST_C, ST_RHO, ST_M, ST_VOL, ST_SWITCH, ST_SR, ST_WIDTH = 0, 3, 4, 5, 6, 7, 8, 16
 
 
 @njit(cache=True, inline="always")
@@ -143,8 +141,8 @@ def _pair_row(i, x, h, v, c, rho, m, S, p, damage, switch, pos, st):
     """Row i of the pair loop's particle data (σ = −pI + (1 − D) S: damage D weakens the deviator).
 
     pos (N, 4): (x, y, z, h), what the support test reads for every listed pair;
-    st (N, 16): v (3), c, ρ, m, m/ρ, the viscosity switch fᵢ, σ/ρ² (6; σ = −pI + S), the compression
-    max(p, 0)/ρ² and the damage D in the columns ``ST_*``, what an interacting pair reads. A neighbour j
+    st (N, 16): v (3), c, ρ, m, m/ρ, the viscosity switch fᵢ, σ/ρ² (6; σ = −pI + S) in the columns
+    ``ST_*`` (14, 15 unused), what an interacting pair reads. A neighbour j
     costs the pair loop a 32-byte and a 128-byte row instead of a cache line in
     each of nine per-quantity arrays, and σ/ρ² and m/ρ are formed once per
     particle, not once per pair.
@@ -162,8 +160,6 @@ def _pair_row(i, x, h, v, c, rho, m, S, p, damage, switch, pos, st):
     intact = 1.0 - damage[i]
     for d in range(6):
         st[i, ST_SR + d] = (intact * S[i, d] - p[i] * (d < 3)) * q
-    st[i, ST_COMP] = max(p[i], 0.0) * q
-    st[i, ST_DAMAGE] = damage[i]
 
 
 @njit(parallel=True, cache=True)
@@ -180,8 +176,7 @@ PS_A, PS_RHO, PS_E, PS_L, PS_MU, PS_WIDTH = 0, 3, 4, 5, 14, 16
 
 # fastmath "contract" only: a·b + c may be fused into one rounding (FMA), nothing reordered (results move by round-off)
 @njit(parallel=True, cache=True, fastmath={"contract"})
-def pair_sums(pos, st, R, tension, nbr, img, count, signs, offsets, alpha, beta, as_power, as_norm, pair_damage,
-              sums):
+def pair_sums(pos, st, R, tension, nbr, img, count, signs, offsets, alpha, beta, as_power, as_norm, sums):
     """The neighbour sums of the rates (module docstring), each pair of real particles evaluated once.
 
     pos (N, 4), st (N, 16): the rows of :func:`pair_rows`; R (N, 6), tension (N,):
@@ -189,8 +184,7 @@ def pair_sums(pos, st, R, tension, nbr, img, count, signs, offsets, alpha, beta,
     (:class:`NeighbourList` with ``half``), whose pairs beyond the support 2hᵢⱼ
     (its skin) are skipped. A pair of real particles (image 0) is listed once;
     its terms for j follow from those for i, since ∇ⱼWⱼᵢ = −∇ᵢWᵢⱼ, vⱼᵢ = −vᵢⱼ,
-    Tⱼᵢ = Tᵢⱼ and μⱼᵢ = μᵢⱼ (with ``pair_damage``, Tᵢⱼ's tension and deviator scaled by
-    1 − max(Dᵢ, Dⱼ), :func:`_coupled`, still symmetric)::
+    Tⱼᵢ = Tᵢⱼ and μⱼᵢ = μᵢⱼ::
 
         aⱼ −= mᵢ Tᵢⱼ·∇ᵢWᵢⱼ,   ρ̇ⱼ += mᵢ vᵢⱼ·∇ᵢWᵢⱼ,   ėⱼ −= ½ mᵢ vᵢⱼ·Tᵢⱼ·∇ᵢWᵢⱼ,   Lⱼ −= (mᵢ/ρᵢ) vᵢⱼ ⊗ ∇ᵢWᵢⱼ
 
@@ -210,7 +204,6 @@ def pair_sums(pos, st, R, tension, nbr, img, count, signs, offsets, alpha, beta,
         axx, ayy, azz = st[i, ST_SR], st[i, ST_SR + 1], st[i, ST_SR + 2]
         axy, ayz, azx = st[i, ST_SR + 3], st[i, ST_SR + 4], st[i, ST_SR + 5]
         tension_i = tension[i]
-        comp_i, damage_i = st[i, ST_COMP], st[i, ST_DAMAGE]
         a0 = a1 = a2 = 0.0
         dr = du = 0.0
         l00 = l01 = l02 = l10 = l11 = l12 = l20 = l21 = l22 = 0.0
@@ -250,14 +243,12 @@ def pair_sums(pos, st, R, tension, nbr, img, count, signs, offsets, alpha, beta,
                 visc = ((-alpha * 0.5 * (ci + st[j, ST_C]) * mu + beta * mu * mu) * 0.5 * (fi + st[j, ST_SWITCH])
                         / (0.5 * (rhoi + st[j, ST_RHO])))
                 mu_max = max(mu_max, -mu)
-            txx, tyy, tzz = axx + bxx, ayy + byy, azz + bzz
-            txy, tyz, tzx = axy + bxy, ayz + byz, azx + bzx
-            if pair_damage and (damage_i > 0.0 or st[j, ST_DAMAGE] > 0.0):
-                txx, tyy, tzz, txy, tyz, tzx = _coupled(txx, tyy, tzz, txy, tyz, tzx, comp_i + st[j, ST_COMP],
-                                                        1.0 - max(damage_i, st[j, ST_DAMAGE]))
-            txx -= visc
-            tyy -= visc
-            tzz -= visc
+            txx = axx + bxx - visc
+            tyy = ayy + byy - visc
+            tzz = azz + bzz - visc
+            txy = axy + bxy
+            tyz = ayz + byz
+            tzx = azx + bzx
             if tension_i or tension[j]:
                 fn = 1.0
                 fij = w_shape(q) * as_norm
@@ -320,16 +311,6 @@ def pair_sums(pos, st, R, tension, nbr, img, count, signs, offsets, alpha, beta,
         sums[tid, i, PS_L + 7] += l21
         sums[tid, i, PS_L + 8] += l22
         sums[tid, i, PS_MU] = max(sums[tid, i, PS_MU], mu_max)
-
-
-@njit(cache=True, inline="always")
-def _coupled(txx, tyy, tzz, txy, tyz, tzx, comp, coupling):
-    """The pair stress σᵢ/ρᵢ² + σⱼ/ρⱼ² (six components) with its tension and deviator scaled by ``coupling``
-    = 1 − max(Dᵢ, Dⱼ) and its compression ``comp`` = max(pᵢ, 0)/ρᵢ² + max(pⱼ, 0)/ρⱼ² kept whole: no tension
-    crosses a pair with a failed particle, so a broken layer separates the material on its two sides
-    (pair-wise damage coupling by the larger damage of the pair, as LLNL Spheral's MaxDamageNodeCoupling)."""
-    return (coupling * (txx + comp) - comp, coupling * (tyy + comp) - comp, coupling * (tzz + comp) - comp,
-            coupling * txy, coupling * tyz, coupling * tzx)
 
 
 @njit(cache=True, inline="always")

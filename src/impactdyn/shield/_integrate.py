@@ -101,7 +101,7 @@ class _Solver:
         if self.sums.shape[0] != get_num_threads():
             self.sums = np.zeros((get_num_threads(), self.m.size, PS_WIDTH))
         pair_sums(self.pos, self.st, self.R, self.tension, nl.neighbours, nl.image, nl.count, nl.signs, nl.offsets,
-                  o.alpha, o.beta, o.artificial_stress_power, self.as_norm, o.damage_coupling == "pair", self.sums)
+                  o.alpha, o.beta, o.artificial_stress_power, self.as_norm, self.sums)
 
     def totals(self) -> tuple[float, ...]:
         return totals(self.m, self.v, self.e)

@@ -26,11 +26,6 @@ ViscositySwitch = Literal["none", "balsara"]
 approach, or only where the flow converges without shear."""
 VISCOSITY_SWITCHES: tuple[str, ...] = get_args(ViscositySwitch)
 
-DamageCoupling = Literal["particle", "pair"]
-"""How damage weakens an interaction (:func:`._equations.pair_sums`): each particle's tension and deviator
-by its own damage, or also by its neighbour's (1 − max(Dᵢ, Dⱼ) for the pair)."""
-DAMAGE_COUPLINGS: tuple[str, ...] = get_args(DamageCoupling)
-
 
 class SPHOptions(Section):
     """Numerical parameters of the SPH stage (:mod:`._equations`).
@@ -43,8 +38,6 @@ class SPHOptions(Section):
     h_max_factor : the largest growth of h under expansion.
     cfl, force_cfl : time-step factors.
     flow_stress : "perfectly_plastic" (Y = Y₀) or "johnson_cook".
-    damage_coupling : "particle" (a particle's tension and deviator weakened by its own damage) or "pair"
-        (in each pair by the larger damage of the two: no tension crosses a failed particle).
     failure : apply the materials' failure (``failure_model``); false: no particle fails.
     failure_model : "threshold": a particle fails at once when p < −p_spall or εₚ exceeds the
         alloy's elongation at break (compressive flow fails it as readily as tension);
@@ -72,5 +65,4 @@ class SPHOptions(Section):
     flow_stress: FlowStress = "perfectly_plastic"
     failure: bool = True
     failure_model: FailureModel = "threshold"
-    damage_coupling: DamageCoupling = "particle"
     neighbour_skin: NonNegative = 0.15

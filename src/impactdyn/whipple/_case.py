@@ -120,7 +120,7 @@ class _ShieldBase(Section):
 
 
 ShieldSection = section_of("ShieldSection", _ShieldBase, SPHOptions,
-                           ("flow_stress", "failure", "failure_model", "damage_coupling", "viscosity_switch", "alpha", "beta",
+                           ("flow_stress", "failure", "failure_model", "viscosity_switch", "alpha", "beta",
                             "artificial_stress", "h_factor", "cfl"),
                            __name__)
 
