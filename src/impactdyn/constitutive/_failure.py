@@ -84,8 +84,8 @@ def grady_kipp_damage(flaws, i, strain, k, m, growth_speed, dt):
     strain; a flaw's crack grows at c_g (``growth_speed``) while the strain is at or above the flaw's
     activation strain (Benz & Asphaug, Icarus 107 (1994) 98: the flaws active at the current strain
     grow).  The moments keep all activated flaws together, so the rule is applied to them together:
-    they grow while ε ≥ ε_* = 2^{−1/m} ε_max, the median activation strain of the flaws activated so far
-    (n(ε_*) = n(ε_max)/2; 0.97 ε_max for m = 23, where their strains lie within a few per cent of
+    they grow while ε ≥ ε_a = 2^{−1/m} ε_max, the median activation strain of the flaws activated so far
+    (n(ε_a) = n(ε_max)/2; 0.97 ε_max for m = 23, where their strains lie within a few per cent of
     ε_max).  With τ the time they have grown since activation, the cracks' volume per unit volume is
     the damage::
 
@@ -95,7 +95,7 @@ def grady_kipp_damage(flaws, i, strain, k, m, growth_speed, dt):
     the step's new flaws Δn activated at mid-step.  Under the ramp ε = ε̇t this is Grady & Kipp's
     D = 8π c_g³ k ε̇ᵐ t^{m+3} / ((m+1)(m+2)(m+3)).  Nothing here depends on the particle's size: a
     finer particle is neither weaker nor stronger (the Weibull size effect belongs to specimens, whose
-    volume a particle is not).  The cracks do not grow below ε_* (nor in compression) and D never heals.
+    volume a particle is not).  The cracks do not grow below ε_a (nor in compression) and D never heals.
     """
     new = 0.0
     if strain > flaws[i, FLAW_STRAIN]:
