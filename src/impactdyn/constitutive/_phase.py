@@ -32,7 +32,6 @@ point rises steeply with pressure).
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -45,7 +44,7 @@ from impactdyn.materials import Material
 #: fusion and vaporisation (cm²/µs²), and a flag (0: no phase data, never melted).
 PH_SOLIDUS, PH_LIQUIDUS, PH_BOILING, PH_FUSION, PH_VAPOUR, PH_HAS = range(6)
 N_PHASE = 6
-#: Step in μ of the release integration (RK4; tests/shield/test_release.py compares it with scipy's
+#: Step in μ of the release integration (RK4; tests/shield/test_planar_thermodynamics.py compares it with scipy's
 #: adaptive integration of the same isentrope).
 RELEASE_STEP = 0.01
 
@@ -145,13 +144,3 @@ def release_states(rho, e, material, params, phases):
         e_r[i] = released_energy(rho[i], e[i], params, k)
         t_r[i], melted[i], vapour[i] = phase_of_released(e_r[i], params, phases, k)
     return e_r, t_r, melted, vapour
-
-
-def incipient_and_complete_melt_energies(material: Material) -> tuple[float, float]:
-    """(e₁, e₂) of ``material`` at ambient pressure (module docstring), cm²/µs²; (inf, inf) without phase
-    data."""
-    ph = material.phase
-    if ph is None:
-        return math.inf, math.inf
-    cv = material.specific_heat
-    return cv * (ph.solidus - T_ROOM), cv * (ph.liquidus - T_ROOM) + ph.latent_fusion
