@@ -73,20 +73,13 @@ def pack_materials(materials: Sequence[Material]) -> np.ndarray:
 
 
 def _cold_energy(mat: Material, substeps: int = 32) -> np.ndarray:
-    """e_s(μ) at the N_COLD table points: RK4 of de/dμ = p(μ, e)/(ρ₀(1 + μ)²), e(0) = 0."""
-    def rate(mu, e):
-        return pressure(mat.rho0 * (1.0 + mu), e, mat.rho0, mat.c0, mat.s, mat.gamma0) / (mat.rho0 * (1.0 + mu) ** 2)
-
+    """e_s(μ) at the N_COLD table points: RK4 of de/dμ = p(μ, e)/(ρ₀(1 + μ)²), e(0) = 0 (:func:`isentrope_step`)."""
     h = MU_COLD / ((N_COLD - 1) * substeps)
     out = np.zeros(N_COLD)
     mu = e = 0.0
     for k in range(1, N_COLD):
         for _ in range(substeps):
-            k1 = rate(mu, e)
-            k2 = rate(mu + h / 2, e + h / 2 * k1)
-            k3 = rate(mu + h / 2, e + h / 2 * k2)
-            k4 = rate(mu + h, e + h * k3)
-            e += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+            e = isentrope_step(mu, e, h, mat.rho0, mat.c0, mat.s, mat.gamma0)
             mu += h
         out[k] = e
     return out
@@ -103,6 +96,23 @@ def pressure(rho, e, rho0, c0, s, gamma0):
     else:
         ref = k * mu
     return ref + gamma0 * rho0 * e
+
+
+@njit(cache=True)
+def _isentrope_rate(mu, e, rho0, c0, s, gamma0):
+    """de/dμ = p(μ, e)/(ρ₀(1 + μ)²) along an isentrope (de = −p dV)."""
+    return pressure(rho0 * (1.0 + mu), e, rho0, c0, s, gamma0) / (rho0 * (1.0 + mu) ** 2)
+
+
+@njit(cache=True)
+def isentrope_step(mu, e, h, rho0, c0, s, gamma0):
+    """e after one RK4 step of length h in μ along the isentrope through (μ, e): the cold curve's table
+    here, the release to zero pressure in :mod:`._phase`."""
+    k1 = _isentrope_rate(mu, e, rho0, c0, s, gamma0)
+    k2 = _isentrope_rate(mu + 0.5 * h, e + 0.5 * h * k1, rho0, c0, s, gamma0)
+    k3 = _isentrope_rate(mu + 0.5 * h, e + 0.5 * h * k2, rho0, c0, s, gamma0)
+    k4 = _isentrope_rate(mu + h, e + h * k3, rho0, c0, s, gamma0)
+    return e + h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
 
 
 @njit(cache=True)

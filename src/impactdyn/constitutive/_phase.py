@@ -7,10 +7,11 @@ criteria of shock physics: Ahrens & O'Keefe 1972; the MMOD handbook, NASA/TM-200
 Two steps:
 
 1. **Release.** Along the isentrope de = −p dV of the Mie–Grüneisen EOS (:mod:`._eos`), written in
-   μ = ρ/ρ₀ − 1 as de/dμ = p(μ, e) / (ρ₀ (1 + μ)²), integrated (RK4, steps of Δμ ≤ ``RELEASE_STEP``)
-   from the state down to where p = 0 (linear in the last step).  A state with p ≤ 0 is already
-   released: its e is its energy at ambient pressure (a failed, expanded particle's density is the
-   bulk density of its debris, not the material's; its material is at p ≈ 0).
+   μ = ρ/ρ₀ − 1 as de/dμ = p(μ, e) / (ρ₀ (1 + μ)²), integrated (RK4, :func:`~._eos.isentrope_step`, steps
+   of Δμ ≤ ``RELEASE_STEP``) from the state down to where p = 0 (the last step's length found by the
+   secant method on p).  A state with p ≤ 0 is already released: its e is its energy at ambient
+   pressure (a failed, expanded particle's density is the bulk density of its debris, not the
+   material's; its material is at p ≈ 0).
 2. **Phase.** The released energy e_r against the energies at ambient pressure (constant c_v, T from
    T_room as :func:`~impactdyn.constitutive.temperature` for μ ≤ 0)::
 
@@ -37,7 +38,7 @@ from collections.abc import Sequence
 import numpy as np
 from numba import njit, prange
 
-from impactdyn.constitutive._eos import C0, CV, GAMMA0, RHO0, SLOPE, T_ROOM, pressure
+from impactdyn.constitutive._eos import C0, CV, GAMMA0, RHO0, SLOPE, T_ROOM, isentrope_step, pressure
 from impactdyn.materials import Material
 
 #: Columns of the phase table (:func:`pack_phases`): solidus, liquidus, boiling point (K), latent heats of
@@ -61,22 +62,6 @@ def pack_phases(materials: Sequence[Material]) -> np.ndarray:
 
 
 @njit(cache=True)
-def _release_rate(mu, e, rho0, c0, s, gamma0):
-    """de/dμ along an isentrope."""
-    return pressure(rho0 * (1.0 + mu), e, rho0, c0, s, gamma0) / (rho0 * (1.0 + mu) ** 2)
-
-
-@njit(cache=True)
-def _rk4_step(mu, e, h, rho0, c0, s, gamma0):
-    """e after one RK4 step of length h in μ along the isentrope."""
-    k1 = _release_rate(mu, e, rho0, c0, s, gamma0)
-    k2 = _release_rate(mu + 0.5 * h, e + 0.5 * h * k1, rho0, c0, s, gamma0)
-    k3 = _release_rate(mu + 0.5 * h, e + 0.5 * h * k2, rho0, c0, s, gamma0)
-    k4 = _release_rate(mu + h, e + h * k3, rho0, c0, s, gamma0)
-    return e + h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
-
-
-@njit(cache=True)
 def released_energy(rho, e, params, k):
     """The specific energy at p = 0 on the isentrope through (ρ, e) of material k (module docstring).
 
@@ -89,13 +74,13 @@ def released_energy(rho, e, params, k):
         return e
     mu = rho / rho0 - 1.0
     while mu > -0.9:  # the isentrope reaches p = 0 near μ = −Γ₀e/c₀²: far above −0.9 for any debris
-        e_next = _rk4_step(mu, e, -RELEASE_STEP, rho0, c0, s, gamma0)
+        e_next = isentrope_step(mu, e, -RELEASE_STEP, rho0, c0, s, gamma0)
         p_next = pressure(rho0 * (1.0 + mu - RELEASE_STEP), e_next, rho0, c0, s, gamma0)
         if p_next <= 0.0:
             h_lo, p_lo, h_hi, p_hi = 0.0, p, -RELEASE_STEP, p_next
             for _ in range(4):
                 h = h_lo + (h_hi - h_lo) * p_lo / (p_lo - p_hi)
-                e_h = _rk4_step(mu, e, h, rho0, c0, s, gamma0)
+                e_h = isentrope_step(mu, e, h, rho0, c0, s, gamma0)
                 p_h = pressure(rho0 * (1.0 + mu + h), e_h, rho0, c0, s, gamma0)
                 if p_h > 0.0:
                     h_lo, p_lo = h, p_h

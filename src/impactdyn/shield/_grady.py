@@ -33,9 +33,9 @@ volume V holds λ = V/s³ centres on average:
 The particles with λ < 1 are linked into regions by friends-of-friends (link length b, as the intact
 fragments are, :func:`impactdyn.shield.linked_groups`); each particle joins the nearest centre of its
 region, and a region without a centre is one fragment.  Each fragment is a set of particles, so the
-mass and momentum of the fragments and the rest are the particles' exactly.  Melted particles
-(at least half melted on release, :func:`impactdyn.shield.released_phase`) form no solid fragment.  The partition is drawn on
-the half model and mirrored, so a fragment across the symmetry plane x = 0 is found whole and is its
+mass and momentum of the fragments and the rest are the particles' exactly.  Melted particles (at least
+half melted on release, :func:`impactdyn.shield.released_phase`) form no solid fragment.  The partition is
+drawn on the half model and mirrored, so a fragment across the symmetry plane x = 0 is found whole and is its
 own image (as :func:`impactdyn.shield.fragments_of` finds the intact ones): a centre closer to the
 plane than s/2 and its image are one centre on the plane (the mirrored pair's two cells, which the
 plane would otherwise cut, joined).

@@ -15,8 +15,7 @@ import numpy as np
 from numba import get_num_threads
 
 from impactdyn._errors import InputError, SimulationError
-from impactdyn.constitutive import pack_damage, pack_materials
-from impactdyn.constitutive import N_FLAW
+from impactdyn.constitutive import N_FLAW, pack_damage, pack_materials
 from impactdyn.shield._damage import new_flaws
 from impactdyn.shield._equations import (FRAGMENTATION, NO_FAILURE, PS_WIDTH, ST_WIDTH, THRESHOLD, finish_step,
                                          kick_drift_predict, pair_rows, pair_sums, particle_rates, temperatures,
@@ -116,9 +115,9 @@ class _Solver:
         o = self.options
         kick_drift_predict(self.x, self.v, self.acc, self.rho, self.dlnrho, self.e, self.de, self.S, self.dS,
                            self.eps_p, self.rate, self.damage, self.switch, self.m, self.mat, self.params, self.jc,
-                           o.h_factor,
-                           self.rho_floor, o.artificial_stress, dt, self.v_p, self.rho_p, self.e_p, self.S_p,
-                           self.p, self.c, self.h, self.R, self.tension, self.work_a, self.work_v, self.pos, self.st)
+                           o.h_factor, self.rho_floor, o.artificial_stress, dt, self.v_p, self.rho_p, self.e_p,
+                           self.S_p, self.p, self.c, self.h, self.R, self.tension, self.work_a, self.work_v, self.pos,
+                           self.st)
         if self.domain.wrap(self.x):
             self.neighbours.invalidate()
             pair_rows(self.x, self.h, self.v_p, self.c, self.rho_p, self.m, self.S_p, self.p, self.damage, self.switch,
