@@ -21,11 +21,13 @@ extensions = [
     "sphinx.ext.mathjax",
     "sphinx_gallery.gen_gallery",
     "impactdyn_reference",
+    "impactdyn_vv",
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 exclude_patterns = ["_build", "tutorials/README.rst", "auto_tutorials/*.ipynb", "auto_tutorials/*.py",
-                    "auto_tutorials/*.zip", "auto_tutorials/*.md5", "auto_tutorials/*.json"]
+                    "auto_tutorials/*.zip", "auto_tutorials/*.md5", "auto_tutorials/*.json",
+                    "vv/_generated/*", "_static/mathjax/*"]
 root_doc = "index"
 
 # MyST: the pages are Markdown (readable on GitHub too); $...$ maths, numbered $$...$$ (label) equations.
@@ -34,6 +36,13 @@ myst_heading_anchors = 3
 math_number_all = False
 math_numfig = False  # equations numbered per page, (1), (2), …: the docstrings cite them so
 math_eqref_format = "({number})"
+# MathJax served with the site (docs/_static/mathjax/README.md: version, licence, why SVG): the
+# equations render offline.  A relative path is relative to the built _static folder.
+mathjax_path = "mathjax/tex-svg.js"
+
+# No smart quotes: they turned the command-line reference's "--vary" into an en dash ("–vary").
+# The pages write their dashes and quotes as the characters themselves.
+smartquotes = False
 
 # API reference: each public package's __all__ (autodoc respects it), types as written in the signatures.
 autodoc_default_options = {"members": True}
