@@ -329,7 +329,11 @@ def test_wall_stage_takes_the_deposited_impulse_and_gives_a_verdict(run):
     assert "failure criteria of the wall model" in (out / "report.html").read_text()
     # the coarse case's 0.45-cm projectile lies below the validated sizes: the summary and report say so
     assert s["wall"]["caution"].startswith("on the validation shots the wall stage called every tested perforation safe")
-    assert html.escape(s["wall"]["caution"]) in (out / "report.html").read_text()
+    report = (out / "report.html").read_text()
+    assert html.escape(s["wall"]["caution"]) in report
+    # the caution at the top, before the title; a banner above it where the two verdicts differ
+    assert report.index('class="caution"') < report.index("<h1>")
+    assert ('class="banner"' in report) == (not s["wall"]["agrees_with_equation"])
     # how the run ended, and the bulge's peak, in the summary and the report
     assert s["wall"]["ended_by"] == m["ended_by"] in ENDINGS
     assert s["wall"]["peak_rear_bulge_cm"] >= m["rear_bulge_end_cm"]
@@ -337,7 +341,8 @@ def test_wall_stage_takes_the_deposited_impulse_and_gives_a_verdict(run):
 
 
 @pytest.mark.parametrize("diameter, velocity, outside", [
-    (0.575, 7.0, None), (0.318, 3.0, None), (0.674, 8.0, None), (0.2, 7.0, "d = 0.2 cm is outside"),
+    (0.575, 7.0, None), (0.3175, 3.0, None), (0.674, 7.57, None), (0.674, 8.0, "V = 8 km/s is outside"),
+    (0.2, 7.0, "d = 0.2 cm is outside"),
     (0.7, 7.0, "d = 0.7 cm is outside"), (0.6, 10.0, "V = 10 km/s is outside")])
 def test_wall_caution_names_what_the_validation_shots_say_and_what_lies_outside_them(diameter, velocity, outside):
     from impactdyn.whipple._report import WALL_VALIDATION, wall_caution

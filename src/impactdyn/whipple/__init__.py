@@ -20,8 +20,11 @@ from impactdyn.whipple._test_shot import ALLOYS, DatabaseShot, database_shot, da
 from impactdyn.whipple._report import ble_verdict, wall_ending, wall_permanent_bulge
 from impactdyn.whipple._selection import SelectionRule, fix_rule, load_rule, rule_hash, select_shots
 from impactdyn.whipple._validate import run_validation, score_validation
+from impactdyn.whipple._validation_record import (ValidationRecord, limit_statement, record_validation,
+                                                   validation_record)
 
 __all__ = ["ALLOYS", "STAGES", "DatabaseShot", "SelectionRule", "WhippleCase", "ble_verdict", "cloud_figures",
            "database_shot", "database_shot_case", "fix_rule", "load_rule", "load_whipple_case", "read_stage",
            "rule_hash", "run_campaign", "run_limit", "run_validation", "run_whipple", "score_validation",
-           "select_shots", "shield_problem", "wall_ending", "wall_permanent_bulge"]
+           "select_shots", "shield_problem", "wall_ending", "wall_permanent_bulge", "ValidationRecord",
+           "limit_statement", "record_validation", "validation_record"]

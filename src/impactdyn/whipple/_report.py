@@ -8,6 +8,7 @@ Figures (``plots/``):
                           shots near this shield marked (Figure 8)
 ``conservation.png``      the SPH run's energy and momentum against time
 ``fragments.png``         the debris's solid fragments: cumulative number against mass, the largest listed
+                          (not drawn where the debris holds none: the report says so)
 
 and the debris stage's ``debris/plots/areal_density.png`` (Figures 10/13/16/19) and the
 wall stage's ``wall/plots/wall_front.png``, ``wall_rear.png`` (Figures 6–7, 11, 14, 17, 20)
@@ -28,7 +29,7 @@ from impactdyn._runfolder import FolderWriter
 from impactdyn.units import KM_S_PER_CM_US, N_S_PER_G_CM_US
 from impactdyn.whipple._case import WhippleCase, ble_shield
 from impactdyn.whipple._stages import STAGES, read_stage
-
+from impactdyn.whipple._validation_record import limit_statement, perforations_called_safe, validation_record
 
 
 def _records(folder: FolderWriter) -> dict:
@@ -64,17 +65,17 @@ def deposition_figures(debris: dict) -> dict:
     }
 
 
-#: What the test shots say of the default wall stage's verdict (benchmarks/BENCHMARKS.md, "the converged
-#: wall"): validation set 1 rerun with the converged wall (fracture-strain floor, Tuler–Butcher spall,
-#: graded mesh), 12 shots by 0.32–0.64-cm projectiles at 6.2–7.5 km/s: all 6 tested perforations called
-#: safe, no false alarm.  The verdict it gives is the response to the debris cloud's momentum, which
-#: carries no solid fragments.
-WALL_VALIDATION = ("on the validation shots the wall stage called every tested perforation safe (6 of 6, "
-                   "0.32-0.64-cm projectiles): its load is the debris cloud's momentum, without the solid "
-                   "fragments whose craters perforate walls that load only bulges")
-#: The diameters and velocities of the validation shots (sets 1–3: 0.318–0.674 cm, 3.2–7.6 km/s).
-VALIDATION_DIAMETER_CM = (0.318, 0.674)
-VALIDATION_VELOCITY_KM_S = (3.0, 8.0)
+#: The validation sets of the default wall stage (:func:`~impactdyn.whipple.validation_record`).
+VALIDATION = validation_record()
+#: What the test shots say of the default wall stage's verdict.  The verdict it gives is the response to
+#: the debris cloud's momentum, which carries no solid fragments.
+WALL_VALIDATION = (f"on the validation shots the wall stage {perforations_called_safe(VALIDATION)} on "
+                   f"{VALIDATION.set_names} ({VALIDATION.diameter_cm[0]:.2f}-{VALIDATION.diameter_cm[1]:.2f}-cm "
+                   "projectiles): its load is the debris cloud's momentum, without the solid fragments whose craters "
+                   "perforate walls that load only bulges")
+#: The diameters and velocities of the validation shots.
+VALIDATION_DIAMETER_CM = VALIDATION.diameter_cm
+VALIDATION_VELOCITY_KM_S = VALIDATION.velocity_km_s
 
 
 def wall_caution(d: float, v: float) -> str:
@@ -172,10 +173,11 @@ def write_report(folder: FolderWriter, case: WhippleCase, keep: str = "all") -> 
     _plot_cloud(plots.file("cloud_handoff.png"), particles, case, cloud)
     _plot_ble(plots.file("ballistic_limit.png"), case, ble)
     _plot_conservation(plots.file("conservation.png"), history)
-    plot_fragment_masses(plots.file("fragments.png"), debris_fragments(particles, case),
-                         projectile_mass_g=projectile_mass(case),
-                         title=f"Solid fragments of the debris at {case.shield.handoff_us:g} µs "
-                               f"(failure model: {case.shield.failure_model})")
+    fragments = debris_fragments(particles, case)
+    if len(fragments):  # with none, the report says so in words: empty axes would read as a failed plot
+        plot_fragment_masses(plots.file("fragments.png"), fragments, projectile_mass_g=projectile_mass(case),
+                             title=f"Solid fragments of the debris at {case.shield.handoff_us:g} µs "
+                                   f"(failure model: {case.shield.failure_model})")
     summary = {
         "title": case.title,
         "shot": {"projectile": case.projectile.model_dump(), "bumper": case.bumper.model_dump(),
@@ -190,13 +192,13 @@ def write_report(folder: FolderWriter, case: WhippleCase, keep: str = "all") -> 
                    for name, r in records.items()},
         "timings_s": {name: r["wall_time_s"] for name, r in records.items()},
         "wall_time_s": float(sum(r["wall_time_s"] for r in records.values())),
-        "units": "cm, g, us, Mbar unless a key names its unit; momenta of the half model x >= 0",
+        "units": "cm, g, µs, Mbar unless a key names its unit; momenta of the half model x >= 0",
         "keep": keep,
     }
     folder.write_json("summary.json", summary)
     folder.write_text("report.html", _html(folder, case, summary))
     return {"files": ["summary.json", "report.html", "plots/cloud_handoff.png", "plots/ballistic_limit.png",
-                      "plots/conservation.png", "plots/fragments.png"]}
+                      "plots/conservation.png"] + (["plots/fragments.png"] if len(fragments) else [])}
 
 
 def _plot_cloud(path, particles, case: WhippleCase, cloud: dict) -> None:
@@ -269,6 +271,13 @@ def _img(path) -> str:
     return f'<img alt="{html.escape(path.name)}" src="data:image/png;base64,{data}">'
 
 
+def _fragments_plot(path, figures: dict | None) -> str:
+    """The fragment masses' plot, or, where the debris holds no solid fragment, a line saying so."""
+    if figures is not None and not figures["n_fragments"]:
+        return "<p><em>No solid fragments in the debris at hand-off: nothing to plot.</em></p>"
+    return _img(path)
+
+
 def _rows(pairs) -> str:
     return "\n".join(f"<tr><th>{html.escape(k)}</th><td>{html.escape(v)}</td></tr>" for k, v in pairs)
 
@@ -276,9 +285,26 @@ def _rows(pairs) -> str:
 def _fmt(v, unit="", digits=4) -> str:
     if v is None:
         return "–"
-    if isinstance(v, (list, tuple)):
-        return "(" + ", ".join(f"{x:.{digits}g}" for x in v) + ")" + (f" {unit}" if unit else "")
     return f"{v:.{digits}g}" + (f" {unit}" if unit else "")
+
+
+def _mesh(mesh: dict) -> str:
+    """The wall mesh in words: elements along x, y (through the thickness) and z, their number, its kind."""
+    counts = " × ".join(str(n) for n in mesh["elements"])
+    total = mesh.get("n_elements")
+    return counts + (f" = {total:,} elements" if total else " elements") + (f", {mesh['kind']}" if mesh.get("kind") else "")
+
+
+def _top(wall: dict, ble: dict) -> str:
+    """The report's first lines: a banner when the simulated verdict and the equation's differ, with what the
+    validation sets say of the simulated one; the caution always."""
+    caution = (f'<p class="caution"><strong>Caution:</strong> {html.escape(wall["caution"])}.</p>'
+               if wall.get("caution") else "")
+    if wall["agrees_with_equation"]:
+        return caution
+    return (f'<div class="banner" role="alert"><p><strong>The simulation and the equation disagree:</strong> '
+            f'simulated wall: {html.escape(wall["verdict"])}; {html.escape(ble["equation"])}: '
+            f'{html.escape(ble["verdict"])}.</p><p>{html.escape(limit_statement(VALIDATION))}</p></div>\n' + caution)
 
 
 def _bulge(wall: dict) -> str:
@@ -357,24 +383,24 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
         ("peak areal momentum on the wall", _fmt(dep["peak_areal_momentum_N_s_cm2"], "N·s/cm²")),
         ("impulse on the wall, normal (full model)", _fmt(dep["impulse_on_wall_normal_N_s_full_model"], "N·s")),
         ("arrival times (first, median, last)", "–" if not dep["arrival_time_us"] else
-         _fmt([dep["arrival_time_us"][k] for k in ("first", "median", "last")], "µs after hand-off")),
+         ", ".join(_fmt(dep["arrival_time_us"][k]) for k in ("first", "median", "last")) + " µs after hand-off"),
     ])
     wall = s["wall"]
     wall_rows = _rows([
         ("simulated verdict", f"{wall['verdict']} ({wall['criterion']})"),
         ("equation's verdict", f"{ble['verdict']} ({ble['equation']})"),
-        ("caution", wall.get("caution") or "none: the shot lies where the wall stage was validated"),
+        ("caution", wall["caution"]),
         ("crater depth / wall thickness", _fmt(wall.get("crater_depth_ratio"))),
         ("rear-face bulge at the end; its peak (when)", _bulge(wall)),
         ("run ended by", wall_ending(wall)),
         ("rear-face permanent bulge (the wall brought to rest)", wall_permanent_bulge(wall)),
         ("peak rear-face velocity", _fmt(wall.get("peak_rear_velocity_km_s"), "km/s")),
-        ("failed / eroded / spalled mass", _fmt([wall.get("failed_mass_g", 0.0), wall.get("eroded_mass_g", 0.0),
-                                                 wall.get("spall_mass_g", 0.0)], "g")),
+        ("failed / eroded / spalled mass", " / ".join(_fmt(wall.get(k, 0.0), "g") for k in (
+            "failed_mass_g", "eroded_mass_g", "spall_mass_g"))),
         ("failure criteria of the wall model", _criteria(wall.get("failure_criteria"))),
         ("failed mass by criterion", _by_cause(wall.get("failed_mass_by_cause_g"))),
         ("hourglass / internal energy", _fmt(wall.get("hourglass_to_internal"))),
-        ("mesh (elements), material model", f"{wall['mesh']['elements']}, {wall['material_model']}"),
+        ("mesh (elements), material model", f"{_mesh(wall['mesh'])}, {wall['material_model']}"),
     ])
     stages = _rows([
         ("shield (SPH)", f"{st['shield']['n_particles']} particles, {st['shield']['steps']} steps to "
@@ -396,7 +422,10 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
 <html lang="en"><head><meta charset="utf-8"><title>{title}</title>
 <style>body{{font-family:sans-serif;max-width:1150px;margin:2em auto;color:#222}}
 table{{border-collapse:collapse;margin:0.5em 0 1.5em}}th,td{{border:1px solid #ccc;padding:4px 10px;text-align:left}}
-th{{background:#f4f4f4;font-weight:normal}}img{{max-width:100%}}</style></head><body>
+th{{background:#f4f4f4;font-weight:normal}}img{{max-width:100%}}
+.banner{{border:2px solid #b00020;background:#fdecee;padding:0.2em 1em;margin:1em 0}}
+.caution{{border-left:4px solid #c77700;background:#fff6e5;padding:0.5em 1em}}</style></head><body>
+{_top(wall, ble)}
 <h1>{title}</h1>
 <p>impactdyn Whipple pipeline: SPH shield impact → debris cloud (DC3D) → momentum on the rear wall → the wall's
 finite-element response and verdict → wall decks.
@@ -410,7 +439,7 @@ Half model (x ≥ 0); units as labelled.</p>
 <tbody><tr><th colspan="2"><strong>wall loading</strong></th></tr>
 {loading_rows}</tbody></table>
 <h3>Cloud at hand-off</h3>{_img(plots / "cloud_handoff.png")}
-<h3>Solid fragments of the debris</h3>{_img(plots / "fragments.png")}
+<h3>Solid fragments of the debris</h3>{_fragments_plot(plots / "fragments.png", st["shield"].get("fragments"))}
 <h3>Areal momentum density on the wall</h3>{_img(folder.path / "debris" / "plots" / "areal_density.png")}
 <h2>Wall response</h2><table>{wall_rows}</table>
 {_img(folder.path / "wall" / "plots" / "wall_front.png")}
