@@ -78,7 +78,7 @@ definite for every q, and the hub can be as light as the user likes. Left out, s
 order: u₄ in the kinetic energy (θ̇²∫ρ(A + x)u₄, θ̇∫ρ(ẇu₄ − wu̇₄), …) and ½EI∫w''²w'⁴ in V;
 added on their own (no five-index integrals for the kinetic ones) they move the hub
 angle away from the rigid-link chain of ``_chain``, not toward it
-(benchmarks/BENCHMARKS.md). The gap stays linear in the coordinates (the stop lies at
+(docs/vv/analytic.md, "The coupled beam model against a rigid-link chain"). The gap stays linear in the coordinates (the stop lies at
 θ ≈ 0, where u sin θ is negligible).
 
 With no damping, torque or contact the coupled model conserves E = ½ẋᵀMẋ + V exactly,
@@ -120,7 +120,7 @@ class CoupledTerms(NamedTuple):
     argument type and drops the ``coupled is not None`` branches from the None version,
     so the default path neither runs nor passes anything of the coupled model: passing
     its five arrays through every kernel call and testing a flag at run time made the
-    linearised IMPACTB sample 1.64x slower (benchmarks/BENCHMARKS.md, beam section).
+    linearised IMPACTB sample 1.64x slower (benchmarks/BENCHMARKS.md, "Rotating beam: sample runs against SciPy").
     """
 
     C: np.ndarray

@@ -68,7 +68,8 @@ per step. Registered names:
 
 Choice of default (``benchmarks/bench_debris_integrators.py``, synthetic Al
 cloud, flights up to 15 µs, arrival vertices against DOP853 at rtol 1e-12;
-numbers in ``benchmarks/BENCHMARKS.md``): splitting4 at 8 steps per period
+accuracy in docs/vv/analytic.md, "Debris particles (DC3D) against a tight reference solution",
+times in ``benchmarks/BENCHMARKS.md``, "Debris particles (DC3D): integrators"): splitting4 at 8 steps per period
 lands the arrival vertices more accurately than the listing's legacy integrator
 at eps = 1e-6 (max 2–5e-7 cm against 7–9e-7 cm) for about a twentieth of its
 CPU time, and several hundred times more accurately than verlet at 32 steps per
