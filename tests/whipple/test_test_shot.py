@@ -9,7 +9,7 @@ import pytest
 from impactdyn import InputError
 from impactdyn.ble import read_database
 from impactdyn.cli import main
-from impactdyn.whipple import ALLOYS, WhippleCase, database_shot, database_shot_case, load_whipple_case
+from impactdyn.whipple import ALLOYS, WhippleCase, ble_verdict, database_shot, database_shot_case, load_whipple_case
 
 #: Validation set 1's cases as ``validation/run_validation_shots.py`` built them before its rules moved
 #: into the package: file line → {shot_id, case}.
@@ -185,8 +185,46 @@ def test_a_run_prints_the_tests_outcome_beside_the_verdicts(tmp_path, capsys, mo
     assert ran == {"case": WhippleCase.model_validate(database_shot_case(database_shot("B31"))), "out": out,
                    "start": "shield", "keep": "lean"}
     printed = [line for line in capsys.readouterr().out.splitlines() if line.strip()]  # the bars leave blank lines
+    assert printed[0] == ("note: projectile: AA2017-T4 modelled as al2024-t4, the library's nearest alloy "
+                          "(the same Al-Cu family, 2.79 against 2.785 g/cm³)")
+    printed = printed[1:]
     assert printed[0].startswith("ballistic limit (jsc2011)")
     assert printed[-2].startswith("wall response: detached spall")
     outcome = "perforated or spalled (P)" if database_shot("B31").perforated else "not perforated (NP)"
     assert printed[-1] == (f"test TP-2003-210788 B31 (line 292 of database_whipple_pyBLOSSUM.csv): {outcome}; "
                            "simulated: detached spall; JSC: perforation")
+
+
+def test_write_case_prints_the_tests_outcome_the_jsc_verdict_and_each_substituted_alloy(tmp_path, capsys):
+    path = tmp_path / "b31.toml"
+    assert main(["whipple", "shot", "--database", "B31", "--write-case", str(path)]) == 0
+    out = capsys.readouterr().out
+    shot = database_shot("B31")
+    assert shot.alloys["projectile"] == "AA2017-T4"  # modelled as the library's 2024-T4
+    jsc = ble_verdict(WhippleCase.model_validate(database_shot_case(shot)))["verdict"]
+    assert f"{shot.name}: {shot.outcome}; simulated: not run" in out and out.rstrip().endswith(f"JSC: {jsc}")
+    assert "projectile: AA2017-T4 modelled as al2024-t4, the library's nearest alloy" in out
+    text = path.read_text()
+    assert f"# the test: {shot.outcome}" in text
+    material = text.index('material = "al2024-t4"')
+    assert text.rfind("# projectile: AA2017-T4 modelled as al2024-t4", 0, material) > text.index("[projectile]")
+
+
+def test_a_written_case_rounds_the_scaled_sph_pitch_and_says_how_it_was_derived(tmp_path):
+    path = tmp_path / "emi.toml"
+    assert main(["whipple", "shot", "--database", "line:232", "--write-case", str(path)]) == 0
+    shot, written = database_shot(232), tomllib.loads(path.read_text())
+    exact = database_shot_case(shot)["shield"]["spacing_cm"]
+    assert exact < EXAMPLE["shield"]["spacing_cm"] and written["shield"]["spacing_cm"] != exact  # scaled, rounded
+    assert written["shield"]["spacing_cm"] == pytest.approx(exact, rel=5e-4) and len(repr(written["shield"]["spacing_cm"])) <= 8
+    assert f"× d/d₀ = {shot.diameter_cm:g}/{EXAMPLE['projectile']['diameter_cm']:g}" in path.read_text()
+    # everything else is the case `whipple shot -o` runs
+    assert {k: v for k, v in written.items() if k != "shield"} == {
+        k: v for k, v in database_shot_case(shot).items() if k != "shield"}
+
+
+def test_every_alloy_mapped_to_another_alloys_material_says_why():
+    from impactdyn.whipple._test_shot import SUBSTITUTED
+
+    other = {alloy for alloy, material in ALLOYS.items() if alloy.lower().removeprefix("aa") != material.removeprefix("al")}
+    assert other == set(SUBSTITUTED) == {"AA2017-T4", "AA2024-T3", "AA2024-T351"}

@@ -31,11 +31,27 @@ app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    # click's plain help: typer's rich panels print every flag, --help included, as taking a <bool>
+    rich_markup_mode=None,
 )
 app.add_typer(beam.app, name="beam")
 app.add_typer(debris.app, name="debris")
 app.add_typer(ble.app, name="ble")
 app.add_typer(whipple.app, name="whipple")
+
+
+def _print_version(value: bool) -> None:
+    if value:
+        from impactdyn import __version__
+
+        typer.echo(f"impactdyn {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _options(version: bool = typer.Option(False, "--version", is_eager=True, callback=_print_version,
+                                          help="Print impactdyn's version and exit.")) -> None:
+    """The options of ``impactdyn`` itself; the work is done by the commands of each group."""
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -9,7 +9,8 @@ import typer
 
 from impactdyn.cli._progress import progress_bars
 
-app = typer.Typer(help="Whipple shield: SPH shield impact → debris cloud → rear-wall load → decks and report.",
+app = typer.Typer(help="Whipple shield: SPH shield impact → debris cloud → rear-wall load → the wall's response "
+                       "and verdict → decks and report.",
                   no_args_is_help=True)
 
 STAGE_HELP = "shield, binning, debris, wall, decks or report"
@@ -29,7 +30,9 @@ def run(
     force: bool = typer.Option(False, "--force", help="Overwrite an existing run folder."),
     keep: str = typer.Option("lean", "--keep", metavar="lean|all", help=KEEP_HELP),
 ):
-    """Run a shot end to end: shield impact, binning, debris flight and deposition, wall decks, report."""
+    """Run a shot end to end: shield impact, binning, debris flight and deposition on the rear wall, the wall's
+    finite-element response and its verdict (perforation, detached spall or no perforation, beside the JSC
+    equation's), wall decks, report."""
     from impactdyn.whipple import load_whipple_case
 
     _check_keep(keep)
@@ -46,29 +49,33 @@ def shot(
                                              help="Base case whose numerics the shot takes (default: the "
                                                   "Table 2 7a example, examples/whipple/table2_7a.toml)."),
     write_case: Optional[Path] = typer.Option(None, "--write-case",
-                                              help="Write the shot's case file (TOML) here and run nothing."),
+                                              help="Write the shot's case file (TOML) here and run nothing; print the "
+                                                   "test's outcome and the JSC verdict."),
     force: bool = typer.Option(False, "--force", help="Overwrite an existing run folder or case file."),
     keep: str = typer.Option("lean", "--keep", metavar="lean|all", help=KEEP_HELP),
 ):
     """Run a shot of the test database (or write its case) and print the test's outcome beside the verdicts."""
-    import tomli_w
-
     from impactdyn._errors import InputError
     from impactdyn._runfolder import atomic_output
-    from impactdyn.whipple import WhippleCase, database_shot, database_shot_case
+    from impactdyn.whipple import WhippleCase, ble_verdict, database_shot, database_shot_case
+    from impactdyn.whipple._test_shot import case_text, substitutions
 
     if (out is None) == (write_case is None):
         raise InputError("give -o OUT to run the shot, or --write-case FILE to write its case and run nothing")
     _check_keep(keep)
     test = database_shot(database)
     raw = database_shot_case(test, from_case)
+    for note in substitutions(test).values():
+        typer.echo(f"note: {note}")
     if write_case is not None:
         if write_case.exists() and not force:
             raise InputError(f"{write_case}: exists; pass --force to overwrite it")
+        text = case_text(test, raw, from_case)
         with atomic_output(write_case) as tmp:
-            tmp.write_text(f"# {raw['title']}, on {from_case or 'the Table 2 7a example'} "
-                           "(impactdyn whipple shot)\n\n" + tomli_w.dumps(raw))
+            tmp.write_text(text)
         typer.echo(f"case of {test.name} in {write_case}")
+        typer.echo(f"test {test.name}: {test.outcome}; simulated: not run "
+                   f"(impactdyn whipple run {write_case} -o OUT); JSC: {ble_verdict(WhippleCase.model_validate(raw))['verdict']}")
         return
     s = _run_with_progress(WhippleCase.model_validate(raw), out, "shield", force, keep)
     _echo_summary(s, out)

@@ -58,6 +58,16 @@ EXAMPLE_CASE = Path(__file__).resolve().parents[3] / "examples" / "whipple" / "t
 ALLOYS = {"AA2017-T4": "al2024-t4", "AA2024-T3": "al2024-t4", "AA2024-T4": "al2024-t4",
           "AA2024-T351": "al2024-t4", "AA6061-T6": "al6061-t6"}
 
+#: Why each database alloy that :data:`ALLOYS` maps to another alloy's material is modelled so: said
+#: where the case is written and printed, so that no substitution goes unseen.
+SUBSTITUTED = {"AA2017-T4": "the same Al-Cu family, 2.79 against 2.785 g/cm³",
+               "AA2024-T3": "the same alloy in the T4 temper",
+               "AA2024-T351": "the same alloy in the T4 temper; its damage constants are 2024-T351's"}
+
+#: Significant figures of the SPH particle pitch in a written case: 4 keep it within 0.05 % of the scaled
+#: value, far below the resolution the pitch sets, and readable.
+PITCH_FIGURES = 4
+
 
 @dataclass(frozen=True)
 class DatabaseShot:
@@ -156,6 +166,44 @@ def _material(shot: DatabaseShot, part: str) -> str:
         raise InputError(f"{shot.database}:{shot.line}: shot {shot.shot_id}: {part} alloy {alloy!r} has no library "
                          f"material (known: {', '.join(sorted(ALLOYS))})")
     return ALLOYS[alloy]
+
+
+def substitutions(shot: DatabaseShot) -> dict[str, str]:
+    """Part → a line saying which library material stands for the shot's alloy and why, for each part whose
+    alloy the library lacks (:data:`SUBSTITUTED`)."""
+    return {part: f"{part}: {alloy} modelled as {ALLOYS[alloy]}, the library's nearest alloy ({SUBSTITUTED[alloy]})"
+            for part, alloy in shot.alloys.items() if alloy in SUBSTITUTED}
+
+
+def case_text(shot: DatabaseShot, raw: dict, base: str | Path | None = None) -> str:
+    """The TOML of ``raw`` (:func:`database_shot_case` of ``shot``) as ``whipple shot --write-case`` writes it: the
+    test's outcome in its header, each substituted alloy said where its material is set, and the SPH pitch
+    rounded to :data:`PITCH_FIGURES` figures with how it was derived."""
+    import tomli_w
+
+    path = EXAMPLE_CASE if base is None else Path(base)
+    base_case = validate(WhippleCase, load_toml(path), source=str(path))
+    pitch = raw["shield"]["spacing_cm"]
+    rounded = float(f"{pitch:.{PITCH_FIGURES}g}")
+    ratio = shot.diameter_cm / base_case.projectile.diameter_cm
+    derivation = (f"SPH particle pitch: the base case's {base_case.shield.spacing_cm:g} cm" + (
+        f" × d/d₀ = {shot.diameter_cm:g}/{base_case.projectile.diameter_cm:g} = {pitch:.7g} cm, rounded (the projectile "
+        "keeps the base case's particles across; `whipple shot -o` and `validate` run the unrounded value)"
+        if ratio < 1.0 else " (the projectile is no smaller than the base case's)"))
+    notes = {("shield", "spacing_cm"): derivation}
+    notes |= {(part, "material"): note for part, note in substitutions(shot).items()}
+    text = tomli_w.dumps(set_dotted(raw, "shield.spacing_cm", rounded))
+    lines, section = [], None
+    for line in text.splitlines():
+        if line.startswith("["):
+            section = line.strip("[]")
+        key = line.split(" = ")[0]
+        if (section, key) in notes:
+            lines.append(f"# {notes[section, key]}")
+        lines.append(line)
+    header = [f"# {raw['title']}, on {base or 'the Table 2 7a example'} (impactdyn whipple shot)",
+              f"# the test: {shot.outcome}", ""]
+    return "\n".join(header + lines) + "\n"
 
 
 def database_shot_case(shot: DatabaseShot, base: str | Path | None = None) -> dict:
