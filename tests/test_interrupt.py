@@ -144,3 +144,36 @@ def test_an_interrupt_while_a_member_is_recorded_waits_for_the_whole_record(tmp_
     with pytest.raises(KeyboardInterrupt):
         run_members(run, summaries, lambda pending: pending, record, scheduler="serial")
     assert rows == counted == [0], "the record was cut, or the member recorded twice, or the stop lost"
+
+
+def _kernel_returning_with_the_interrupt_set(*args, **kwargs):
+    """What a compiled numba kernel raises when Ctrl-C's handler runs as it returns: Python finds a result
+    and the interrupt both, and reports a SystemError caused by the KeyboardInterrupt."""
+    try:
+        raise KeyboardInterrupt
+    except KeyboardInterrupt as interrupt:
+        raise SystemError("CPUDispatcher(<function _permute_rows at 0x7f0000000000>) returned a result with an "
+                          "exception set") from interrupt
+
+
+def test_an_interrupt_surfacing_as_a_kernels_system_error_exits_130_in_one_line(tmp_path, capsys, monkeypatch):
+    import impactdyn.whipple
+    from impactdyn.cli import main
+
+    monkeypatch.setattr(impactdyn.whipple, "run_whipple", _kernel_returning_with_the_interrupt_set)
+    case = EXAMPLES / "whipple" / "table2_7a.toml"
+    assert main(["whipple", "run", str(case), "-o", str(tmp_path / "run")]) == 130
+    assert capsys.readouterr().err.strip().splitlines() == ["interrupted: nothing was written"]
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_system_error_of_another_cause_is_not_taken_for_an_interrupt(tmp_path, monkeypatch):
+    import impactdyn.whipple
+    from impactdyn.cli import main
+
+    def broken(*args, **kwargs):
+        raise SystemError("a defect")
+
+    monkeypatch.setattr(impactdyn.whipple, "run_whipple", broken)
+    with pytest.raises(SystemError, match="a defect"):
+        main(["whipple", "run", str(EXAMPLES / "whipple" / "table2_7a.toml"), "-o", str(tmp_path / "run")])

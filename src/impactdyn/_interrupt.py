@@ -15,6 +15,9 @@ kept.  Three pieces make it:
   it is ignored until the tidying is done.
 * :func:`deferred`: a Ctrl-C that comes while a finished member is being recorded (its row, the
   table, the count the stop message reports) is held until the record is complete, then raised.
+* :func:`caused_by_interrupt`: a Ctrl-C whose handler runs just as a compiled numba kernel returns
+  reaches Python as ``SystemError: CPUDispatcher(...) returned a result with an exception set``, the
+  ``KeyboardInterrupt`` its cause; the console script takes such an error for the interrupt it is.
 """
 
 from __future__ import annotations
@@ -81,3 +84,16 @@ def deferred() -> Iterator[None]:
             signal.signal(sig, handler)
     if caught:
         raise KeyboardInterrupt(signal.Signals(caught[0]).name)
+
+
+def caused_by_interrupt(err: BaseException) -> bool:
+    """Whether ``err`` is, or was raised because of, a ``KeyboardInterrupt`` (its ``__cause__`` or
+    ``__context__``, followed down the chain)."""
+    seen: set[int] = set()
+    link: BaseException | None = err
+    while link is not None and id(link) not in seen:
+        if isinstance(link, KeyboardInterrupt):
+            return True
+        seen.add(id(link))
+        link = link.__cause__ or link.__context__
+    return False

@@ -5,8 +5,7 @@ loads it again while that file is unchanged — even after a function it calls o
 another module has changed.  The wall's element pass (:mod:`impactdyn.wall._step`) inlines the
 material updates of ``wall._johnson_cook`` and ``wall._mat13`` and the kernels of
 :mod:`impactdyn.constitutive`; after an edit of those files alone it ran the old machine code
-(seen twice on 2026-11-27: a new failure-criterion code was not recorded until the cache was
-deleted).  A user upgrading impactdyn in place keeps numba's cache files, which pip does not
+(a new failure criterion went unrecorded until the cache was deleted).  A user upgrading impactdyn in place keeps numba's cache files, which pip does not
 remove, and would meet the same.
 
 The locators here, put in front of numba's own for the functions defined in this package (and
@@ -136,10 +135,9 @@ def install_on_numba_import() -> None:
     """Install the locators now if numba's caching module is loaded, else as soon as it is.
 
     The digest is taken now, as the package is imported, not when the first kernel is cached: a
-    process that imported the old sources and hashed the files after they were edited stored the
-    old machine code under the new sources' digest, and the next process ran it on the new code's
-    data layout (three processes died of a general-protection fault on 2026-11-28, while the wall's
-    kernel arguments were being regrouped)."""
+    process that imported the old sources and hashed the files after they were edited would store
+    the old machine code under the new sources' digest, and the next process would run it on the
+    new code's data layout and die of a general-protection fault."""
     package_digest()
     if _CACHING in sys.modules:
         install(sys.modules[_CACHING])

@@ -22,7 +22,7 @@ os.environ.setdefault("OMP_WAIT_POLICY", "passive")
 import typer  # noqa: E402
 
 from impactdyn._errors import InputError, Interrupted, SimulationError
-from impactdyn._interrupt import terminate_as_interrupt
+from impactdyn._interrupt import caused_by_interrupt, terminate_as_interrupt
 from impactdyn.cli import beam, ble, debris, whipple
 
 app = typer.Typer(
@@ -79,6 +79,10 @@ def main(argv: list[str] | None = None) -> int:
         return e.exit_code
     except typer.Abort:  # click's word for an interrupt in its own prompts
         code = 130
+    except SystemError as err:
+        if not caused_by_interrupt(err):
+            raise
+        code = 130  # Ctrl-C as a compiled kernel returned (impactdyn._interrupt.caused_by_interrupt)
     except Exception as err:  # usage errors carry their own exit code
         if _is_usage_error(err):
             err.show()

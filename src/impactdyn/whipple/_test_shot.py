@@ -51,10 +51,9 @@ from impactdyn.whipple._case import WhippleCase
 #: source tree's ``examples/``, not in an installed package: there name a base case.
 EXAMPLE_CASE = Path(__file__).resolve().parents[3] / "examples" / "whipple" / "table2_7a.toml"
 
-#: Database alloy → library material (:data:`impactdyn.materials.MATERIALS`).  AA2017-T4 is
-#: modelled as Al 2024-T4, the same Al–Cu family (ρ 2.79 against 2.785 g/cm³); the library's
-#: al2024-t4 takes its damage constants from 2024-T351.  Pure and annealed aluminium (AA1100-O,
-#: 99.9 %) has no library entry.
+#: Database alloy → library material (:data:`impactdyn.materials.MATERIALS`): the alloy itself, or where
+#: the library lacks it the nearest alloy it has (:data:`SUBSTITUTED` says why).  Pure and annealed
+#: aluminium (AA1100-O, 99.9 %) has no library entry.
 ALLOYS = {"AA2017-T4": "al2024-t4", "AA2024-T3": "al2024-t4", "AA2024-T4": "al2024-t4",
           "AA2024-T351": "al2024-t4", "AA6061-T6": "al6061-t6"}
 
