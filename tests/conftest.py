@@ -12,13 +12,20 @@ import pytest
 CLI = [sys.executable, "-c", "import sys; from impactdyn.cli import main; sys.exit(main())"]
 
 
+def _as_a_terminal_starts_it() -> None:
+    """Run in the child before it execs: SIGINT at its default, as a shell in a terminal starts a command.
+    A suite run as a background job (``nohup pytest &``) has SIGINT ignored, every child inherits that
+    through exec, and the interrupt tests' Ctrl-C would then do nothing."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 class Command:
     """``impactdyn ARGS`` started in a session of its own, so a signal can go to its whole process group
     as a terminal's Ctrl-C does, and "no process left" means "no process in that group"."""
 
     def __init__(self, args: list[str], cwd: Path):
         self.proc = subprocess.Popen(CLI + args, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                     text=True, start_new_session=True)
+                                     text=True, start_new_session=True, preexec_fn=_as_a_terminal_starts_it)
 
     def wait_for(self, condition, timeout: float, what: str) -> None:
         """Poll ``condition()`` until true; fail if the command ends first or ``timeout`` passes."""

@@ -177,3 +177,21 @@ def test_a_system_error_of_another_cause_is_not_taken_for_an_interrupt(tmp_path,
     monkeypatch.setattr(impactdyn.whipple, "run_whipple", broken)
     with pytest.raises(SystemError, match="a defect"):
         main(["whipple", "run", str(EXAMPLES / "whipple" / "table2_7a.toml"), "-o", str(tmp_path / "run")])
+
+
+def _sigint_ignored(pid: int) -> bool:
+    """Whether the process ``pid`` ignores SIGINT (its ``SigIgn`` mask in /proc)."""
+    mask = next(line.split()[1] for line in Path(f"/proc/{pid}/status").read_text().splitlines()
+                if line.startswith("SigIgn:"))
+    return bool(int(mask, 16) & (1 << (signal.SIGINT - 1)))
+
+
+def test_a_command_takes_ctrl_c_even_where_the_suite_runs_as_a_background_job(tmp_path, cli):
+    """A suite started as a background job (``nohup pytest &``) has SIGINT ignored, and a child inherits that
+    through exec: the commands it starts are started as a terminal starts them, with SIGINT at its default."""
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        command = cli.start(_sweep_args(tmp_path / "sweep", []), tmp_path)
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert not _sigint_ignored(command.proc.pid), "the command inherited SIGINT ignored: Ctrl-C would not stop it"

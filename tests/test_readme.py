@@ -22,5 +22,5 @@ def test_readme_python_blocks(capsys):
     assert "first impact at 0.78108" in out
     assert "7a: d = 0.575 cm, JSC d_c = 0.519 cm -> perforation" in out  # jsc2011, the default (issue 12)
     # the debris example's whole cloud lands on the wall: deposited = incoming momentum
-    m = re.search(r"(\d+) particles arrived; momentum deposited ([\d.]+) g cm/us of ([\d.]+)", out)
+    m = re.search(r"(\d+) particles arrived; momentum deposited ([\d.]+) g·cm/µs of ([\d.]+)", out)
     assert m and int(m[1]) > 100 and m[2] == m[3]
