@@ -126,7 +126,9 @@ def test_write_case_refuses_to_overwrite_without_force(tmp_path, capsys):
     path = tmp_path / "case.toml"
     path.write_text("kept\n")
     assert main(["whipple", "shot", "--database", "B31", "--write-case", str(path)]) == 2
-    assert "--force" in capsys.readouterr().err and path.read_text() == "kept\n"
+    refused = capsys.readouterr()
+    assert "--force" in refused.err and path.read_text() == "kept\n"
+    assert refused.out == ""  # the refusal alone: no note of a case that was not written
     assert main(["whipple", "shot", "--database", "B31", "--write-case", str(path), "--force"]) == 0
     assert tomllib.loads(path.read_text())["wall"]["spacing_cm"] == 20.32
 

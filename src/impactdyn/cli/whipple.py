@@ -57,20 +57,20 @@ def shot(
     """Run a shot of the test database (or write its case) and print the test's outcome beside the verdicts."""
     from impactdyn._errors import InputError
     from impactdyn._runfolder import atomic_output
-    from impactdyn.whipple import WhippleCase, ble_verdict, database_shot, database_shot_case
-    from impactdyn.whipple._test_shot import case_text, substitutions
+    from impactdyn.whipple import (WhippleCase, alloy_substitutions, ble_verdict, database_shot, database_shot_case,
+                                   database_shot_case_text)
 
     if (out is None) == (write_case is None):
         raise InputError("give -o OUT to run the shot, or --write-case FILE to write its case and run nothing")
     _check_keep(keep)
     test = database_shot(database)
     raw = database_shot_case(test, from_case)
-    for note in substitutions(test).values():
+    if write_case is not None and write_case.exists() and not force:
+        raise InputError(f"{write_case}: exists; pass --force to overwrite it")
+    for note in alloy_substitutions(test).values():
         typer.echo(f"note: {note}")
     if write_case is not None:
-        if write_case.exists() and not force:
-            raise InputError(f"{write_case}: exists; pass --force to overwrite it")
-        text = case_text(test, raw, from_case)
+        text = database_shot_case_text(test, raw, from_case)
         with atomic_output(write_case) as tmp:
             tmp.write_text(text)
         typer.echo(f"case of {test.name} in {write_case}")

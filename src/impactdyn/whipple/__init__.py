@@ -16,7 +16,8 @@ from impactdyn.whipple._cloud import cloud_figures
 from impactdyn.whipple._limit import run_limit
 from impactdyn.whipple._pipeline import run_whipple
 from impactdyn.whipple._stages import STAGES, read_stage
-from impactdyn.whipple._test_shot import ALLOYS, DatabaseShot, database_shot, database_shot_case
+from impactdyn.whipple._test_shot import (ALLOYS, DatabaseShot, alloy_substitutions, database_shot, database_shot_case,
+                                          database_shot_case_text)
 from impactdyn.whipple._report import ble_verdict, wall_ending, wall_permanent_bulge
 from impactdyn.whipple._selection import SelectionRule, fix_rule, load_rule, rule_hash, select_shots
 from impactdyn.whipple._validate import run_validation, score_validation
@@ -27,4 +28,5 @@ __all__ = ["ALLOYS", "STAGES", "DatabaseShot", "SelectionRule", "WhippleCase", "
            "database_shot", "database_shot_case", "fix_rule", "load_rule", "load_whipple_case", "read_stage",
            "rule_hash", "run_campaign", "run_limit", "run_validation", "run_whipple", "score_validation",
            "select_shots", "shield_problem", "wall_ending", "wall_permanent_bulge", "ValidationRecord",
-           "limit_statement", "record_validation", "validation_record"]
+           "limit_statement", "record_validation", "validation_record", "alloy_substitutions",
+           "database_shot_case_text"]

@@ -167,14 +167,14 @@ def _material(shot: DatabaseShot, part: str) -> str:
     return ALLOYS[alloy]
 
 
-def substitutions(shot: DatabaseShot) -> dict[str, str]:
+def alloy_substitutions(shot: DatabaseShot) -> dict[str, str]:
     """Part → a line saying which library material stands for the shot's alloy and why, for each part whose
     alloy the library lacks (:data:`SUBSTITUTED`)."""
     return {part: f"{part}: {alloy} modelled as {ALLOYS[alloy]}, the library's nearest alloy ({SUBSTITUTED[alloy]})"
             for part, alloy in shot.alloys.items() if alloy in SUBSTITUTED}
 
 
-def case_text(shot: DatabaseShot, raw: dict, base: str | Path | None = None) -> str:
+def database_shot_case_text(shot: DatabaseShot, raw: dict, base: str | Path | None = None) -> str:
     """The TOML of ``raw`` (:func:`database_shot_case` of ``shot``) as ``whipple shot --write-case`` writes it: the
     test's outcome in its header, each substituted alloy said where its material is set, and the SPH pitch
     rounded to :data:`PITCH_FIGURES` figures with how it was derived."""
@@ -190,7 +190,7 @@ def case_text(shot: DatabaseShot, raw: dict, base: str | Path | None = None) -> 
         "keeps the base case's particles across; `whipple shot -o` and `validate` run the unrounded value)"
         if ratio < 1.0 else " (the projectile is no smaller than the base case's)"))
     notes = {("shield", "spacing_cm"): derivation}
-    notes |= {(part, "material"): note for part, note in substitutions(shot).items()}
+    notes |= {(part, "material"): note for part, note in alloy_substitutions(shot).items()}
     text = tomli_w.dumps(set_dotted(raw, "shield.spacing_cm", rounded))
     lines, section = [], None
     for line in text.splitlines():
