@@ -9,7 +9,7 @@ import pytest
 from impactdyn import wall
 from impactdyn.wall import _settle
 from impactdyn.materials import AL_6061_T6_MAT13
-from impactdyn.wallgrid import WallGrid
+from impactdyn.wallgrid import WallDeposition, WallGrid
 
 from .conftest import SMALL_WALL, elastic_model, two_records
 
@@ -143,3 +143,38 @@ def test_a_breakdown_while_settling_loses_only_the_permanent_bulge(monkeypatch):
     assert m["permanent_rear_bulge_cm"] is None and not m["settled"]
     assert "non-positive volume" in m["settle_error"]
     assert wall_permanent_bulge(m).startswith("not measured: wall solver broke down at t = 6.5 us")
+
+
+def _holed_wall(hold_us):
+    """A 1 × 0.2 × 1-cm clamped wall of 20 × 4 × 20 bricks whose central 4 × 4 patch of face elements
+    is each hit by four impulses of 5e-5 g·cm/µs over 0.75 µs: holed within 0.5 µs."""
+    grid = WallGrid.uniform((0.0, 1.0), (0.0, 0.2), (0.0, 1.0), (21, 5, 21))
+    face = np.array([k * 20 + i for k in range(8, 12) for i in range(8, 12)])
+    elements, times = np.repeat(face, 4), np.tile([0.0, 0.25, 0.5, 0.75], face.size)
+    dep = WallDeposition(element=elements, time=times, impulse=np.array([[0.0, 5e-5, 0.0]] * elements.size))
+    return wall.run_wall(grid, dep, "al6061-t6", wall.WallOptions(mesh="report", output_interval_us=None,
+                                                                  max_time_us=20.0, perforation_hold_us=hold_us))
+
+
+def test_a_holed_wall_ends_when_its_path_has_held_after_the_last_arrival():
+    held = _holed_wall(1.0)
+    m = held.measures
+    assert held.verdict == wall.PERFORATION
+    assert m["ended_by"] == "perforated"
+    assert 0.0 < m["perforated_at_us"] <= 0.75
+    # the hold counts from the later of the path and the last arrival (0.75 µs), to a history sample
+    assert 1.75 <= m["end_time_us"] < 1.75 + wall.WallOptions().history_interval_us + 1e-9
+    assert m["impulse_applied"][1] == pytest.approx(m["impulse_deposited"][1], rel=1e-12)
+
+
+def test_without_a_hold_a_holed_wall_runs_on_to_the_same_verdict():
+    on = _holed_wall(None)
+    m = on.measures
+    assert on.verdict == wall.PERFORATION and m["ended_by"] in ("decay", "ceiling")
+    assert m["end_time_us"] > 1.75 + 1.0
+    assert m["perforated_at_us"] == _holed_wall(1.0).measures["perforated_at_us"]
+
+
+def test_an_unholed_wall_says_it_was_never_perforated():
+    m = _run(max_time_us=6.0)
+    assert m["ended_by"] == "ceiling" and m["perforated_at_us"] is None

@@ -16,7 +16,7 @@ from impactdyn._errors import InputError
 from impactdyn.constitutive import fracture_strain, tuler_butcher_increment
 from impactdyn.materials import AL_6061_T6_JC_DAMAGE, TULER_BUTCHER, TB_STRESS_RATE, TulerButcher, _gpa
 from impactdyn.wall._johnson_cook import FAILURE_STRAIN_FLOOR, FRACTURE_STRAIN_FLOORS, SPALL_LAWS
-from impactdyn.wall._state import DAMAGE, EPS_P, FAILED, P, SPALL_DAMAGE
+from impactdyn.wall._state import DAMAGE, DT_E, EPS_P, FAILED, P, SPALL_DAMAGE
 from impactdyn.wallgrid import WallDeposition, WallGrid
 
 from .conftest import drive, one_element
@@ -166,3 +166,23 @@ def test_old_options_reproduce_the_model_before_the_floor_and_tuler_butcher():
     assert m["failed_mass_by_cause_g"]["ductile_damage"] == pytest.approx(0.003716625000000002, rel=1e-12)
     assert m["rear_bulge_end_cm"] == pytest.approx(0.025482383095459554, rel=1e-12)
     assert m["energy"]["internal"] == pytest.approx(1.1182219579515382e-05, rel=1e-12)
+
+
+def test_a_failed_element_whose_step_collapses_leaves_the_pass_keeping_its_mass_and_momentum():
+    """Erosion by step: a failed brick flattened at constant volume (stretched along x, squeezed along y)
+    keeps its sound speed while its length V/A_max falls; once its step is below ``erosion_step_fraction``
+    of the initial step it is eroded (no force, no step limit) and its nodes fly on with their own mass
+    and velocity."""
+    s = one_element(wall.wall_model("johnson_cook", "al6061-t6"))
+    s.flags[0, FAILED] = 1
+    limit = s.options.erosion_step_fraction * s.dt_element0
+    steps = []
+    drive(s, [[0.5, 0.0, 0.0], [0.0, -0.5, 0.0], [0.0, 0.0, 0.0]], 4000,
+          stop=lambda s: steps.append(s.es[0, DT_E]) or bool(s.eroded[0]))
+    assert s.eroded[0]
+    assert limit <= steps[-2] < 2.0 * limit        # it had not collapsed before the pass that eroded it
+    assert np.isinf(s.es[0, DT_E]) and not s.elements.F.any()
+    assert s.nodes.mass.sum() == pytest.approx(s.mesh.element_mass[0], rel=1e-12)
+    v = s.v.copy()
+    s.advance(s.time + 1.0, max_steps=20)
+    assert np.array_equal(s.v, v)                  # no force left on its nodes: their momentum is kept

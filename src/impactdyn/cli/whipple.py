@@ -118,7 +118,7 @@ def _echo_summary(s: dict, out: Path) -> None:
                f"of the thickness, rear bulge {w.get('rear_bulge_cm', 0):.3g} cm; report in {Path(out) / 'report.html'}")
     if w.get("caution"):
         typer.echo(f"caution: {w['caution']}")
-    if w.get("ended_by") == "ceiling":
+    if w.get("ended_by") in ("ceiling", "perforated"):
         typer.echo(f"wall run ended at {wall_ending(w)}")
     if "settled" in w:
         typer.echo(f"rear-face permanent bulge (the wall brought to rest): {wall_permanent_bulge(w)}")

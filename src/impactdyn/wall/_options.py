@@ -88,6 +88,12 @@ class WallOptions(Section):
         ceiling with 4–54 % of the load's work still kinetic; ``measures["ended_by"]`` says
         which end a run met (BENCHMARKS.md, "when a wall run ends").
     decay_fraction : the fraction of the peak kinetic energy that ends a run (0.05).
+    perforation_hold_us : a run without ``end_time_us`` ends (``ended_by`` "perforated") this long
+        after a through-thickness path of failed or eroded elements has formed and the last
+        record has arrived, whichever is later; None: never on that account.  Failure is for good,
+        so the verdict is "perforation" from the path's first appearance (``perforated_at_us``, to a
+        history sample); the hold only lets the hole and the failed mass that the report shows
+        grow on for a stated time, and they are those of the end of the run, not of a wall at rest.
     max_time_us : ceiling of the run's end time (absolute time, µs).
     output_interval_us : time between output frames (ParaView series); None: the first and last frames
         only.  2 µs: 51 frames of a 100-µs run; each frame of the graded 7a wall is 5 MB (71,280
@@ -108,9 +114,9 @@ class WallOptions(Section):
         the refinement through the thickness).  Must not exceed the wall's thickness.
     settle : after the run, let the wall swing back once and bring it to rest by kinetic damping,
         and report its permanent rear bulge (:meth:`impactdyn.wall.WallSolver.settle`); off by
-        default: it takes 15–50 times the run's steps (Table 2, 14,300–44,800 against 840–960;
-        7a's wall stage about 1 min instead of ~8 s on a 2-core Zen 5 VM, 4.5 min on a slower
-        Xeon VM; on a wall of twice the span and four times the elements roughly 16 times that).
+        default: it takes 15–50 times the run's steps (Table 2, 14,300–44,800 against 840–960:
+        7a's wall stage about 8 times longer; on a wall of twice the span and four times the
+        elements roughly 16 times that).
         Without it no run measures a permanent set: a supported wall still rings when the run
         ends (BENCHMARKS.md, "when a wall run ends").
     settle_tolerance : the settling stops at rest with the out-of-balance force on the wall's free
@@ -147,6 +153,7 @@ class WallOptions(Section):
     courant: Fraction = 0.9
     end_time_us: Positive | None = None
     decay_fraction: Fraction = 0.05
+    perforation_hold_us: NonNegative | None = 5.0
     max_time_us: Positive = 100.0
     output_interval_us: Positive | None = 2.0
     history_interval_us: Positive = 0.2

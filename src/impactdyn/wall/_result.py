@@ -16,10 +16,12 @@ HISTORY_KEYS = ("time", "load_work", "kinetic", "kinetic_wall", "internal", "pla
                 "eroded", "balance_error", "rear_bulge", "front_dent", "rear_velocity", "momentum_y")
 
 #: How a run ended (``measures["ended_by"]``): the wall's kinetic energy decayed to
-#: ``decay_fraction`` of its peak after the last arrival; the ``end_time_us`` asked for; or the
-#: ``max_time_us`` ceiling before either, with the wall not at rest.
-ENDED_BY_DECAY, ENDED_AT_END_TIME, ENDED_AT_CEILING = "decay", "end_time", "ceiling"
-ENDINGS = (ENDED_BY_DECAY, ENDED_AT_END_TIME, ENDED_AT_CEILING)
+#: ``decay_fraction`` of its peak after the last arrival; a through-thickness path of failed material
+#: held for ``perforation_hold_us`` after the last arrival (the verdict can no longer change: failure
+#: is for good); the ``end_time_us`` asked for; or the ``max_time_us`` ceiling before any of them,
+#: with the wall not at rest.
+ENDED_BY_DECAY, ENDED_BY_PERFORATION, ENDED_AT_END_TIME, ENDED_AT_CEILING = "decay", "perforated", "end_time", "ceiling"
+ENDINGS = (ENDED_BY_DECAY, ENDED_BY_PERFORATION, ENDED_AT_END_TIME, ENDED_AT_CEILING)
 
 
 @dataclass(frozen=True, eq=False)

@@ -44,10 +44,10 @@ from impactdyn.wall._mesh import WallMesh
 from impactdyn.wall._models import MODELS, WallModel
 from impactdyn.wall._options import WallOptions, WallSolverError
 from impactdyn.wall._result import (
-    ENDED_AT_CEILING, ENDED_AT_END_TIME, ENDED_BY_DECAY, HISTORY_KEYS, WallFrame, WallResult)
+    ENDED_AT_CEILING, ENDED_AT_END_TIME, ENDED_BY_DECAY, ENDED_BY_PERFORATION, HISTORY_KEYS, WallFrame, WallResult)
 from impactdyn.wall._state import (
     C, DAMAGE, EPS_P, ERODED, FAILED, N_ES, N_SHG, P, VOL, Controls, Elements, MaterialConstants, Nodes)
-from impactdyn.wall._verdict import WALL, classify, failed_mass_by_cause, measures, node_categories
+from impactdyn.wall._verdict import WALL, classify, failed_mass_by_cause, measures, node_categories, through_path
 from impactdyn.wallgrid import WallDeposition, WallGrid
 
 _BREAKDOWN = {_step.BAD_VOLUME: "non-positive volume", _step.BAD_STEP: "time step collapsed",
@@ -127,6 +127,7 @@ class WallSolver:
                                                         courant=min(options.courant, _settle.SETTLE_COURANT))
         self.clock = np.array([t_start, 0.0, options.courant * dtmin, 0.0, 0.0, 0.0])
         self._damaged_count = 0
+        self.through_since: float | None = None
         self.k0 = None
 
     # -- compiled passes ------------------------------------------------------------------------------
@@ -208,11 +209,14 @@ class WallSolver:
         return int(self.clock[_step.CURSOR]) >= self.load.time.size
 
     def update_categories(self) -> None:
-        """Node categories of :mod:`._verdict`, recomputed when the set of damaged elements changed."""
+        """Node categories of :mod:`._verdict` and the time a through-thickness path of damaged elements
+        first appeared (:attr:`through_since`), recomputed when the set of damaged elements changed."""
         n = int(np.count_nonzero(self.flags))
         if n != self._damaged_count:
             self._damaged_count = n
             self.nodes.category[:] = node_categories(self.mesh, self.failed, self.eroded)
+            if self.through_since is None and through_path(self.mesh, self.failed | self.eroded).any():
+                self.through_since = self.time
 
     def energies(self) -> dict[str, float]:
         """The energy balance at the current time (module docstring)."""
@@ -264,6 +268,17 @@ class WallSolver:
             out.append(float(max(u.max(), 0.0)) if nodes.size else 0.0)
         return out[0], out[1]
 
+    def perforation_settled(self) -> bool:
+        """True once a through-thickness path of damaged elements has held for ``perforation_hold_us``
+        after the later of its appearance and the last arrival.  Failure is for good (:mod:`._verdict`),
+        so from the path's first appearance the verdict is "perforation" whatever follows; the hold only
+        lets the hole and the failed mass the report shows grow on for a stated time."""
+        hold = self.options.perforation_hold_us
+        if hold is None or self.through_since is None:
+            return False
+        t_last = float(self.load.time.max()) if self.load.time.size else self.through_since
+        return self.time >= max(self.through_since, t_last) + hold
+
     # -- the run --------------------------------------------------------------------------------------
     def run(self, progress: Callable[[float, float], None] | None = None,
             settle_progress: Callable[[float, float], None] | None = None) -> WallResult:
@@ -312,10 +327,13 @@ class WallSolver:
             if self.time >= t_end:
                 ended_by = ENDED_AT_END_TIME if o.end_time_us is not None else ENDED_AT_CEILING
                 break
-            if (o.end_time_us is None and self.loads_done
-                    and row["kinetic_wall"] <= o.decay_fraction * peak_wall):
-                ended_by = ENDED_BY_DECAY
-                break
+            if o.end_time_us is None and self.loads_done:
+                if row["kinetic_wall"] <= o.decay_fraction * peak_wall:
+                    ended_by = ENDED_BY_DECAY
+                    break
+                if self.perforation_settled():
+                    ended_by = ENDED_BY_PERFORATION
+                    break
         if frames[-1].time != self.time:
             frames.append(self.frame())
         kinetic_left = row["kinetic_wall"] / peak_wall if peak_wall > 0.0 else 0.0
@@ -347,6 +365,7 @@ class WallSolver:
             "peak_rear_bulge_time_us": float(t[i_peak]),
             "end_time_us": self.time,
             "ended_by": ended_by,
+            "perforated_at_us": self.through_since,
             "kinetic_left_fraction": kinetic_left,
             "steps": self.steps,
             "peak_rear_velocity_km_s": (rear_peak if math.isfinite(rear_peak) else 0.0) * KM_S_PER_CM_US,
