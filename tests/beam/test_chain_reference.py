@@ -5,7 +5,7 @@ cantilever's βᵢ²·√(EI/ρL⁴) at second order in 1/N.
 (b) A large-deflection spin-up (tip deflection ≈ 10 % of L): the ``coupled`` modal
 model follows the chain's hub angle 6–10× closer than the linearised one (the light
 hub is covered by ``test_coupled_chain.py``). The tolerances come from the
-convergence study recorded in benchmarks/BENCHMARKS.md ("Coupled model vs rigid-link
+convergence study in docs/vv/analytic.md ("The coupled beam model against a rigid-link
 chain", ``python verification/verify_beam_chain.py``).
 """
 

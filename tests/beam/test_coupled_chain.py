@@ -1,6 +1,6 @@
 """The coupled model against the rigid-link chain (``_chain``) with the sample's light
-hub (IR = 0.002): the cheap version of the study in benchmarks/BENCHMARKS.md
-("Coupled model vs rigid-link chain", ``python verification/verify_beam_chain.py``).
+hub (IR = 0.002): the cheap version of the study in docs/vv/analytic.md
+("The coupled beam model against a rigid-link chain", ``python verification/verify_beam_chain.py``).
 
 Spin-up: θ₀ = 0.5 rad, torque +τ for 50 ms then −τ for 50 ms, no gravity, 0.2 s, the
 default tolerances (rtol 1e-8: the errors below are those at 1e-10 to two digits). The
@@ -82,7 +82,7 @@ def strongest(make_case):
 
 def test_hub_angle_at_15_percent_deflection(strongest):
     """max |θ − θ_chain|: linear 1.56e-2 rad, coupled 1.3e-3 rad (7.7e-4 against the finer
-    reference of BENCHMARKS.md). The coupled run completes (it used to stop at 55 ms)."""
+    reference of docs/vv/analytic.md). The coupled run completes (it used to stop at 55 ms)."""
     linear, coupled, theta = strongest
     tip = coupled.y[:, 1 : coupled.model.n + 1] @ coupled.model.phi_r  # response point at the tip
     assert coupled.t[-1] == pytest.approx(0.2) and np.max(np.abs(tip)) / coupled.model.length > 0.145

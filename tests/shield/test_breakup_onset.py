@@ -2,7 +2,7 @@
 validation/shield-mechanism-decision.md), on the check's own set-up at its coarser spacing d/20.
 
 The model does not meet it yet: the projectile is already broken below V_LV − 0.5 km/s (onset
-1.75 km/s at t/D 0.1 against V_LV = 3.31 km/s; benchmarks/BENCHMARKS.md, "break-up and melt").  The
+1.75 km/s at t/D 0.1 against V_LV = 3.31 km/s; docs/vv/test-shots.md, "Mechanism checks").  The
 test states the published behaviour and is expected to fail (strict), so a model that meets it is
 noticed; it is not loosened to pass.
 """

@@ -4,8 +4,8 @@ The wall stage is loaded by momentum records only; these tests check that a comp
 sphere laid on a fine face grid by :func:`impactdyn.wallgrid.sphere_deposition` carries the
 sphere's momentum at the rate and over the time a stopped rod would, and that the wall it
 strikes perforates on the near side of the Cour-Palais single-wall limit (S1,
-:mod:`impactdyn.ble`) and not far below it (studies/fragments/fragment_crater.py, BENCHMARKS.md "one
-compact fragment on the wall").
+:mod:`impactdyn.ble`) and not far below it (studies/fragments/fragment_crater.py, docs/vv/convergence.md "The wall: one
+compact fragment under mesh refinement").
 """
 
 from __future__ import annotations
@@ -63,7 +63,7 @@ def test_sphere_deposition_rejects_bad_input(bad):
 def test_a_compact_fragment_perforates_near_the_single_wall_limit_and_not_far_below_it():
     """A 0.16-cm 2024 wall at 6 km/s, 0.02-cm cells: (S1) puts the perforation limit at d_c ≈ 0.060 cm;
     the wall stage perforates at 1.2 d_c and stays whole at 0.5 d_c (its own limit, by bisection:
-    0.77 d_c at this mesh, 0.67–0.82 d_c at 0.01–0.04 cm; BENCHMARKS.md)."""
+    0.77 d_c at this mesh, 0.67–0.82 d_c at 0.01–0.04 cm; docs/vv/convergence.md)."""
     grid = half_model(0.02)
     v_km_s = 6.0
     single = ble.SingleWall(0.16, get_material("al2024-t4").rho0, ble.BRINELL_HARDNESS["al2024-t4"])

@@ -20,7 +20,7 @@ point mass. Cloud-in-cell at the cell size puts it into the ≤ 8 cells around i
 so where the particles are farther apart than a cell — the expanding debris shell
 — the grid is a set of clumps of one particle's mass each, which the debris stage
 carries to the wall as a speckled map whose peak depends on the SPH resolution
-(benchmarks/BENCHMARKS.md, "Whipple pipeline"). Even a uniform block on a lattice
+(docs/vv/convergence.md, "The SPH spacing: the pipeline on Table 2's 7a"). Even a uniform block on a lattice
 of 1/1.25 of the cell (the Whipple cases' 0.0254-cm particles in 0.03175-cm
 cells) comes out in cloud-in-cell with density bands of −12 … +13 %; with the
 kernel to 0.1 %. Binned with its kernel, the grid holds the SPH density field

@@ -16,7 +16,7 @@ Molinari & Ramesh 2005 compare with resolved cohesive fragmentation).  ε̇ is t
 stretching rate of the particle when it breaks apart: on the first step it is failed and expanded
 beyond ρ₀ (``Particles.failure_strain_rate``).
 
-**Not converged (measured, BENCHMARKS.md):** the SPH's rate at failure is a kernel-scale rate, and it
+**Not converged (measured, docs/vv/convergence.md):** the SPH's rate at failure is a kernel-scale rate, and it
 grows as the particles shrink (median 0.85 → 1.27 ×10⁶ s⁻¹ from Δ = d/10 to d/20 at 6 km/s, about
 Δ^{-0.6}); the sizes follow (s ∝ ε̇^{-2/3}).  Until the rate is measured on a scale of the
 material's own, the fragments' sizes depend on the particle spacing, which is why this is an

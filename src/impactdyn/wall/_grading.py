@@ -8,7 +8,7 @@ lines land on the wall's edges and on the symmetry plane x = x[0] exactly.
 the thickness t, with n the smallest count that satisfies both
 
 * n ≥ :data:`MIN_LAYERS` = 8: the report's 4 layers do not resolve the wall's bending and
-  spall (BENCHMARKS.md, "what fails the 7a wall": the 7a bulge 0.796 cm and perforation at 4
+  spall (docs/vv/convergence.md, "why the defaults are what they are": the 7a bulge 0.796 cm and perforation at 4
   layers, 0.506 cm and detached spall at 8; the one-point bricks' hourglass share of the
   internal energy 6.7 % at 4 layers in bending, 4.3–5.8 % on 7a from 8 layers), and
 * h ≤ D/:data:`ELEMENTS_ACROSS_CRATER`: the crater of a solid fragment of diameter
@@ -17,8 +17,8 @@ the thickness t, with n the smallest count that satisfies both
   p∞ the semi-infinite penetration depth of the Cour-Palais equation (S1)
   (:func:`impactdyn.ble.penetration_depth`; Cour-Palais 1987; Christiansen 1991, 2009) on the
   report's Al 6061-T6 wall (HB 95, C 5.1 km/s, ρ_p = ρ_t): p∞ = 0.096 cm, D = 0.19 cm, so
-  h ≤ 0.048 cm.  The numbers come from the one-fragment study (BENCHMARKS.md, "one compact
-  fragment on the wall", 0.16-cm 2024 wall at 6 km/s): 0.06 cm is (S1)'s perforation limit
+  h ≤ 0.048 cm.  The numbers come from the one-fragment study (docs/vv/convergence.md, "The wall: one compact
+  fragment under mesh refinement", 0.16-cm 2024 wall at 6 km/s): 0.06 cm is (S1)'s perforation limit
   d_c = 0.0598 cm there, and the wall stage perforates from 0.67 d_c at 0.005–0.01-cm cells,
   0.77 d_c at 0.02, 0.82 at 0.04 (4–5 elements across D), but 2.9 d_c at the pipeline's
   0.16-cm cells (1.2 across D).  4 elements across the crater is the coarsest of those
@@ -64,7 +64,7 @@ mesh.  Every record's impulse is kept to round-off, and the depth δ of the load
 from the case's grid (:func:`~._load.default_depth`), so the load's energy does not change
 with the mesh.
 
-**Cost**: the solver does ~2.5 M element-steps/s at 2 threads (BENCHMARKS.md) and its step is
+**Cost**: the solver does 3–9 M element-steps/s at 2 threads (benchmarks/BENCHMARKS.md, "Throughput") and its step is
 ∝ h_c (:data:`STEP_PER_CM_US`), so a ≤ 60-s wall stage of a ~100-µs run allows
 :data:`ELEMENT_STEPS_BUDGET` = 1.5e8 element-steps.  On the report's 8 × 16-cm half wall the
 budget is not met by any region: the far field alone is 5,000 columns of 0.16-cm cells × 8

@@ -35,8 +35,8 @@ numerical 1e-6 where the library has none (a fit bounded below by D1 > 0 by itse
 ``"unbounded"`` takes 1e-6 everywhere: the fit as published, extrapolated beyond its data,
 where for the 6061-T6 constants (D1 < 0) ε_f vanishes for σ* > 1.35 and any plastic increment
 in mean tension above ≈ 0.45 GPa fails the element (the behaviour before the floor; it decided the
-``table2_7a`` verdict, 99 % of its failed mass, and made it mesh-dependent: benchmarks/BENCHMARKS.md,
-"what fails the 7a wall").  ``damage_at_floor=False`` skips the increments on steps where the fit
+``table2_7a`` verdict, 99 % of its failed mass, and made it mesh-dependent: docs/vv/convergence.md,
+"The wall: Table 2 at the default mesh and at twice its resolution").  ``damage_at_floor=False`` skips the increments on steps where the fit
 is at or below the floor instead (a study switch).  Constants:
 :data:`impactdyn.materials.JOHNSON_COOK_DAMAGE` (6061-T6: Lesuer, Kay & LeBlanc 2001; 2024-T351 as
 widely quoted; OFHC copper: Johnson & Cook 1985); a material without an entry runs without
@@ -137,7 +137,7 @@ class JohnsonCookModel(WallModel):
         are removed by the solver's geometric criteria only; module docstring).
     damage_at_floor : accumulate damage on steps where the fit's fracture strain is at the floor
         (True, the default); False: no ductile damage there, tension left to the spall criterion
-        (the study in benchmarks/BENCHMARKS.md, "what fails the 7a wall"; not a case key).
+        (the study in docs/vv/convergence.md, "why the defaults are what they are"; not a case key).
     spall_law : one of :data:`SPALL_LAWS`: "tuler_butcher" (default) or "cutoff".
     fracture_strain_floor : one of :data:`FRACTURE_STRAIN_FLOORS`: "library" (default) or "unbounded".
     tuler_butcher : the Tuler–Butcher constants (None: none known; required by that spall law).

@@ -30,7 +30,7 @@ report's nodal load exactly, and a refined mesh takes it over the same material 
 an impulse I on nodes at rest brings the energy |I|²/2m of the mass m it lands on.  On the
 front-face nodes alone (δ = 0) m is half the first layer's mass, so the energy the load
 brings grows with the refinement through the thickness and with it the damage under the
-load (BENCHMARKS.md, "wall stage: refinement through the thickness"); spread over a fixed
+load (tests/wall/test_load.py; docs/vv/analytic.md, "Wall solver"); spread over a fixed
 depth δ = n h it brings |I|²/(2ρAδ)·(1 − 1/(4n)) on a uniform column of cross-section A,
 which converges as h → 0 (tests/wall/test_load.py).
 

@@ -56,12 +56,12 @@ class WallOptions(Section):
         validation/select_validation_shots.py): right on 7 of 12 with 5 perforations called
         safe, against 6 of 12 and all 6 perforations called safe with the type-13 card, whose
         only failure criterion (an effective plastic strain of 1.5) no element reached on
-        either set (BENCHMARKS.md, "validation set 2").
+        either set (docs/vv/test-shots.md, "The simulated verdict on the validation sets").
     supports : "dyngen" (DYNGEN's edge codes), "clamped", "free" or "uniaxial" (:mod:`._mesh`).
     hourglass : "assumed_strain" (default; Belytschko–Bindeman: the element's own bending and
         twisting stiffness, loaded at the material's tangent, unloaded elastically, bounded by
         the flow stress in yielding elements, :mod:`._hourglass`) or the Flanagan–Belytschko forms
-        "stiffness" and "viscous".  Why the default (benchmarks/BENCHMARKS.md, wall sections):
+        "stiffness" and "viscous".  Why the default (docs/vv/cross-code.md, "The wall solver against CalculiX"):
         on the clamped-plate check it is mesh-converged (0.244 / 0.249 / 0.251 cm at h 0.1 /
         0.05 / 0.025) and within 5 % of CalculiX (+0.2 % at h 0.1), where the stiffness form
         with QH 0.1 gave 0.117 / 0.226 / 0.241 (−52 % against CalculiX): its κ ∝ ΣB²/V grows
@@ -86,7 +86,7 @@ class WallOptions(Section):
         no structural damping, so a supported wall rings elastically and its kinetic energy
         seldom decays that far: all 40 Table 2 and validation runs of 2026-11-27 ended at the
         ceiling with 4–54 % of the load's work still kinetic; ``measures["ended_by"]`` says
-        which end a run met (BENCHMARKS.md, "when a wall run ends").
+        which end a run met (docs/vv/convergence.md, "The wall: Table 2 at the default mesh and at twice its resolution").
     decay_fraction : the fraction of the peak kinetic energy that ends a run (0.05).
     perforation_hold_us : a run without ``end_time_us`` ends (``ended_by`` "perforated") this long
         after a through-thickness path of failed or eroded elements has formed and the last
@@ -118,10 +118,10 @@ class WallOptions(Section):
         7a's wall stage about 8 times longer; on a wall of twice the span and four times the
         elements roughly 16 times that).
         Without it no run measures a permanent set: a supported wall still rings when the run
-        ends (BENCHMARKS.md, "when a wall run ends").
+        ends (docs/vv/convergence.md, "The wall: Table 2 at the default mesh and at twice its resolution").
     settle_tolerance : the settling stops at rest with the out-of-balance force on the wall's free
         nodes below this fraction of the element forces that balance there (Euclidean norms;
-        1e-3: the 7a bulge to 0.01 %, BENCHMARKS.md).
+        1e-3: the 7a bulge to 0.01 %, benchmarks/BENCHMARKS.md, "Settling").
     max_settle_steps : the most steps the settling may take; if reached, ``settled`` is false.
     spall_law : the Johnson–Cook wall's spall law (:mod:`._johnson_cook`, docs/wall.md): "tuler_butcher"
         (default: Tuler–Butcher cumulative damage of the mean tension over a threshold, a failure

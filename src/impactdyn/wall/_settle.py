@@ -12,7 +12,7 @@ permanent bulge (:func:`settle`).
    the swing's remaining plastic work (a clamped plate settled from 3 µs, mid-swing, kept
    0.059 cm against the 0.105 about which it rings once yielding is over; settled at its
    first turning point, 0.109, +4 %, the rebound's reverse yielding missed; after the
-   rebound 0.1045, −0.4 %, from any start in the first swing; BENCHMARKS.md).
+   rebound 0.1045, −0.4 %, from any start in the first swing; tests/wall/test_ending.py).
 2. Kinetic damping (Cundall 1976; Barnes, Int. J. Space Structures 14 (1999) 89, "form
    finding and analysis of tension structures by dynamic relaxation"): the steps go on;
    whenever the kinetic energy of the wall nodes passes a peak (a rise, then a fall), every
@@ -25,7 +25,7 @@ permanent bulge (:func:`settle`).
    latter the largest seen at a reset, so that a wall springing back to no stress at all
    settles too).  Not on the kinetic energy: after 7a's rebound the first peak came from
    a local mode (6e-4 of it three resets later, bulge 0.373 cm), and the plate's bending
-   mode, slower, then rose to 5 times it and carried the bulge to 0.657 cm (BENCHMARKS.md).
+   mode, slower, then rose to 5 times it and carried the bulge to 0.657 cm.
 
 Reverse yielding in later swings is left out: a wall at rest after one swing out and back
 is the model's permanent shape.  Both phases together take at most ``max_settle_steps``

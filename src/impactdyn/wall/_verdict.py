@@ -59,7 +59,7 @@ Continuous measures (end of the run unless said otherwise; displacements u = x �
   (the wall still rings elastically when the run ends); ``rear_bulge_end_cm``: the same at
   the end of the run.  A permanent bulge only if the wall has come to rest (``ended_by`` is
   "decay"): a run that ends at the ``max_time_us`` ceiling leaves the wall in its first
-  swings, and the value is that moment's deflection (BENCHMARKS.md, "when a wall run ends":
+  swings, and the value is that moment's deflection (docs/vv/convergence.md, "The wall: Table 2 at the default mesh and at twice its resolution":
   the 7b wall's is 0.16 cm at 100 µs, 0.23 cm at 300 µs, and the plate has swung back to
   under 0.001 cm by 600 µs).
 * ``peak_rear_bulge_cm`` and ``peak_rear_bulge_time_us``: the largest of those over the run's
