@@ -36,7 +36,17 @@ from impactdyn.wall import WallOptions, check_mesh_sizes, resolve_model
 
 
 class ProjectileSection(Section):
-    """The sphere: material name (:data:`impactdyn.materials.MATERIALS`), diameter, speed, obliquity."""
+    """The sphere: material name (:data:`impactdyn.materials.MATERIALS`), diameter, speed, obliquity.
+
+    material : the projectile's library material (a name or alias of
+        :data:`impactdyn.materials.MATERIALS`); default the report's aluminium.  It sets the shield
+        stage's SPH material and, unless ``[debris]`` gives them, the debris particles' constants.
+    diameter_cm : the sphere's diameter.  The SPH spacing must put at least 4 particles across it.
+    velocity_km_s : the impact speed.  With ``shield.handoff_us`` it bounds how far the debris can
+        travel before the hand-off, which must stay short of the wall.
+    obliquity_deg : the angle between the flight path and the bumper's normal (0: normal
+        incidence); the projectile flies along (0, cos θ, sin θ).
+    """
 
     material: MaterialName = REPORT_MATERIAL
     diameter_cm: Positive
@@ -45,7 +55,14 @@ class ProjectileSection(Section):
 
 
 class BumperSection(Section):
-    """The bumper plate; ``radius_cm`` of the modelled half disc (default twice the projectile diameter)."""
+    """The bumper plate; ``radius_cm`` of the modelled half disc (default twice the projectile diameter).
+
+    material : the bumper's library material (:data:`impactdyn.materials.MATERIALS`).
+    thickness_cm : the bumper's thickness t_b; its front face is y = 0, its back face y = t_b.
+    radius_cm : the radius of the modelled disc (a half disc: the model has the symmetry plane
+        x = 0); none: twice the projectile's diameter, wide enough that the hole and the debris
+        stay clear of its edge.  It must exceed the projectile's radius.
+    """
 
     material: MaterialName = REPORT_MATERIAL
     thickness_cm: Positive
@@ -53,7 +70,29 @@ class BumperSection(Section):
 
 
 class WallSection(Section):
-    """The rear wall: stand-off S from the bumper's back face, thickness, face grid and the BLE's yield stress."""
+    """The rear wall: stand-off S from the bumper's back face, thickness, face grid and the BLE's yield stress.
+
+    material : the wall's library material: the wall stage's material model takes its constants
+        from it, and the decks carry it.
+    thickness_cm : the wall's thickness t_w (along y).
+    spacing_cm : the stand-off S from the bumper's back face to the wall's front face (the
+        report's spacing, App. A), > 0; the wall's front face is y = t_b + S.  The debris must not
+        reach it by the hand-off, and the binning cells must fit in it.
+    yield_stress_ksi : the wall's yield stress σ_y in the NASA JSC ballistic-limit equation
+        (the verdict the simulation is compared with); the simulated wall's strength comes from
+        ``material``.  It enters the equations' yield-stress terms, (σ_y/40)^½ in the ballistic
+        regime; 40 ksi is the nominal yield stress of 6061-T6, the report's wall.
+    x_cm, z_cm : the wall's extent in x and z, cm, in the shield's coordinates (x = 0 is the
+        symmetry plane, the projectile touches the bumper at x = z = 0); the report's wall
+        (App. C) is x ∈ [0, 8], z ∈ [−4, 12] cm, which oblique debris, flying to +z, needs.
+    nodes : the case grid's node counts (x, y, z), as the report's DYNGEN had them (51 × 5 × 101:
+        0.16-cm faces and 4 elements through the thickness).  Its face cells are the grid the
+        debris deposits its momentum on; the wall solver's graded mesh grows to the size of
+        these cells away from the load, and ``wall_solver.mesh = "report"`` runs on this grid.
+    clamped_edges : the three outer edges of the wall (all but the symmetry plane) clamped, every
+        translation fixed, in the wall stage and the decks; false: DYNGEN's edge codes (the edge
+        x = x_max fixes x and y, the edges z = z_min and z_max fix y and z).
+    """
 
     material: MaterialName = REPORT_MATERIAL
     thickness_cm: Positive
@@ -95,6 +134,12 @@ class _ShieldBase(Section):
         at failure (:func:`impactdyn.shield.grady_fragments`, seeded by ``fragment_seed``), those the wall
         resolves flying to it as compact bodies.  Needs ``failure_model = "fragmentation"``.
     fragment_seed : the seed of the random partition of the failed material into Grady's fragments.
+    spacing_cm : the SPH particles' pitch (cm; a cubic lattice; 0.0254 cm = 0.01 in).  It must
+        put at least 4 particles across the projectile and one layer through the bumper; the
+        particle count grows as its inverse cube.  (Not ``wall.spacing_cm``, the stand-off.)
+    handoff_us : the time after first contact at which the shield stage stops and the debris
+        behind the bumper is binned onto the hand-off grid for the debris stage (the report: 4 µs
+        at 7 km/s, 3 µs at 10 km/s).  By then no debris, however fast, may have reached the wall.
     """
 
     spacing_cm: Positive = 0.0254
@@ -128,7 +173,15 @@ ShieldSection = section_of("ShieldSection", _ShieldBase, SPHOptions,
 class BinningSection(Section):
     """The hand-off HydroGrid: cubic cells (the report's DC3D cells are 0.03175 cm) and how the SPH
     particles are assigned to them: each with its own SPH kernel (``"kernel"``) or cloud-in-cell
-    (``"cic"``), :func:`impactdyn.shield.bin_to_hydrogrid`."""
+    (``"cic"``), :func:`impactdyn.shield.bin_to_hydrogrid`.
+
+    cell_size_cm : the cubic cells' edge (default the report's DC3D cells, 0.03175 cm).  Every cell
+        with enough material becomes five debris particles, so halving it makes eight times as many;
+        it must be smaller than ``wall.spacing_cm``.
+    method : "kernel" (default): each SPH particle's mass and momentum spread over the cells by its
+        own smoothing kernel; "cic": cloud-in-cell, each particle shared (trilinearly) among the 8
+        cells whose centres surround it.
+    """
 
     cell_size_cm: float = field_of(bin_to_hydrogrid, "cell_size_cm")
     method: BinningMethod = field_of(bin_to_hydrogrid, "method")
@@ -139,7 +192,17 @@ class DebrisMaterialSection(Section):
 
     μ and λ default to the projectile material's G and K − 2G/3 (K = ρ₀c₀²);
     η and ζ to the report's App. C values; the bounds are :class:`impactdyn.debris.ParticleMaterial`'s
-    (the bulk modulus λ + ⅔μ, which may take μ from the projectile, is checked by the case).
+    (the bulk modulus λ + ⅔μ, which may take μ from the projectile, is checked by the case).  The
+    reference density is the projectile material's.
+
+    mu_Mbar : the particles' shear modulus μ; none: the projectile material's G.
+    lambda_Mbar : Lamé's first constant λ; none: K − ⅔μ with the projectile material's bulk
+        modulus K = ρ₀c₀².  The bulk modulus λ + ⅔μ must be positive and the wave speed below light.
+    eta_Mbar_us : the plastic viscosity η of the flow rule Ėₚ = (2μ/η)(E' − Eₚ): the deviatoric
+        strain relaxes at the rate 2μ/η; none: no plastic flow (η = ∞).  0.01: the report's
+        (App. C).
+    zeta_Mbar_us : the artificial bulk viscosity ζ ≥ 0, which damps the particles' volumetric
+        ringing (1.0: the report's, App. C).
     """
 
     mu_Mbar: float | None = field_of(ParticleMaterial, "mu", None)
@@ -171,7 +234,10 @@ WallSolverSection = section_of("WallSolverSection", _WallSolverBase, WallOptions
 
 
 class WhippleCase(Section):
-    """A complete Whipple case (every table of the TOML file)."""
+    """A complete Whipple case (every table of the TOML file).
+
+    title : a name for the case, shown at the top of the report and written as the decks' title.
+    """
 
     title: str = ""
     projectile: ProjectileSection
