@@ -45,7 +45,27 @@ Speed = Annotated[float, Field(ge=-LIGHT_SPEED_KM_S, le=LIGHT_SPEED_KM_S)]
 
 
 class ShellSection(Section):
-    """The analytic debris cloud (:class:`impactdyn.debris.ShellCloud`)."""
+    """The analytic debris cloud (:class:`impactdyn.debris.ShellCloud`): a spherical shell, cut to a
+    cap about its flight direction, moving with the velocity field v(x) = v_c + v_e (x − c)/R.
+
+    centre_cm : the shell's centre c at the hand-off, (x, y, z).
+    velocity_km_s : the centre's velocity v_c, (x, y, z); not zero: its direction is the cap's axis.
+    expansion_velocity_km_s : v_e, the outward speed of material at the outer radius R relative to
+        the centre.
+    radius_cm : the shell's outer radius R.
+    thickness_cm : the shell's thickness δ ≤ R (δ = R: a full ball).
+    cap_half_angle_deg : the cap's half-angle α about the flight direction; 180: the whole shell.
+    density_g_cm3 : the density ρ of the shell's material (2.703: aluminium).
+    void_fraction : the void fraction φ of the shell's material (fragments and voids between them);
+        a full cell holds the mass (1 − φ) ρ V.
+    sound_speed_km_s : the value written into the grid's sound-speed field (the particles'
+        stiffness comes from ``[material]``).
+    time_us : the grid's (absolute) time, the hand-off; arrival times are counted from it.
+    cell_size_cm : the cubic cells' edge (default the report's DC3D cells, 0.03175 cm); the grid
+        covers the half (x ≥ 0) bounding box of the sphere.
+    subsamples : points per cell edge (subsamples³ per cell) that measure the fraction of each
+        cell inside the shell and its mean velocity there.
+    """
 
     centre_cm: Vector
     velocity_km_s: Annotated[list[Speed], Field(min_length=3, max_length=3)]
@@ -71,7 +91,13 @@ class ShellSection(Section):
 
 
 class GridSection(Section):
-    """Where the hand-off state comes from: ``file`` (relative to the case file) or ``shell``."""
+    """Where the hand-off state comes from: ``file`` (relative to the case file) or ``shell``.
+
+    file : a HydroGrid file (the hand-off state of a hydrocode, e.g. a Whipple run's
+        ``binning/handoff_grid.h5`` or a CTH ``avsout`` dump), relative to the case file.
+    format : the reader's name (:func:`impactdyn.io.formats`: "hdf5", "avsout",
+        "vtk-rectilinear"); none: chosen from the file's name.
+    """
 
     file: str | None = None
     format: str | None = None
@@ -101,7 +127,18 @@ class GridSection(Section):
 
 class MaterialSection(Section):
     """Debris material (dc3din record 13–14), :class:`ParticleMaterial`'s defaults and bounds;
-    omit eta for no plastic flow."""
+    omit eta for no plastic flow.
+
+    mu_Mbar : the shear modulus μ (Lamé's second constant) of the particles' elastic energy.
+    lambda_Mbar : Lamé's first constant λ; the bulk modulus λ + ⅔μ must be positive, and the
+        wave speed below that of light.
+    rho_ref_g_cm3 : the reference density ρ_ref: a particle of mass m and void fraction φ has the
+        stress-free volume V₀ = m/((1 − φ) ρ_ref), and the seed filters compare ρ/ρ_ref.
+    eta_Mbar_us : the plastic viscosity η of the flow rule Ėₚ = (2μ/η)(E' − Eₚ): the deviatoric
+        strain relaxes at the rate 2μ/η; omitted: no plastic flow (η = ∞).
+    zeta_Mbar_us : the artificial bulk viscosity ζ ≥ 0, which damps the particles' volumetric
+        ringing; 0: none.
+    """
 
     mu_Mbar: float = field_of(ParticleMaterial, "mu")
     lambda_Mbar: float = field_of(ParticleMaterial, "lam")
@@ -115,7 +152,21 @@ class MaterialSection(Section):
 
 class FilterSection(SeedFilter):
     """Which cells become particles (:class:`SeedFilter`) and which particles are carried
-    (:class:`ArrivalWindow`); dc3din record 8."""
+    (:class:`ArrivalWindow`); dc3din record 8.  The ratios are dimensionless; the defaults are
+    the listing's.
+
+    dencut : the smallest bulk density ratio (1 − φ) ρ/ρ_ref of a cell that becomes particles
+        (dc3din record 8's dencut, 0.01 in the report's input).  It drops the thin spray and
+        the nearly empty cells at the cloud's edge, whose particles carry little momentum but
+        cost as much to integrate as any.  The listing also applies a fixed 0.01 to the same
+        ratio; here ``dencut`` alone does.
+    min_density_ratio, max_density_ratio : the range of ρ/ρ_ref (the material's density, voids
+        aside) of a cell that becomes particles (the listing's fixed 0.01 and 1000).
+    max_void_fraction : the largest void fraction φ of such a cell (the listing's fixed 0.999).
+    t_min_us, t_cut_us : the arrival window, µs after the hand-off: only particles whose centre
+        reaches the wall's plane in [t_min_us, t_cut_us] are integrated and deposit momentum
+        (the report's input: 0 and 25 µs); t_cut_us must exceed t_min_us.
+    """
 
     t_min_us: float = field_of(ArrivalWindow, "t_min")
     t_cut_us: float = field_of(ArrivalWindow, "t_cut")
@@ -124,7 +175,12 @@ class FilterSection(SeedFilter):
 
 
 class RemapSection(Section):
-    """A second face grid to remap the deposition onto (DCPOST, dc3din's new wall grid)."""
+    """A second face grid to remap the deposition onto (DCPOST, dc3din's new wall grid).
+
+    x_cm, z_cm : its extent in x and z, cm.
+    nodes : its node counts (x, z); the deposited impulse is shared among its face cells by
+        overlap area (conservative), written to ``areal_density_remap.csv``.
+    """
 
     x_cm: Range
     z_cm: Range
@@ -133,7 +189,17 @@ class RemapSection(Section):
 
 class WallSection(Section):
     """The rear wall: its front face is the plane y = y_cm[0]; nodes = (x, y, z) node counts (DYNGEN);
-    ``material`` (a library name) is the one its decks carry (:func:`impactdyn.materials.mat13_card`)."""
+    ``material`` (a library name) is the one its decks carry (:func:`impactdyn.materials.mat13_card`).
+
+    material : the wall's library material, written into its decks.
+    x_cm, y_cm, z_cm : the wall's extent, cm; y_cm[0] is its front face, the plane the debris
+        arrives at, and must lie beyond the cloud.
+    nodes : node counts (x, y, z) of the wall grid, as DYNGEN's: its front-face cells are the grid
+        the momentum is deposited on, the y nodes the element layers of the decks.
+    clamped_edges : the decks fix every translation of the wall's three outer edges (all but the
+        symmetry plane x = x_cm[0]); false: DYNGEN's edge codes (the edge x = x_max fixes x and y,
+        the edges z = z_min and z_max fix y and z).
+    """
 
     material: MaterialName = REPORT_MATERIAL
     x_cm: Range
@@ -166,6 +232,26 @@ ComputeSection = ComputeOptions
 
 
 class OutputSection(Section):
+    """What the debris stage writes besides ``summary.json``, ``config.resolved.toml`` and the areal
+    density tables (:mod:`._outputs`).
+
+    hdf5 : ``debris.h5`` (every array: particles, arrival states, deposition, wall) and
+        ``handoff_grid.h5`` (the grid the particles came from).  A Whipple run's wall and decks
+        stages read ``debris/debris.h5``, so keep it there.
+    vtk : ParaView files: the particles as tetrahedra at the hand-off and at arrival
+        (``particles_*.vtu``, up to ``max_vtk_particles``) and the wall's front face with its
+        impulse (``wall_deposition.vtu``); in a Whipple run also the shield's particles and the
+        wall stage's time series.
+    lsdyna_deck : ``wall.k``, an LS-DYNA keyword deck of the wall with the deposited momentum as
+        time-resolved loads (a lean Whipple run writes no decks; ``--keep all`` does).
+    dyna3d_deck : ``wall_dyna3d.inp``, the legacy DYNA3D deck as DYNGEN wrote it, with DCPOST's
+        impulse per element (summed, at t = 0).
+    plots : the PNG figures (DCMPLT's contour map of the areal density, the cloud at hand-off and
+        at arrival).
+    max_vtk_particles : a particle VTU file is written only if it holds at most this many
+        particles (the hand-off file counts the seeded ones, the arrival file the carried ones).
+    """
+
     hdf5: bool = True
     vtk: bool = True
     lsdyna_deck: bool = True
@@ -192,8 +278,32 @@ whose default it takes (the listing's deviations are off unless asked for)."""
 
 LegacySection = create_model(
     "LegacySection", __base__=Section, __module__=__name__,
-    __doc__=("The listing's behaviour where it departs from the model (docs/theory/debris.md, the listing's "
-             "errata), one flag each (:data:`LEGACY_FLAGS`)."),
+    __doc__="""The listing's behaviour where it departs from the model (docs/theory/debris.md, the listing's
+    errata), one flag each (:data:`LEGACY_FLAGS`).  Every flag is off by default (the model); each
+    switches one erratum of the 1994 DC3D listing back on, to reproduce the report's numbers or to
+    measure what the erratum changes.
+
+    nddata_swap : NDDATA gives nodes n7 and n8 of each cell each other's velocity (their coordinates
+        are right), so the tetrahedra that hold them start with a wrong velocity gradient; off: each
+        node its own velocity.
+    fdot_scaling : IVCALC starts a particle with the deformation rate Ḟ(0) = L (ρ_ref/ρ)/3 instead
+        of L, the velocity gradient fitted to its vertices' velocities; off: Ḟ(0) = L, so the
+        particle starts with the velocity field of the hand-off grid.
+    inertia_transform : JCALC maps the reference tetrahedron's inertia tensor with the inverse map,
+        J = g⁻ᵀ J_ref g⁻¹; off: g J_ref gᵀ, the particle's own second moment of mass.
+    eta_per_volume : the listing's flow rule is Ėₚ = V₀(2μ/η)(E' − Eₚ), its η per unit volume
+        (Mbar·cm³·µs), so a particle's plastic rate grows with its size; off: Ėₚ = (2μ/η)(E' − Eₚ),
+        η in Mbar·µs.  On, the case's η is read as the listing's.
+    abs_arrival : DCELEM's arrival time |(y_wall − c_y)/v_y| also counts particles flying away from
+        the wall (or already past it), which then deposit their momentum as if they arrived; off: only
+        particles in front of the wall and approaching it (v_y > 0) arrive.
+    vertex_scaling : DYNOUT places a particle's deposition points at its vertices scaled by
+        (ρ/ρ_ref)^⅓ about the centre; off: the deformed vertices c + F(x⁰ − c⁰).
+    momentum_enhancement : DYNOUT's factor √((m_e + m)/m) on a particle's deposited momentum, m_e the
+        mass of one wall element at the debris' reference density.  The listing computes it and
+        then sets it to 1, so the report's runs did not apply it; on, it is applied, and the
+        deposited momentum exceeds the debris'.
+    """,
     **{key: (bool, field_of(option, name)) for key, (option, name) in LEGACY_FLAGS.items()})
 
 
@@ -203,7 +313,10 @@ def _legacy(flags, option: type) -> dict:
 
 
 class DebrisCase(Section):
-    """A complete debris case (every table of the TOML file)."""
+    """A complete debris case (every table of the TOML file).
+
+    title : a name for the case, written as the decks' title.
+    """
 
     title: str = ""
     grid: GridSection

@@ -120,16 +120,26 @@ _CHUNK = 8
 class IntegratorOptions(Section):
     """How the particles are integrated: :func:`propagate`'s settings, and a case's ``[integrator]`` table.
 
-    method: a name in :data:`INTEGRATORS` (module docstring).  eps: tolerance of
-    the adaptive methods (rk45, legacy).  steps_per_period: splitting steps per
-    period 2π/ω̂ of the particle's fastest linear vibration; left out, the method's
-    own (:data:`DEFAULT_STEPS_PER_PERIOD`), filled in so that a resolved case records
-    the step used.  It must exceed π: Störmer–Verlet, like every leapfrog, is
-    stable on an oscillation of frequency ω only for ωh < 2, i.e. more than π
-    steps per period, and ω̂ bounds every frequency of the particle (Blanes &
-    Moan's S₆ is stable to about 2 steps per period, so the bound holds for both).
-    max_steps: accepted + rejected steps per particle before
-    ``Failure.STEP_BUDGET``.  ymxref: legacy's floor of the running maxima.
+    method : a name in :data:`INTEGRATORS` (module docstring): "splitting4" (default; Blanes &
+        Moan's fourth-order splitting, fixed step), "verlet" (Störmer–Verlet, order 2), "rk45"
+        (adaptive Dormand–Prince), "legacy" (the listing's RK4 with step doubling) or "slow" (the
+        slow-manifold averaging method, which drops each particle's elastic ringing).
+    eps : the relative tolerance of the adaptive methods (rk45, legacy); the fixed-step methods
+        ignore it.
+    steps_per_period : splitting steps per period 2π/ω̂ of the particle's fastest linear
+        vibration (for "slow", steps per rigid rotation period); left out, the method's own
+        (:data:`DEFAULT_STEPS_PER_PERIOD`), filled in so that a resolved case records the step
+        used.  It must exceed π: Störmer–Verlet, like every leapfrog, is stable on an oscillation
+        of frequency ω only for ωh < 2, i.e. more than π steps per period, and ω̂ bounds every
+        frequency of the particle (Blanes & Moan's S₆ is stable to about 2 steps per period, so
+        the bound holds for both).  The adaptive methods ignore it.
+    max_steps : accepted + rejected steps per particle before it stops with
+        ``Failure.STEP_BUDGET`` (its last state kept and reported; the others go on).
+    ymxref : the "legacy" method's floor of the error scale (the listing's IVDCRK, dc3din record
+        14, 1e-6): a component's error is measured against eps · max(ymxref, its running maximum
+        |yᵢ|), so components smaller than ymxref are held to the absolute error eps · ymxref.  In
+        cm-g-µs units H (1e-12 to 1e-9) lies far below it; its errors are controlled through the
+        F they drive.  The other methods ignore it.
     """
 
     method: str = "splitting4"

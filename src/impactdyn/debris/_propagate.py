@@ -51,7 +51,16 @@ class ArrivalWindow(Section):
 
 class ComputeOptions(Section):
     """Where the particle chunks run: ``local`` (this process) or ``dask`` (``address``; None starts a
-    LocalCluster); a case's ``[compute]`` table."""
+    LocalCluster); a case's ``[compute]`` table.  The results do not depend on it (module docstring).
+
+    scheduler : "local" (default): the chunks one after another in this process, whose compiled
+        kernels already use every core; "dask": the chunks as tasks of a Dask cluster.
+    address : the address of a running Dask scheduler (e.g. "tcp://host:8786"); none or "local": a
+        LocalCluster started on this machine for the run.  Used with ``scheduler = "dask"`` only.
+    chunk_size : particles per chunk (one task).
+    workers : processes of the LocalCluster (none: one per CPU core); used only when the run
+        starts that cluster.
+    """
 
     scheduler: Literal["local", "dask"] = "local"
     address: str | None = None
