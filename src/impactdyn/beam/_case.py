@@ -22,6 +22,16 @@ is a floating-point number only below 1.6e61 m."""
 
 
 class BeamSection(Section):
+    """The uniform beam, clamped to the hub at its root, and the hub.
+
+    mass_per_length_kg_m : the beam's mass per length ρ.
+    EI_N_m2 : the beam's flexural rigidity EI (Young's modulus times the section's second moment
+        of area); with ρ and L it sets the modal stiffnesses Kᵢ = EI βᵢ⁴/L³.
+    length_m : the beam's length L, from the hub's surface to the tip.
+    hub_radius_m : the hub's radius A: the beam's root lies at A from the axis (0: the beam
+        starts at the axis, as in the report's sample runs).
+    """
+
     mass_per_length_kg_m: Positive
     EI_N_m2: Positive
     length_m: Annotated[float, Field(gt=0, le=MAX_LENGTH_M)]
@@ -33,7 +43,13 @@ class BeamSection(Section):
 
 
 class TorqueSection(Section):
-    """Torque pulse τ₀ for t ≤ T, 0 until (1+f)T, −τ₀ until (2+f)T, 0 after."""
+    """Torque pulse τ₀ for t ≤ T, 0 until (1+f)T, −τ₀ until (2+f)T, 0 after.
+
+    amplitude_N_m : τ₀, the torque on the hub during the first pulse (its sign the direction:
+        positive increases θ); 0: no drive.
+    pulse_duration_s : T, the length of each of the two pulses.
+    zero_fraction : f, the pause between the pulses in units of T.
+    """
 
     amplitude_N_m: float = 0.0
     pulse_duration_s: NonNegative = 0.0
@@ -41,11 +57,26 @@ class TorqueSection(Section):
 
 
 class DampingSection(Section):
+    """Damping of the joint and of the beam's modes (none by default).
+
+    joint_N_m_s : the viscous damping c of the hub's joint: a torque −c θ̇.
+    modal_ratio : the damping ratio ζ of every mode: a modal force −2ζ √(Kᵢ ρL) q̇ᵢ.
+    """
+
     joint_N_m_s: NonNegative = 0.0
     modal_ratio: NonNegative = 0.0
 
 
 class ModelSection(Section):
+    """The discretisation of the beam and the field it moves in.
+
+    n_modes : the clamped–free modes kept in the deflection w = Σ φᵢ qᵢ (0: a rigid beam; up to
+        50; the listings' modal integrals were for 7, the report's sample runs take 3).
+    gravity_m_s2 : the acceleration of gravity, which acts in the plane of the motion (the
+        moment ρLg(A + L/2) cos θ on the hub, θ = 0 horizontal); 0: a beam turning in a
+        horizontal plane.
+    """
+
     n_modes: Annotated[int, Field(ge=0, le=50)] = 3
     gravity_m_s2: NonNegative = 9.81
     coupled: bool = False
@@ -54,7 +85,24 @@ class ModelSection(Section):
 
 
 class LegacySection(Section):
-    """Behaviour of the 1988 listings where it departs from the model (docs/theory/beam.md, the listing's errata)."""
+    """Behaviour of the 1988 listings where it departs from the model (docs/theory/beam.md, the listing's errata).
+
+    Every flag is off by default (the model); each switches one erratum of the 1988 listings
+    back on, to reproduce their numbers or to measure what the erratum changes.
+
+    diagonal_centrifugal : the listings keep only the diagonals of the modal integrals k and h in
+        the centrifugal stiffening term, dropping the coupling of the modes by the rotation;
+        off: the full matrices.
+    modal_damping_sqrt_2km : the listings damp mode i with ζ √(2 Kᵢ ρL) q̇ᵢ; off: the viscous
+        damping ratio's 2ζ √(Kᵢ ρL).
+    moment_arms_ignore_hub : the listings' gravity and contact moments on the hub take their arms
+        from the beam's root, ignoring the hub's radius A (L/2 and x_p); off: A + L/2 and A + x_p.
+        Nothing changes with A = 0.
+    impact_inertia_drops_AL : the momentum balance of IMPACTC's impacts uses an M₀₀ without the
+        A·L term, ρL(A² + L²/3)(1 + IR); off: the equations' M₀₀.  Nothing changes with A = 0.
+    sr7_typo : the listing's coupling term of mode 7 takes the integral a₇ (.004796) where b₇
+        (.097942) belongs; off: b₇.  Only with 7 modes or more and A > 0.
+    """
 
     diagonal_centrifugal: bool = False
     modal_damping_sqrt_2km: bool = False
@@ -64,6 +112,8 @@ class LegacySection(Section):
 
 
 class StopSection(Section):
+    """The rigid stop the beam strikes."""
+
     x_m: Positive
     """Distance of the stop point from the beam root."""
     y_m: float = 0.0
@@ -71,6 +121,16 @@ class StopSection(Section):
 
 
 class MomentumContact(Section):
+    """IMPACTC's impulsive contact: an instantaneous momentum balance with a coefficient of restitution.
+
+    model : "momentum".
+    restitution_law : "listing" (default): the listing's velocity-dependent coefficient
+        e(v) = 2.578v² − 1.7428v + 1 for an approach speed v < 0.2 m/s, else 0.5014 v^(−1/4);
+        "constant": ``restitution`` at every speed.
+    restitution : the coefficient of restitution e of the "constant" law (0: plastic, 1: elastic).
+    max_impacts : the most impacts a run may have; more stop it with an error (endless chattering).
+    """
+
     model: Literal["momentum"]
     restitution_law: Literal["listing", "constant"] = "listing"
     restitution: Annotated[float, Field(ge=0, le=1)] = 0.5
@@ -80,12 +140,28 @@ class MomentumContact(Section):
 
 
 class HertzContact(Section):
+    """IMPACTB's compliant contact: F = k δ^(3/2) + ¾ c k δ δ̇, F ≥ 0, at a penetration δ = −g.
+
+    model : "hertz".
+    stiffness_N_m1_5 : the Hertzian stiffness k.
+    damping_s_m : the damping c of the dashpot term ¾ c k δ δ̇; 0: elastic contact.
+    """
+
     model: Literal["hertz"]
     stiffness_N_m1_5: Positive
     damping_s_m: NonNegative = 0.0
 
 
 class DissipativePowerContact(Section):
+    """Compliant contact F = k δⁿ (1 + D δ̇), D from the restitution e and the approach speed v₀ at
+    first touch: 3(1 − e)/(2v₀) (Hunt–Crossley) or 3(1 − e²)/(4v₀) (Lankarani–Nikravesh).
+
+    model : "hunt_crossley" or "lankarani_nikravesh".
+    stiffness_N_m_n : the stiffness k.
+    exponent : the exponent n of the penetration (1.5: Hertz).
+    restitution : the coefficient of restitution e the damping is tuned to.
+    """
+
     model: Literal["hunt_crossley", "lankarani_nikravesh"]
     stiffness_N_m_n: Positive
     exponent: Positive = 1.5
@@ -98,6 +174,16 @@ ContactSection = Annotated[
 
 
 class InitialSection(Section):
+    """The state at ``time.start_s`` (at rest, θ = 0, by default); the beam must start clear of the stop.
+
+    theta_rad : the hub angle θ.
+    theta_dot_rad_s : the hub's angular velocity θ̇.
+    q_m : the modal amplitudes q₁ … qₙ (one per mode, m: the deflection w = Σ φᵢ qᵢ, with
+        φᵢ(1) = ±2 at the tip); none: zero.
+    q_dot_m_s : their rates q̇ᵢ; none: zero.
+    tip_velocity_m_s : IMPACTB-style: this tip velocity added into mode 1 (q̇₁ += v/φ₁(1)).
+    """
+
     theta_rad: float = 0.0
     theta_dot_rad_s: float = 0.0
     q_m: list[float] | None = None
@@ -108,19 +194,42 @@ class InitialSection(Section):
 
 
 class TimeSection(Section):
+    """The time span of the run and its output sampling.
+
+    start_s : the time of the initial state (the torque pulse starts at t = 0).
+    end_s : the end of the run; after ``start_s``.
+    output_step_s : the interval of the output samples (``timeseries.csv``, the plots); the
+        solver chooses its own steps, and impacts are located to about 1e-14 s whatever the
+        sampling.
+    """
+
     start_s: float = 0.0
     end_s: float
     output_step_s: Positive
 
 
 class OutputSection(Section):
+    """What the run reports besides the hub and the stop.
+
+    response_point_m : the distance x from the beam's root at which the deflection w(x) and the
+        strain R₁ w''(x) are reported (the listing's response point); at most the beam's length.
+    plots : write the PNG figures into the run folder's ``plots/``.
+    """
+
     response_point_m: NonNegative
     plots: bool = True
 
 
 class SolverSection(Section):
     """``rosenbrock``: the compiled Rosenbrock 4(3) of ``_integrator`` (default);
-    ``Radau``, ``BDF``, ``LSODA``: SciPy's, stepped from Python (for cross-checks)."""
+    ``Radau``, ``BDF``, ``LSODA``: SciPy's, stepped from Python (for cross-checks).
+
+    method : "rosenbrock" (default), "Radau", "BDF" or "LSODA".
+    rtol, atol : the relative and absolute tolerances of the step control (atol in the states'
+        SI units: rad, m, rad/s, m/s).
+    max_steps : the most accepted steps of the "rosenbrock" method over the run; more stop it with an error
+        (SciPy's methods have no such budget).
+    """
 
     method: Literal["rosenbrock", "Radau", "BDF", "LSODA"] = "rosenbrock"
     rtol: Annotated[float, Field(gt=0, lt=1)] = 1e-8
