@@ -50,7 +50,17 @@ Count = Annotated[int, Field(ge=0)]
 
 
 class Eligible(Section):
-    """Rule step 1: the shots the pipeline can model (bounds inclusive)."""
+    """Rule step 1: the shots the pipeline can model (bounds inclusive).
+
+    projectile_alloys : the database's names of the projectile alloys a shot may have, each one the
+        pipeline models (:data:`impactdyn.whipple.ALLOYS` maps them to library materials).
+    plate_alloys : the alloys its bumper and its wall may have (both must be listed).
+    velocity_km_s : [lowest, highest] impact speed.
+    diameter_cm : [smallest, largest] projectile diameter.
+    min_spacing_cm : the smallest stand-off between bumper and wall (the hand-off grid must fit in
+        it); 0: any.
+    min_wall_thickness_cm : the thinnest wall; 0: any.
+    """
 
     projectile_alloys: list[str] = Field(min_length=1)
     plate_alloys: list[str] = Field(min_length=1)
@@ -69,7 +79,12 @@ class Eligible(Section):
 
 
 class Reference(Section):
-    """Rule step 2: the shield the distance D is measured from."""
+    """Rule step 2: the shield the distance D is measured from.
+
+    bumper_thickness_cm, wall_thickness_cm, spacing_cm : the reference shield's t_b,ref, t_w,ref and
+        S_ref in D = |ln(t_b/t_b,ref)| + |ln(t_w/t_w,ref)| + |ln(S/S_ref)| (the shipped sets: the
+        report's Table 2 shield).
+    """
 
     bumper_thickness_cm: Positive
     wall_thickness_cm: Positive
@@ -77,7 +92,13 @@ class Reference(Section):
 
 
 class Counts(Section):
-    """Rule step 3: how many shots of each outcome, and how many of them at least oblique."""
+    """Rule step 3: how many shots of each outcome, and how many of them at least oblique.
+
+    perforated : the number of perforated (or spalled) shots to take, nearest first.
+    held : the number of shots that did not perforate to take, nearest first.
+    min_oblique : how many of the chosen shots at least must be oblique; nearer normal-incidence
+        shots are swapped for oblique ones until they are (module docstring); 0: no such swap.
+    """
 
     perforated: Count
     held: Count
@@ -85,14 +106,27 @@ class Counts(Section):
 
 
 class Fixed(Section):
-    """When the rule was fixed and the SHA-256 of its content then (:func:`rule_hash`)."""
+    """When the rule was fixed and the SHA-256 of its content then (:func:`rule_hash`).  Written by
+    ``impactdyn whipple fix-rule``, not by hand.
+
+    date : the day the rule was fixed (ISO 8601, YYYY-MM-DD), before its shots were run.
+    sha256 : the SHA-256 of the rule's content (every key but ``[fixed]``) then; a rule whose
+        content no longer matches it is refused.
+    """
 
     date: str
     sha256: str
 
 
 class SelectionRule(Section):
-    """A selection rule (module docstring)."""
+    """A selection rule (module docstring).
+
+    name : the rule's name, recorded with the scores of its set (``whipple validate --select``);
+        a shipped rule's is its file's name (``set-1`` …).
+    description : free text: what the set is for, and its history.
+    after : rules (shipped names or file paths) whose shots, and their twins, this rule may not
+        take, so that its set is disjoint from theirs.
+    """
 
     name: str = Field(min_length=1)
     description: str = ""
