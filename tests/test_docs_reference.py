@@ -80,3 +80,22 @@ def test_a_setting_documented_in_its_class_docstring_keeps_its_description_in_a_
     shield = WhippleCase.model_fields["shield"].annotation
     assert documented_settings(SPHOptions)["cfl"] == "time-step factors."
     assert shield.model_fields["cfl"].description == "time-step factors."
+
+
+def _text(key) -> str:
+    """A key's description without the tag of its member of a union of tables, ``(model = "hertz")``."""
+    tag = re.match(r"\(\w+ = [^)]*\) ?", key.description)
+    return key.description[tag.end():] if tag else key.description
+
+
+@pytest.mark.parametrize("model", CASES, ids=lambda m: m.__name__)
+def test_every_key_has_a_description(model):
+    """Each key of the four case kinds says what it means: a Field description or a ``name : text``
+    entry of its section's docstring (:func:`impactdyn._config.documented_settings`)."""
+    empty = [key.dotted for key in impactdyn_reference.case_keys(model) if not _text(key).strip()]
+    assert empty == [], f"{model.__name__}: keys without a description: {', '.join(empty)}"
+
+
+def test_a_rendered_row_carries_its_description(page):
+    row = next(line for line in _section(page, WhippleCase).splitlines() if line.startswith("| `filter.dencut` |"))
+    assert "bulk density ratio" in row.strip("|").split("|")[-1]
