@@ -14,6 +14,12 @@ rule between keys speaks of the table), never another exception.  The fourth kin
 dc3din of ``debris legacy``, is covered with the legacy readers in
 ``tests/io/test_reader_properties.py``.
 
+The inputs of ``whipple shot`` and ``whipple validate`` are covered too: a base case (``--from-case``) with
+any value of a key, any ``--database`` reference, and selection rule files (``--select``, ``fix-rule``) with
+any value of a key, run through the commands in this process (exit 0 or 2, one line, no traceback; the
+validation's runs replaced, so nothing is simulated) and through :func:`~impactdyn.whipple.load_rule` and
+:func:`~impactdyn.whipple.select_shots`.
+
 The machine is shrunk to :data:`MEMORY`, so that a size a value asks for is refused or
 built quickly (the same check, ``_limits.check_fits``, as on any machine).
 """
@@ -35,7 +41,7 @@ from unittest import mock
 
 import pytest
 import tomli_w
-from hypothesis import given, settings
+from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from pydantic import BaseModel
 from pydantic.fields import FieldInfo
@@ -53,7 +59,9 @@ from impactdyn.materials import MATERIALS
 from impactdyn.shield import BinningMethod
 from impactdyn.wall import MODELS
 from impactdyn.wall._options import HOURGLASS_FORMS, SPREADS
-from impactdyn.whipple import WhippleCase, load_whipple_case, shield_problem
+from impactdyn.ble import read_database
+from impactdyn.whipple import (SelectionRule, WhippleCase, load_rule, load_whipple_case, rule_hash, select_shots,
+                               shield_problem)
 from impactdyn.whipple._case import debris_case
 from impactdyn.whipple._pipeline import deck_options
 from impactdyn.whipple._report import ble_verdict
@@ -197,7 +205,7 @@ def _near(value: Any) -> st.SearchStrategy:
     if isinstance(value, float):
         return st.one_of(FACTORS.map(lambda f: value * f if value else f), st.floats(-10.0, 10.0))
     if isinstance(value, list):
-        return st.lists(st.one_of(*(_near(v) for v in value)) if value else FLOATS,
+        return st.lists(st.one_of(*(TEXT if isinstance(v, str) else _near(v) for v in value)) if value else FLOATS,
                         min_size=max(0, len(value) - 1), max_size=len(value) + 1)
     return st.nothing()
 
@@ -309,3 +317,136 @@ def test_any_value_gives_a_case_or_an_error_naming_the_key(folder, kind, base, k
 
     with mock.patch.object(_limits, "physical_memory", lambda: MEMORY):
         check()
+
+
+# --- the inputs of `whipple shot` and `whipple validate`: the base case, the shot, the selection rule ---------
+
+SHOT_LINE = 136
+"""A test shot of the packaged database (set-1 takes it): its case is the base case with the shot's shield."""
+
+SHOT_KEYS = [key for key, _ in _keys(WhippleCase, KINDS["whipple"].bases["table2_7a"])]
+
+
+def _shot_cli(capsys, argv: list[str]) -> tuple[int, str]:
+    """``impactdyn ARGV`` in this process: (exit code, stderr); an exception other than the contract's escapes."""
+    from impactdyn.cli import main
+
+    code = main(argv)
+    return code, capsys.readouterr().err
+
+
+@pytest.mark.parametrize("key", SHOT_KEYS[::3], ids=str)
+def test_a_bad_base_case_of_whipple_shot_exits_2_naming_the_key(folder, capsys, key):
+    """``whipple shot --from-case BASE --write-case``: a base case with any value of a key writes the shot's
+    case or exits 2 with one line naming the file or the shot and the key (or the key of the rule between keys
+    that refuses it, where the shot's own values meet the base's numerics), never a traceback.
+    ``whipple validate --from-case`` builds each shot's case the same way."""
+    data = KINDS["whipple"].bases["table2_7a"]
+    info = dict(_keys(WhippleCase, data))[key]
+    base, written = folder / "shot-base.toml", folder / "shot-case.toml"
+
+    @settings(max_examples=4, deadline=None, derandomize=True)
+    @given(value=_values(key, info, data))
+    def check(value):
+        base.write_text(tomli_w.dumps(_set(data, key, value)))
+        code, err = _shot_cli(capsys, ["whipple", "shot", "--database", str(SHOT_LINE), "--from-case", str(base),
+                                       "--write-case", str(written), "--force"])
+        assert code in (0, 2), err
+        if code == 2:
+            assert "Traceback" not in err and err.count("\n") == 1, err
+            # the key, or (a rule between keys: the shot's values against the base's numerics) another key
+            assert str(base) in err or "test shot" in err, err
+            assert _names(err, key) or any(re.sub(r"\[\d+\]$", "", k) in err for k in SHOT_KEYS), err
+
+    check()
+
+
+@given(token=st.one_of(TEXT, INTS.map(str), st.sampled_from(["0", "-1", "line:1", "id:", "id:B343", "136", "1e3"])))
+@settings(max_examples=25, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.function_scoped_fixture])
+def test_any_database_reference_of_whipple_shot_gives_its_case_or_exit_2(tmp_path_factory, capsys, token):
+    written = tmp_path_factory.mktemp("shot") / "case.toml"
+    code, err = _shot_cli(capsys, ["whipple", "shot", "--database", token, "--write-case", str(written)])
+    assert code in (0, 2), err
+    assert code == 0 or ("Traceback" not in err and err.count("\n") == 1), err
+
+
+RULE = tomllib.loads((Path(__file__).parent.parent / "src/impactdyn/whipple/rules/set-2.toml").read_text())
+RULES = {"fixed": RULE, "unfixed": {k: v for k, v in RULE.items() if k != "fixed"}}
+"""A shipped rule as it is (fixed: only its ``[fixed]`` keys can change without its refusal) and without
+``[fixed]`` (every other key)."""
+
+RULE_CASES = [(base, key, info) for base, data in RULES.items()
+              for key, info in _keys(SelectionRule, data) if (base == "fixed") == key.startswith("fixed")]
+CHOICES["after"] = ["set-1", "set-2", "set-3"]  # rule names a user might write in after = [...]
+
+
+def test_every_rule_key_is_walked():
+    keys = {key for _, key, _ in RULE_CASES}
+    assert {"after", "eligible.velocity_km_s[1]", "distance.spacing_cm", "counts.min_oblique", "fixed.sha256"} <= keys
+
+
+@pytest.mark.parametrize("base, key, info", [pytest.param(*c, id=f"{c[0]}-{c[1]}") for c in RULE_CASES])
+def test_any_value_of_a_rule_key_gives_a_rule_or_an_error_naming_it(folder, base, key, info):
+    """A selection rule file (``whipple validate --select``, ``fix-rule``) with any value of a key: a rule
+    whose shots ``select_shots`` picks, or an InputError that begins with the file and names the key."""
+    path = folder / f"rule-{base}-{key.replace('[', '_').replace(']', '')}.toml"
+    data = RULES[base]
+    db = read_database()
+
+    @settings(max_examples=6, deadline=None, derandomize=True)
+    @given(value=_values(key, info, data))
+    def check(value):
+        path.write_text(tomli_w.dumps(_set(data, key, value)))
+        try:
+            rule = load_rule(path)
+            select_shots(rule, db)
+            rule_hash(rule)
+        except InputError as err:
+            message = str(err)
+            assert message.startswith(f"{path}: ") or (key.startswith("after") and "rule file" in message), message
+            assert _names(message, key) or key.startswith("after"), message  # after: see the xfail below
+
+    check()
+
+
+@given(data=st.data())
+@settings(max_examples=15, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.function_scoped_fixture])
+def test_a_bad_rule_file_exits_2_from_validate_and_fix_rule(tmp_path_factory, capsys, data):
+    """The commands that read a rule: exit 0 or 2 with one message naming the key, no traceback; nothing
+    is simulated (the validation's runs are replaced)."""
+    base, key, info = data.draw(st.sampled_from([c for c in RULE_CASES if c[0] == "unfixed"]))
+    value = data.draw(_values(key, info, RULES[base]))
+    folder = tmp_path_factory.mktemp("rule")
+    path = folder / "rule.toml"
+    path.write_text(tomli_w.dumps(_set(RULES[base], key, value)))
+    accuracy = {"count": 0, "of": 0, "low": 0.0, "high": 1.0}
+    scores = {who: {"overall": {"accuracy": accuracy}} for who in ("simulated", "jsc")}
+    with mock.patch("impactdyn.whipple.run_validation", return_value=scores):
+        for argv in (["whipple", "validate", "--select", str(path), "-o", str(folder / "out")],
+                     ["whipple", "fix-rule", str(path)]):
+            code, err = _shot_cli(capsys, argv)
+            assert code in (0, 2), err
+            if code == 2:
+                assert "Traceback" not in err and err.count("\n") == 1, err
+                assert _names(err, key) or key.startswith("after"), err
+
+
+@pytest.mark.xfail(strict=True, raises=AssertionError, reason="select_shots loads the rules named in after "
+                   "with no trace of which rule named them: the message names neither the file nor after; "
+                   "whipple/_selection.py's to fix")
+def test_an_unknown_rule_in_after_is_named_with_the_file_and_the_key(tmp_path):
+    path = tmp_path / "rule.toml"
+    path.write_text(tomli_w.dumps(_set(RULES["unfixed"], "after", ["no-such-rule"])))
+    with pytest.raises(InputError) as err:
+        select_shots(load_rule(path), read_database())
+    assert str(err.value).startswith(f"{path}: after"), str(err.value)
+
+
+@pytest.mark.xfail(strict=True, raises=RecursionError, reason="a rule whose after names itself (or a cycle of "
+                   "rules) recurses without end in select_shots: a RecursionError and a traceback, not exit 2; "
+                   "whipple/_selection.py's to fix")
+def test_a_rule_after_itself_is_an_input_error(tmp_path):
+    path = tmp_path / "rule.toml"
+    path.write_text(tomli_w.dumps(_set(RULES["unfixed"], "after", [str(path)])))
+    with pytest.raises(InputError, match="after"):
+        select_shots(load_rule(path), read_database())
