@@ -132,8 +132,19 @@ class WallOptions(Section):
         increment beyond its zero fails the element).
     escape_velocity_km_s : the speed above which rear-face material attached to failed
         material is leaving the wall (verdict, :mod:`._verdict`).
-    erosion_step_fraction : a failed element is eroded when its step falls below this
-        fraction of the initial step.
+    erosion_step_fraction : a failed element is eroded (it leaves the force computation, its mass and
+        momentum stay on its nodes) when its step falls below this fraction of the mesh's initial
+        step: LS-DYNA's DTMIN with ERODE = 1, for failed elements only (an intact element's step below
+        ``min_step_fraction`` is a breakdown).  Failed material is rubble (compressive pressure
+        only), and a step that has collapsed holds every step of the run down with it.  0.25:
+        a failed brick flattened at constant volume (stretch λ along one axis, 1/λ along another)
+        keeps its sound speed while its length V/A_max falls as 1/λ, so its step falls to 0.25 at
+        λ = 4, a geometric (equivalent logarithmic) strain of (2/√3) ln 4 = 1.6 — the value at which
+        Ansys's explicit solvers erode distorted elements by default (1.5; "typical values range from
+        0.5 to 2.0", Ansys Explicit Dynamics Analysis Guide, erosion controls).  0.1 (λ = 10, strain
+        2.7) let the holed walls of two test shots (0.635-cm spheres at 5.3 km/s on a 0.102-cm wall)
+        run at a mean step near a tenth of the initial one (benchmarks/BENCHMARKS.md, "Wall stage: a
+        holed wall stops early").
     min_step_fraction : a step of an element that has not failed below this fraction of
         the initial step is a breakdown (:class:`WallSolverError`).
     """
@@ -165,7 +176,7 @@ class WallOptions(Section):
     spall_law: Literal[SPALL_LAWS] = "tuler_butcher"
     fracture_strain_floor: Literal[FRACTURE_STRAIN_FLOORS] = "library"
     escape_velocity_km_s: Positive = 1.0
-    erosion_step_fraction: Annotated[float, Field(ge=0, le=1)] = 0.1
+    erosion_step_fraction: Annotated[float, Field(ge=0, le=1)] = 0.25
     min_step_fraction: Fraction = 1.0e-3
 
     @field_validator("material_model")
