@@ -403,8 +403,8 @@ def test_any_value_of_a_rule_key_gives_a_rule_or_an_error_naming_it(folder, base
             rule_hash(rule)
         except InputError as err:
             message = str(err)
-            assert message.startswith(f"{path}: ") or (key.startswith("after") and "rule file" in message), message
-            assert _names(message, key) or key.startswith("after"), message  # after: see the xfail below
+            assert message.startswith(f"{path}: "), message
+            assert _names(message, key), message
 
     check()
 
@@ -428,12 +428,9 @@ def test_a_bad_rule_file_exits_2_from_validate_and_fix_rule(tmp_path_factory, ca
             assert code in (0, 2), err
             if code == 2:
                 assert "Traceback" not in err and err.count("\n") == 1, err
-                assert _names(err, key) or key.startswith("after"), err
+                assert _names(err, key), err
 
 
-@pytest.mark.xfail(strict=True, raises=AssertionError, reason="select_shots loads the rules named in after "
-                   "with no trace of which rule named them: the message names neither the file nor after; "
-                   "whipple/_selection.py's to fix")
 def test_an_unknown_rule_in_after_is_named_with_the_file_and_the_key(tmp_path):
     path = tmp_path / "rule.toml"
     path.write_text(tomli_w.dumps(_set(RULES["unfixed"], "after", ["no-such-rule"])))
@@ -442,9 +439,6 @@ def test_an_unknown_rule_in_after_is_named_with_the_file_and_the_key(tmp_path):
     assert str(err.value).startswith(f"{path}: after"), str(err.value)
 
 
-@pytest.mark.xfail(strict=True, raises=RecursionError, reason="a rule whose after names itself (or a cycle of "
-                   "rules) recurses without end in select_shots: a RecursionError and a traceback, not exit 2; "
-                   "whipple/_selection.py's to fix")
 def test_a_rule_after_itself_is_an_input_error(tmp_path):
     path = tmp_path / "rule.toml"
     path.write_text(tomli_w.dumps(_set(RULES["unfixed"], "after", [str(path)])))

@@ -156,14 +156,29 @@ def rule_path(name_or_path: str | Path) -> Path:
 
 
 def load_rule(name_or_path: str | Path) -> SelectionRule:
-    """The rule, validated; a fixed rule must still match its hash."""
-    path = rule_path(name_or_path)
+    """The rule, validated; a fixed rule must still match its hash, and the rules named in its
+    ``after`` must load and must not lead back to it."""
+    return _load_rule(rule_path(name_or_path), ())
+
+
+def _load_rule(path: Path, named_by: tuple[Path, ...]) -> SelectionRule:
+    """:func:`load_rule` of the file ``path``, reached through the ``after`` of the rules ``named_by``."""
     with reading(path, "rule file"):
         rule = validate(SelectionRule, load_toml(path), source=str(path))
     if rule.fixed is not None and rule.fixed.sha256 != rule_hash(rule):
         raise InputError(f"{path}: the rule was changed after it was fixed on {rule.fixed.date} (its content no "
                          "longer matches fixed.sha256); a fixed set is never rescored under another rule: "
                          "write a new rule under a new name")
+    chain = (*named_by, path.resolve())
+    for i, earlier in enumerate(rule.after):
+        try:
+            earlier_path = rule_path(earlier)
+        except InputError as err:
+            raise InputError(f"{path}: after[{i}]: {err}") from None
+        if earlier_path.resolve() in chain:
+            raise InputError(f"{path}: after[{i}] = {earlier!r} leads back to {earlier_path}: a rule cannot be "
+                             "selected after itself")
+        _load_rule(earlier_path, chain)
     return rule
 
 
