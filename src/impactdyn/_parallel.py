@@ -50,40 +50,9 @@ def run_tasks(fn: Callable[[Any], Any], tasks: Sequence[Any], *, scheduler: Sche
 STOP_GRACE_S = 5.0
 
 
-def kernel_threads(workers: int) -> int:
-    """The threads each of ``workers`` local worker processes gives its compiled kernels: the cores
-    shared out, at least one.  Left at numba's default (every core), W workers would run W × cores
-    threads on the cores; a parallel kernel's loop waits for its slowest thread, and a thread
-    preempted by another worker's holds the whole loop up (benchmarks/BENCHMARKS.md, "Wall stage:
-    a holed wall stops early", the validation sets on 2 cores)."""
-    return max(1, (os.cpu_count() or 1) // max(1, workers))
-
-
-def use_threads(threads: int) -> None:
-    """The compiled kernels called from this thread use ``threads`` threads (numba's setting is the
-    calling thread's own)."""
-    import numba
-
-    numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
-
-
-def _start_worker(threads: int) -> None:
-    """Local pool worker's initializer (its tasks run in the thread that runs it): Ctrl-C left to the
-    main process (:func:`ignore_interrupts`), the kernels' threads the worker's share of the cores."""
-    ignore_interrupts()
-    use_threads(threads)
-
-
-def _call_with_threads(fn: Callable[[Any], Any], threads: int, task: Any) -> Any:
-    """``fn(task)`` with the kernels' threads set in the thread that runs it (a Dask worker's task thread)."""
-    use_threads(threads)
-    return fn(task)
-
-
 def _on_processes(fn, tasks, workers) -> Iterator[tuple[int, Any]]:
-    workers = workers or os.cpu_count() or 1
     # spawn, not fork: a process that has run numba's OpenMP kernels cannot fork safely
-    pool = ProcessPoolExecutor(max_workers=workers, initializer=_start_worker, initargs=(kernel_threads(workers),),
+    pool = ProcessPoolExecutor(max_workers=workers or os.cpu_count(), initializer=ignore_interrupts,
                                mp_context=multiprocessing.get_context("spawn"))
     finished = False
     try:
@@ -127,20 +96,16 @@ def _on_dask(fn, tasks, workers, address) -> Iterator[tuple[int, Any]]:
 
     cluster = None
     if address in (None, "local"):
-        workers = workers or os.cpu_count() or 1
         # the cluster is the command's private machinery: a failure that matters reaches the command as
         # an exception (a task's own, KilledWorker); its logs only add noise, above all when a stop tears
         # it down mid-task (cancelled tasks, heartbeats to a scheduler already gone)
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+        cluster = LocalCluster(n_workers=workers or os.cpu_count(), threads_per_worker=1, processes=True,
                                dashboard_address=None, silence_logs=logging.CRITICAL)
     try:
         with Client(cluster if cluster is not None else address) as client:
-            if cluster is not None:  # our workers leave Ctrl-C to us and share the cores, as the local pool's do
+            if cluster is not None:  # our workers leave Ctrl-C to us, as the local pool's do
                 client.run(ignore_interrupts)
-                futures = {client.submit(_call_with_threads, fn, kernel_threads(workers), t, pure=False): i
-                           for i, t in enumerate(tasks)}
-            else:
-                futures = {client.submit(fn, t, pure=False): i for i, t in enumerate(tasks)}
+            futures = {client.submit(fn, t, pure=False): i for i, t in enumerate(tasks)}
             try:
                 for fut in dask_completed(futures):
                     yield futures[fut], fut.result()
