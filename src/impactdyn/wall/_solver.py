@@ -205,6 +205,11 @@ class WallSolver:
         return self.flags[:, ERODED] != 0
 
     @property
+    def last_arrival(self) -> float | None:
+        """The time of the last deposition record, µs (None without records)."""
+        return float(self.load.time.max()) if self.load.time.size else None
+
+    @property
     def loads_done(self) -> bool:
         return int(self.clock[_step.CURSOR]) >= self.load.time.size
 
@@ -276,8 +281,8 @@ class WallSolver:
         hold = self.options.perforation_hold_us
         if hold is None or self.through_since is None:
             return False
-        t_last = float(self.load.time.max()) if self.load.time.size else self.through_since
-        return self.time >= max(self.through_since, t_last) + hold
+        t_last = self.last_arrival
+        return self.time >= (self.through_since if t_last is None else max(self.through_since, t_last)) + hold
 
     # -- the run --------------------------------------------------------------------------------------
     def run(self, progress: Callable[[float, float], None] | None = None,
@@ -353,7 +358,7 @@ class WallSolver:
         en = self.energies()
         hist = {k: np.asarray(v, dtype=np.float64) for k, v in history.items()}
         wall_thickness = self.mesh.thickness
-        t_last = float(self.load.time.max()) if self.load.time.size else float(hist["time"][0])
+        t_last = self.last_arrival if self.last_arrival is not None else float(hist["time"][0])
         t = hist["time"]
         window = t >= t_last + 0.75 * (t[-1] - t_last)
         i_peak = int(np.argmax(hist["rear_bulge"]))
