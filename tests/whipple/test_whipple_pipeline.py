@@ -43,11 +43,13 @@ def test_run_folder_holds_every_stage(run):
                  "binning/handoff_grid.h5", "debris/debris.h5", "debris/areal_density.csv",
                  "debris/plots/areal_density.png", "decks/wall.k", "decks/wall_dyna3d.inp",
                  "plots/cloud_handoff.png", "plots/ballistic_limit.png", "plots/conservation.png",
-                 "plots/fragments.png", "shield/fragments.csv", "wall/stage.json", "wall/wall.json", "wall/wall.pvd", "wall/plots/wall_front.png",
+                 "shield/fragments.csv", "wall/stage.json", "wall/wall.json", "wall/wall.pvd", "wall/plots/wall_front.png",
                  "wall/plots/wall_rear.png", "wall/plots/wall_history.png"):
         assert (out / path).is_file(), path
     for path in HEAVY:
         assert (out / path).is_file(), path
+    # the fragments' plot is drawn where the debris holds solid fragments; without, the report says so
+    assert (out / "plots/fragments.png").is_file() == bool(s["stages"]["shield"]["fragments"]["n_fragments"])
     assert s["keep"] == "all"
     assert set(s["timings_s"]) == {"shield", "binning", "debris", "wall", "decks"}
     assert s["wall_time_s"] == pytest.approx(sum(s["timings_s"].values()))
@@ -124,7 +126,8 @@ def test_summary_has_the_verdict_and_the_cloud_figures(run):
     assert 0 < cloud["centre_of_mass_speed_km_s"] < cloud["leading_edge_velocity_km_s"] <= p.velocity_km_s
     assert 0 < cloud["cone_half_angle_deg"] < 90
     html = (out / "report.html").read_text()
-    assert html.count("data:image/png;base64,") == 8  # cloud, fragments, BLE, load, conservation; 3 of the wall
+    # cloud, BLE, load, conservation, 3 of the wall, and the fragments' where there are fragments
+    assert html.count("data:image/png;base64,") == 7 + bool(s["stages"]["shield"]["fragments"]["n_fragments"])
     assert s["ble"]["verdict"] in html
 
 

@@ -8,7 +8,7 @@ lines land on the wall's edges and on the symmetry plane x = x[0] exactly.
 the thickness t, with n the smallest count that satisfies both
 
 * n ≥ :data:`MIN_LAYERS` = 8: the report's 4 layers do not resolve the wall's bending and
-  spall (docs/vv/convergence.md, "why the defaults are what they are": the 7a bulge 0.796 cm and perforation at 4
+  spall (docs/vv/convergence.md, "Why the defaults are what they are": the 7a bulge 0.796 cm and perforation at 4
   layers, 0.506 cm and detached spall at 8; the one-point bricks' hourglass share of the
   internal energy 6.7 % at 4 layers in bending, 4.3–5.8 % on 7a from 8 layers), and
 * h ≤ D/:data:`ELEMENTS_ACROSS_CRATER`: the crater of a solid fragment of diameter

@@ -137,7 +137,7 @@ class JohnsonCookModel(WallModel):
         are removed by the solver's geometric criteria only; module docstring).
     damage_at_floor : accumulate damage on steps where the fit's fracture strain is at the floor
         (True, the default); False: no ductile damage there, tension left to the spall criterion
-        (the study in docs/vv/convergence.md, "why the defaults are what they are"; not a case key).
+        (the study in docs/vv/convergence.md, "Why the defaults are what they are"; not a case key).
     spall_law : one of :data:`SPALL_LAWS`: "tuler_butcher" (default) or "cutoff".
     fracture_strain_floor : one of :data:`FRACTURE_STRAIN_FLOORS`: "library" (default) or "unbounded".
     tuler_butcher : the Tuler–Butcher constants (None: none known; required by that spall law).
