@@ -98,6 +98,15 @@ class CommandLine:
         return subprocess.run(CLI + args, cwd=cwd, capture_output=True, text=True, timeout=timeout)
 
     @staticmethod
+    def finished(folder: Path, members: str) -> list[Path]:
+        """The member runs in place under ``folder/members`` (e.g. ``runs``), by their summary files.
+
+        A member's hidden staging folder holds its summary before it is renamed into place, and
+        ``Path.glob``'s ``*`` matches hidden names: such a folder is not a finished member."""
+        return sorted(p.parent for p in Path(folder).glob(f"{members}/*/summary.json")
+                      if not p.parent.name.startswith("."))
+
+    @staticmethod
     def hidden(folder: Path) -> list[Path]:
         """Staging folders and temporary files (their names start with a dot) anywhere under ``folder``."""
         return list(Path(folder).rglob(".*"))

@@ -30,7 +30,7 @@ def _sweep_args(out: Path, pool: list[str]) -> list[str]:
 def test_beam_sweep_stops_keeps_its_finished_cases_and_resumes(tmp_path, sig, pool, cli):
     out = tmp_path / "sweep"
     command = cli.start(_sweep_args(out, pool), tmp_path)
-    finished = lambda: sorted(out.glob("cases/*/summary.json"))  # noqa: E731
+    finished = lambda: [p / "summary.json" for p in cli.finished(out, "cases")]  # noqa: E731
     command.wait_for(lambda: len(finished()) >= 2, timeout=300, what="two finished cases")
     took, err = command.interrupt(sig)
 

@@ -10,10 +10,6 @@ from pathlib import Path
 EXIT_WITHIN_S = 10.0
 
 
-def _finished_shots(out: Path) -> list[Path]:
-    return sorted(p.parent for p in out.glob("runs/*/summary.json"))
-
-
 def test_whipple_limit_stops_on_ctrl_c_keeps_its_finished_shots_and_resumes(tmp_path, make_case, cli):
     case = make_case(tmp_path)
     # one shot in this process first: the kernels are compiled (and cached) once, not by both workers at
@@ -24,7 +20,7 @@ def test_whipple_limit_stops_on_ctrl_c_keeps_its_finished_shots_and_resumes(tmp_
             "--bracket", "7:0.3:0.45", "--tolerance", "0.5", "--workers", "2", "-o", str(out)]
     command = cli.start(args, tmp_path)
     # four shots in the first round on two workers: interrupt once one has finished and others run
-    command.wait_for(lambda: len(_finished_shots(out)) >= 1, timeout=300, what="finished shot")
+    command.wait_for(lambda: len(cli.finished(out, "runs")) >= 1, timeout=300, what="finished shot")
     took, err = command.interrupt()
 
     assert command.returncode == 130, err
@@ -32,7 +28,7 @@ def test_whipple_limit_stops_on_ctrl_c_keeps_its_finished_shots_and_resumes(tmp_
     assert "Traceback" not in err and "interrupted:" in err and "--resume" in err, err
     assert command.group_is_empty(), "a process of the command outlived it"
     assert cli.hidden(out) == [] and cli.hidden(tmp_path) == [], "a staging folder or temporary file was left"
-    kept = _finished_shots(out)
+    kept = cli.finished(out, "runs")
     assert sorted(p.name for p in (out / "runs").iterdir()) == [p.name for p in kept], "an unfinished shot was kept"
     shots = list(csv.DictReader((out / "shots.csv").open()))
     assert sorted(Path(r["run"]).name for r in shots) == [p.name for p in kept]
@@ -45,7 +41,7 @@ def test_whipple_limit_stops_on_ctrl_c_keeps_its_finished_shots_and_resumes(tmp_
     assert len(rows) == 2 and all(r["status"] != "searching" for r in rows)
     assert {p.name: (p / "summary.json").stat().st_mtime_ns for p in kept} == stamps, "a kept shot was run again"
     shots = list(csv.DictReader((out / "shots.csv").open()))
-    assert len(shots) == sum(int(r["n_shots"]) for r in rows) == len(_finished_shots(out)) >= 4
+    assert len(shots) == sum(int(r["n_shots"]) for r in rows) == len(cli.finished(out, "runs")) >= 4
     assert json.loads((out / "family.json").read_text())["complete"] is True
     assert (out / "limit.png").is_file() and cli.hidden(tmp_path) == []
 

@@ -22,27 +22,21 @@ def _three_shot_rule(tmp_path):
     return path
 
 
-def _finished(out):
-    """The summaries of the shots in place; a shot's hidden staging folder (``runs/.lineN.xxxx``, removed by
-    the resume after a kill) holds a summary before it is renamed into place, and is not a finished shot."""
-    return [p for p in out.glob("runs/*/summary.json") if not p.parent.name.startswith(".")]
-
-
 def test_validate_runs_scores_and_resumes_after_a_kill(tmp_path, make_case, cli):
     rule = _three_shot_rule(tmp_path)
     out = tmp_path / "validation"
     args = ["whipple", "validate", "--select", str(rule), "--from-case", str(make_case(tmp_path)),
             "--workers", "2", "-o", str(out)]
     command = cli.start(args, tmp_path)
-    command.wait_for(lambda: len(_finished(out)) >= 1, timeout=400, what="finished shot")
+    command.wait_for(lambda: len(cli.finished(out, "runs")) >= 1, timeout=400, what="finished shot")
     os.killpg(command.proc.pid, signal.SIGKILL)  # no tidying at all: resume must cope with what is left
     command.proc.wait()
-    kept = {p.parent.name: p.stat().st_mtime_ns for p in _finished(out)}
+    kept = {p.name: (p / "summary.json").stat().st_mtime_ns for p in cli.finished(out, "runs")}
     assert 1 <= len(kept) < 3
 
     resumed = cli.run(args + ["--resume"], tmp_path)
     assert resumed.returncode == 0, resumed.stderr
-    assert {p.parent.name: p.stat().st_mtime_ns for p in _finished(out) if p.parent.name in kept} \
+    assert {p.name: (p / "summary.json").stat().st_mtime_ns for p in cli.finished(out, "runs") if p.name in kept} \
         == kept, "a finished shot was run again"
     rows = list(csv.DictReader((out / "validation.csv").open()))
     assert len(rows) == 3 and sum(r["test_perforated"] == "True" for r in rows) == 2
