@@ -160,3 +160,39 @@ def test_chunks_give_bit_identical_states():
 def test_wall_material_of_the_report():
     # the wall the decks describe (App. D); E and nu follow from G and K
     assert AL_6061_T6_MAT13.youngs_modulus == pytest.approx(0.734, abs=1e-3)
+
+
+def test_the_clouds_momentum_is_accounted_for_in_full():
+    """momentum in = arrived + failed + outside the window + never reaching the wall plane, and
+    arrived = deposited + off the face grid, to round-off, on a cloud that takes every path."""
+    shape = (8, 2, 8)
+    g = slab_grid(shape=shape, origin=(0.0, -0.6, 0.0))
+    v = np.zeros(shape + (3,))
+    v[:2, ..., 1] = -0.3                     # away from the wall: never reaches its plane
+    v[2:5, ..., 1] = 0.01                    # arrives after ~60 µs, outside the 10-µs window
+    v[5:, ..., 1] = 0.4                      # arrives in the window, partly beyond the face grid's edge
+    v[5:, :, 6:, 2] = 0.2
+    g = HydroGrid(g.x, g.y, g.z, density=g.density, void_fraction=g.void_fraction, mass=g.mass,
+                  pressure=g.pressure, temperature=g.temperature, specific_energy=g.specific_energy,
+                  sound_speed=g.sound_speed, velocity=v)
+    wall = WallGrid.uniform((0.0, 0.8), (0.0, 0.3), (0.0, 0.8), (5, 2, 5))
+    s = run_debris(g, wall, AL, window=ArrivalWindow(0.0, 10.0)).summary()
+    parts = {k: np.array(s[f"momentum_{k}"]) for k in ("arrived", "failed", "outside_window", "not_reaching",
+                                                       "deposited", "off_wall")}
+    assert all(np.abs(parts[k]).sum() > 0 for k in ("arrived", "outside_window", "not_reaching", "off_wall"))
+    assert s["mass_outside_window_g"] > 0 and s["mass_not_reaching_g"] > 0
+    np.testing.assert_allclose(parts["arrived"] + parts["failed"] + parts["outside_window"] + parts["not_reaching"],
+                               s["momentum_in"], rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(parts["deposited"] + parts["off_wall"], parts["arrived"], rtol=1e-12, atol=1e-15)
+
+
+def test_the_points_deposited_again_on_the_case_grid_are_its_records_and_conserved_on_a_finer_one():
+    g = slab_grid(shape=(6, 2, 6), velocity=(0.05, 0.4, 0.02), origin=(0.0, -0.6, 0.0))
+    wall = WallGrid.uniform((-0.2, 1.0), (0.0, 0.3), (-0.2, 1.0), (5, 2, 5))
+    r = run_debris(g, wall, AL, window=ArrivalWindow(0.0, 10.0))
+    again = r.deposition_on(wall)
+    for name in ("element", "time", "impulse"):
+        np.testing.assert_array_equal(getattr(again, name), getattr(r.deposition, name))
+    fine = WallGrid.uniform((-0.2, 1.0), (0.0, 0.3), (-0.2, 1.0), (25, 2, 25))
+    np.testing.assert_allclose(r.deposition_on(fine).impulse.sum(axis=0), r.summary()["momentum_deposited"],
+                               rtol=1e-12)

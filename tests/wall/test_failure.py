@@ -8,6 +8,8 @@ scale, checked against its closed form under a ramp σ_t = σ̇t:
     σ_f = σ₀ + ((λ + 1) σ̇ K)^{1/(λ+1)}
 """
 
+import math
+
 import numpy as np
 import pytest
 
@@ -144,6 +146,25 @@ def test_library_constants_and_switches():
         wall.wall_model("johnson_cook", "al6061-t6", fracture_strain_floor="none")
     with pytest.raises(InputError, match="spall_law"):
         wall.wall_model("johnson_cook", "al6061-t6", tuler_butcher=None)
+
+
+#: Kanel's measured strain rates of spall, 1/s ([K04]: 10⁴–10⁶), and the strain at fracture ε_c of aluminium
+#: in Grady's energy-limited spall strength (Grady, J. Mech. Phys. Solids 36 (1988) 353: ε_c ≈ 0.15).
+SPALL_RATES_PER_S = (1e4, 1e6)
+ALUMINIUM_FRACTURE_STRAIN = 0.15
+
+
+@pytest.mark.parametrize("alloy", ["al6061-t6", "al2024-t4"])
+def test_tuler_butcher_spall_stress_stays_below_the_energy_limit_over_the_measured_rates(alloy):
+    """The fallback constants stay plausible: over [K04]'s rates the failure stress of a ramp stays below
+    Grady's upper bound for a ductile metal, σ_s = √(2ρc²Yε_c) (about 2.5 GPa for these alloys); the ramp's
+    stress rate is ρc_L²ε̇ as in TB_STRESS_RATE's reference (ρc_L² ≈ 110 GPa)."""
+    m = wall.wall_model("johnson_cook", alloy).material
+    bound = math.sqrt(2.0 * m.rho0 * m.c0 ** 2 * m.yield_stress * ALUMINIUM_FRACTURE_STRAIN)
+    assert 2.3 < bound / _gpa(1.0) < 2.7
+    for rate in SPALL_RATES_PER_S:
+        stress_rate = TB_STRESS_RATE * rate / 1e5        # TB_STRESS_RATE is the unloading rate at 10⁵ /s
+        assert m.spall_strength < TULER_BUTCHER[alloy].failure_stress(stress_rate) < bound
 
 
 def test_old_options_reproduce_the_model_before_the_floor_and_tuler_butcher():

@@ -99,6 +99,22 @@ def test_wall_receives_the_momentum_of_the_arrived_debris(run):
     np.testing.assert_allclose((share[:, None] * momentum).sum(axis=0), impulse.sum(axis=(0, 1)), rtol=1e-9)
 
 
+def test_the_debris_momentum_is_accounted_for_in_full(run):
+    """What the debris carried at hand-off (cloud and compact fragments) = on the wall + outside the arrival
+    window + off the face grid + never reaching the wall + failed flights, to round-off; the report says it
+    and the peak areal momentum on the wall mesh's own face cells."""
+    _, out, s = run
+    ledger = {k: np.array(v) for k, v in s["deposition"]["momentum_ledger_g_cm_us"].items()}
+    parts = sum(ledger[k] for k in ("deposited", "outside_window", "off_wall", "not_reaching", "failed"))
+    np.testing.assert_allclose(parts, ledger["in"], rtol=1e-12, atol=1e-15)
+    np.testing.assert_array_equal(ledger["deposited"], s["stages"]["debris"]["momentum_deposited"])
+    assert ledger["deposited"][1] > 0
+    mesh_peak = s["stages"]["debris"]["peak_areal_density_mesh"]
+    assert mesh_peak["peak_g_cm_us"] > 0 and 0 < mesh_peak["cell_cm"] <= 0.16
+    text = html.unescape((out / "report.html").read_text())
+    assert "outside the arrival window" in text and "on the wall mesh's face cells" in text
+
+
 def test_decks_carry_the_wall_stages_model(run, tmp_path, make_case):
     """The LS-DYNA deck runs what the wall stage ran: its hourglass type and bulk viscosity, and
     MAT_015 with its EOS for "johnson_cook" (the default) or MAT_013 for "mat13"."""

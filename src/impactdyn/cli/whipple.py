@@ -113,6 +113,11 @@ def _echo_summary(s: dict, out: Path) -> None:
     typer.echo(f"wall: peak areal momentum {dep['peak_areal_momentum_N_s_cm2']:.4g} N·s/cm², normal impulse "
                f"{dep['impulse_on_wall_normal_N_s_full_model']:.4g} N·s (full model); "
                f"{s['wall_time_s']:.1f} s")
+    ledger = dep.get("momentum_ledger_g_cm_us")
+    if ledger and ledger["in"][1] > 0:
+        share = {k: 100.0 * ledger[k][1] / ledger["in"][1] for k in ("deposited", "outside_window")}
+        typer.echo(f"the debris's normal momentum: {share['deposited']:.1f} % on the wall, "
+                   f"{share['outside_window']:.1f} % outside the arrival window ([filter] t_min_us, t_cut_us)")
     w = s["wall"]
     typer.echo(f"wall response: {w['verdict']} ({w['criterion']}); crater depth {w.get('crater_depth_ratio', 0):.2f} "
                f"of the thickness, rear bulge {w.get('rear_bulge_cm', 0):.3g} cm; report in {Path(out) / 'report.html'}")

@@ -86,6 +86,8 @@ class DebrisResult:
     stats: :class:`PropagationStats` of the propagated particles.
     points ``(A, 5, 3)``: deposition points at arrival (:func:`arrival_points`).
     on_wall ``(A, 5)`` bool: point lies on the wall's face grid (and the particle did not fail).
+    point_momentum ``(A, 3)``: the momentum each propagated particle's points share (its own, times
+    DYNOUT's legacy enhancement where that option is on).
     deposition: the time-resolved records; impulse ``(nx, nz, 3)`` per face element;
     areal ``(nx, nz)`` DCPOST's |Σ p|/(Δx Δz).
     """
@@ -99,6 +101,7 @@ class DebrisResult:
     stats: PropagationStats
     points: np.ndarray
     on_wall: np.ndarray
+    point_momentum: np.ndarray
     deposition: WallDeposition
     impulse: np.ndarray
     areal: np.ndarray
@@ -114,13 +117,29 @@ class DebrisResult:
         """``(A,)`` bool: the propagated particle reached its arrival time (no integration failure)."""
         return self.stats.code == 0
 
+    def deposition_on(self, face: WallGrid) -> WallDeposition:
+        """The arrived particles' points deposited on another face grid ``face`` (e.g. the wall mesh's own
+        face cells, where the case's grid would smooth the load), as on the case's grid."""
+        ok = self.arrived
+        return deposit(self.points[ok], self.point_momentum[ok], self.t_arrival[self.propagated][ok], face)[0]
+
     def summary(self) -> dict:
-        """Headline numbers (``summary.json``); momenta in g cm/µs, times in µs."""
+        """Headline numbers (``summary.json``); momenta in g cm/µs, times in µs.
+
+        The cloud's momentum at hand-off is accounted for in full: ``momentum_in`` =
+        ``momentum_arrived`` + ``momentum_failed`` (propagated, integration failed) +
+        ``momentum_outside_window`` (reaches the wall plane before ``t_min`` or after ``t_cut``) +
+        ``momentum_not_reaching`` (never reaches it), and ``momentum_arrived`` =
+        ``momentum_deposited`` + ``momentum_off_wall`` (its points off the face grid), to round-off;
+        DYNOUT's legacy momentum enhancement, when on, multiplies what is deposited and breaks the
+        second sum by its factor.
+        """
         cloud, arrived = self.cloud, self.arrived
         p_prop = cloud.momentum[self.propagated]
         in_window = np.zeros(len(cloud), dtype=bool)
         in_window[self.propagated] = True
         reaches = np.isfinite(self.t_arrival)
+        late = reaches & ~in_window
         share = p_prop[:, None, :] / POINTS_PER_PARTICLE
         off_wall = (share * (~self.on_wall & arrived[:, None])[..., None]).sum(axis=(0, 1))
         t_arr = self.t_arrival[self.propagated][arrived]
@@ -132,7 +151,7 @@ class DebrisResult:
             "n_propagated": int(len(self.propagated)),
             "n_arrived": int(arrived.sum()),
             "n_not_reaching_wall": int((~reaches).sum()),
-            "n_outside_window": int((reaches & ~in_window).sum()),
+            "n_outside_window": int(late.sum()),
             "n_points_off_wall": int((~self.on_wall & arrived[:, None]).sum()),
             "mass_seeded_g": float(cloud.mass.sum()),
             "mass_arrived_g": float(cloud.mass[self.propagated][arrived].sum()),
@@ -142,6 +161,10 @@ class DebrisResult:
             "momentum_deposited": self.deposition.impulse.sum(axis=0).tolist(),
             "momentum_off_wall": off_wall.tolist(),
             "momentum_failed": p_prop[~arrived].sum(axis=0).tolist(),
+            "momentum_outside_window": cloud.momentum[late].sum(axis=0).tolist(),
+            "momentum_not_reaching": cloud.momentum[~reaches].sum(axis=0).tolist(),
+            "mass_outside_window_g": float(cloud.mass[late].sum()),
+            "mass_not_reaching_g": float(cloud.mass[~reaches].sum()),
             "arrival_time_us": ({"first": float(t_arr.min()), "median": float(np.median(t_arr)),
                                  "last": float(t_arr.max())} if t_arr.size else None),
             "peak_areal_density_g_cm_us": float(self.areal.max()) if self.areal.size else 0.0,
@@ -264,5 +287,6 @@ def run_debris(grid: HydroGrid, wall: WallGrid, material: ParticleMaterial, *,
     if progress:
         progress("deposit", 1, 1)
     return DebrisResult(grid=grid, wall=wall, cloud=cloud, t_arrival=t_arr, propagated=selected, states=states,
-                        stats=stats, points=points, on_wall=on_wall, deposition=dep, impulse=impulse,
+                        stats=stats, points=points, on_wall=on_wall, point_momentum=p, deposition=dep,
+                        impulse=impulse,
                         areal=areal_density(impulse, wall), integrator=integrator, timings=timings)

@@ -45,7 +45,10 @@ Continuous measures (end of the run unless said otherwise; displacements u = x �
   are no longer held apart: the solver has no contact between the pieces, and their
   difference can exceed the thickness); damage depth = y_{j+1} − y₀ of the deepest
   layer j reached by damaged material face-connected to the front layer (0 if the front
-  layer is intact).  ``crater_depth_ratio`` = crater depth / wall thickness.  The thinning,
+  layer is intact).  ``crater_depth_ratio`` = crater depth / wall thickness; ``crater_resolved``:
+  the crater is at least one element layer deep (the front layer's thickness), the least depth
+  the mesh can show; a shallower crater is not resolved, and two meshes that both leave it
+  unresolved agree on it whatever its number (docs/vv/convergence.md).  The thinning,
   not the front face's displacement, because a thin wall's front face moves mostly with the
   wall's bulge; the largest front-face displacement of a wall node is reported as
   ``front_dent_cm`` (bulge plus crater).
@@ -207,6 +210,7 @@ def measures(mesh: WallMesh, failed: np.ndarray, eroded: np.ndarray, displacemen
     return {
         "crater_depth_cm": crater,
         "crater_depth_ratio": crater / mesh.thickness,
+        "crater_resolved": bool(crater >= y[1] - y[0]),
         "thinning_cm": thinning,
         "front_dent_cm": dent,
         "damage_depth_cm": damage_depth,

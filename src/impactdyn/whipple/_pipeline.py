@@ -159,43 +159,81 @@ def _debris(s: StageContext) -> dict:
     check_seeding(case, grid, f"binning.cell_size_cm = {s.case.binning.cell_size_cm:g}",
                   "the wall's front face (bumper.thickness_cm + wall.spacing_cm)", "the shield stage's hand-off")
     result = run_debris(**build(case, grid=grid), progress=s.report)
-    result, compact = _with_compact_fragments(s.case, s.folder.path, result)
+    landing = _landing_fragments(s.case, s.folder.path)
+    result, compact = _with_compact_fragments(s.case, result, *landing)
     summary = write_debris_files(s.folder.sub("debris"), result, case, decks=False, lean=s.lean,
-                                 extra_summary={"compact_fragments": compact})
+                                 extra_summary={"compact_fragments": compact,
+                                                "peak_areal_density_mesh": _mesh_scale_peak(s.case, result, *landing)})
     return {key: summary[key] for key in (
         "n_cells_seeded", "n_particles", "n_propagated", "n_arrived", "mass_seeded_g", "mass_arrived_g",
         "momentum_in", "momentum_arrived", "momentum_deposited", "momentum_off_wall", "momentum_failed",
-        "arrival_time_us", "peak_areal_density_g_cm_us", "integrator", "timings_s", "compact_fragments")}
+        "momentum_outside_window", "momentum_not_reaching", "mass_outside_window_g", "mass_not_reaching_g",
+        "arrival_time_us", "peak_areal_density_g_cm_us", "peak_areal_density_mesh", "integrator", "timings_s",
+        "compact_fragments")}
 
 
-def _with_compact_fragments(case: WhippleCase, folder: Path, result):
-    """The debris result with the compact fragments' records (:func:`impactdyn.debris.compact_deposition`)
-    added to the cloud's: the wall and the decks read one deposition, the two populations in it.
-    A fragment whose front reaches the wall outside the case's arrival window (``[filter]`` t_min_us,
-    t_cut_us, as the cloud's particles) lays down nothing, as a cloud particle outside it does.
-    Returns the result and the fragments' record (how many, their mass and momentum in the half model,
-    how many and how much mass arrive outside the window, the momentum their records deposit;
-    ``momentum_deposited`` of the summary holds both populations)."""
-    from impactdyn.debris import (areal_density, compact_arrival_us, compact_deposition, element_impulse,
-                                  half_model_share)
+def _landing_fragments(case: WhippleCase, folder: Path):
+    """The compact fragments of the shield stage's debris (:func:`impactdyn.whipple._cloud.compact_fragments`)
+    and which of them reach the wall inside the case's arrival window (``[filter]`` t_min_us, t_cut_us, as the
+    cloud's particles): (fragments, inside (F,) bool)."""
+    from impactdyn.debris import compact_arrival_us
     from impactdyn.shield import read_particles
-    from impactdyn.wallgrid import WallDeposition
     from impactdyn.whipple._cloud import compact_fragments, debris_fragments
 
     particles, _ = read_particles(folder / "shield" / "particles.h5")
     fragments = compact_fragments(debris_fragments(particles, case), case)
-    wall_y = case.bumper.thickness_cm + case.wall.spacing_cm
-    arrival = compact_arrival_us(wall_y, fragments.diameter_cm, fragments.position, fragments.velocity)
-    inside = (arrival >= case.filter.t_min_us) & (arrival <= case.filter.t_cut_us)
+    arrival = compact_arrival_us(case.wall_front_y, fragments.diameter_cm, fragments.position, fragments.velocity)
+    return fragments, (arrival >= case.filter.t_min_us) & (arrival <= case.filter.t_cut_us)
+
+
+def _compact_records(case: WhippleCase, face, fragments, inside):
+    """The records of the compact fragments that land inside the window on the face grid ``face``."""
+    from impactdyn.debris import compact_deposition
+
     landing = fragments.select(inside)
-    records, _ = compact_deposition(result.wall, wall_y, landing.mass, landing.diameter_cm, landing.position,
-                                    landing.velocity)
+    return compact_deposition(face, case.wall_front_y, landing.mass, landing.diameter_cm, landing.position,
+                              landing.velocity)[0]
+
+
+def _mesh_scale_peak(case: WhippleCase, result, fragments, inside) -> dict:
+    """The peak areal impulse |Σ p|/A (g/(cm µs)) of the cloud's points and the landing compact fragments
+    deposited on the wall mesh's own face cells, and those cells' smallest in-plane edge (cm): what the
+    case's grid, on whose cells the wall is loaded, smooths away (the wall stage shares each case cell's
+    impulse among the mesh's face cells it covers by area)."""
+    from impactdyn.debris import areal_density, element_impulse
+    from impactdyn.wall import resolve_model, solver_mesh
+
+    if not result.deposition.element.size:
+        return {"peak_g_cm_us": 0.0, "cell_cm": None}
+    options = case.wall_solver.options(case.wall.clamped_edges)
+    face = solver_mesh(result.wall, result.deposition, resolve_model(case.wall.material, options).density,
+                       **options.mesh_settings()).grid
+    impulse = element_impulse(result.deposition_on(face), face)
+    if inside.any():
+        impulse = impulse + element_impulse(_compact_records(case, face, fragments, inside), face)
+    return {"peak_g_cm_us": float(areal_density(impulse, face).max()),
+            "cell_cm": float(min(np.diff(face.x).min(), np.diff(face.z).min()))}
+
+
+def _with_compact_fragments(case: WhippleCase, result, fragments, inside):
+    """The debris result with the records of the compact fragments that land inside the window
+    (:func:`impactdyn.debris.compact_deposition`) added to the cloud's: the wall and the decks read one
+    deposition, the two populations in it.  A fragment whose front reaches the wall outside the window
+    lays down nothing, as a cloud particle outside it does.  Returns the result and the fragments'
+    record (how many, their mass and momentum in the half model, how many, how much mass and momentum
+    arrive outside the window, the momentum their records deposit; ``momentum_deposited`` of the summary
+    holds both populations)."""
+    from impactdyn.debris import areal_density, element_impulse, half_model_share
+    from impactdyn.wallgrid import WallDeposition
+
+    records = _compact_records(case, result.wall, fragments, inside)
     share = half_model_share(fragments.position, fragments.diameter_cm)
     mass = share * fragments.mass          # in the half model: images carry none of their own
     record = {"n_fragments": int(np.count_nonzero(share)), "mass_g": float(mass.sum()),
               "momentum": (mass @ fragments.velocity).tolist(),
               "n_outside_window": int(np.count_nonzero(share[~inside])),
               "mass_outside_window_g": float(mass[~inside].sum()),
+              "momentum_outside_window": (mass[~inside] @ fragments.velocity[~inside]).tolist(),
               "momentum_deposited": records.impulse.sum(axis=0).tolist()}
     if not len(records.element):
         return result, record

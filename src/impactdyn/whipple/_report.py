@@ -50,13 +50,36 @@ def ble_verdict(case: WhippleCase) -> dict:
         shield, p.diameter_cm, p.velocity_km_s, p.obliquity_deg, rho_p)
 
 
+def momentum_ledger(debris: dict) -> dict | None:
+    """Where the debris's momentum at hand-off went, cloud and compact fragments together (g·cm/µs, half
+    model): ``in`` = ``deposited`` + ``outside_window`` + ``off_wall`` (landed beyond the face grid) +
+    ``not_reaching`` (never reaches the wall plane) + ``failed`` (its flight's integration failed), to
+    round-off (without DYNOUT's legacy momentum enhancement).  None for a debris record written before
+    the ledger was kept."""
+    if "momentum_outside_window" not in debris:
+        return None
+    compact = debris["compact_fragments"]
+    cloud = {k: np.array(debris[f"momentum_{k}"]) for k in ("in", "outside_window", "off_wall", "not_reaching",
+                                                             "failed")}
+    landed = np.array(compact["momentum"]) - np.array(compact["momentum_outside_window"])
+    ledger = {"in": cloud["in"] + compact["momentum"], "deposited": np.array(debris["momentum_deposited"]),
+              "outside_window": cloud["outside_window"] + compact["momentum_outside_window"],
+              "off_wall": cloud["off_wall"] + landed - compact["momentum_deposited"],
+              "not_reaching": cloud["not_reaching"], "failed": cloud["failed"]}
+    return {k: v.tolist() for k, v in ledger.items()}
+
+
 def deposition_figures(debris: dict) -> dict:
     """Wall figures of the debris stage's record (half model; the full model doubles y and z)."""
     p = np.array(debris["momentum_deposited"])
     peak = debris["peak_areal_density_g_cm_us"]
+    mesh_peak = debris.get("peak_areal_density_mesh")
     return {
         "peak_areal_momentum_g_cm_us": peak,
         "peak_areal_momentum_N_s_cm2": N_S_PER_G_CM_US * peak,
+        "peak_areal_momentum_mesh_N_s_cm2": None if mesh_peak is None else N_S_PER_G_CM_US * mesh_peak["peak_g_cm_us"],
+        "mesh_face_cell_cm": None if mesh_peak is None else mesh_peak["cell_cm"],
+        "momentum_ledger_g_cm_us": momentum_ledger(debris),
         "impulse_on_wall_g_cm_us": p.tolist(),
         "impulse_on_wall_normal_N_s_full_model": 2.0 * N_S_PER_G_CM_US * float(p[1]),
         "momentum_arrived_g_cm_us": debris["momentum_arrived"],
@@ -94,8 +117,8 @@ def wall_caution(d: float, v: float) -> str:
 def wall_figures(wall: dict, ble: dict) -> dict:
     """The wall stage's verdict beside the equation's, and its headline measures."""
     m = wall["measures"]
-    keys = ("crater_depth_ratio", "crater_depth_cm", "rear_bulge_cm", "peak_rear_bulge_cm", "peak_rear_bulge_time_us",
-            "peak_rear_velocity_km_s", "failed_mass_g", "eroded_mass_g", "spall_mass_g", "failed_mass_by_cause_g",
+    keys = ("crater_depth_ratio", "crater_depth_cm", "crater_resolved", "rear_bulge_cm", "peak_rear_bulge_cm",
+            "peak_rear_bulge_time_us", "peak_rear_velocity_km_s", "failed_mass_g", "eroded_mass_g", "spall_mass_g", "failed_mass_by_cause_g",
             "failed_elements", "eroded_elements", "hourglass_to_internal", "end_time_us", "ended_by",
             "perforated_at_us", "kinetic_left_fraction", "steps", "permanent_rear_bulge_cm", "settled", "settle_steps",
             "settle_error")
@@ -345,6 +368,32 @@ def wall_ending(wall: dict) -> str:
     return text
 
 
+def _crater(wall: dict) -> str:
+    """The crater depth over the wall's thickness, and whether the mesh resolves it (one element layer deep)."""
+    text = _fmt(wall.get("crater_depth_ratio"))
+    if wall.get("crater_resolved") is False:
+        text += " (less than the front element layer: not resolved by the mesh)"
+    return text
+
+
+def _mesh_peak(dep: dict) -> str:
+    """The peak areal momentum on the wall mesh's own face cells, and their size."""
+    if dep.get("peak_areal_momentum_mesh_N_s_cm2") is None:
+        return "–"
+    return f"{_fmt(dep['peak_areal_momentum_mesh_N_s_cm2'], 'N·s/cm²')} ({_fmt(dep['mesh_face_cell_cm'], 'cm', 2)} cells)"
+
+
+def _ledger(ledger: dict | None) -> str:
+    """The normal component of the momentum ledger (:func:`momentum_ledger`), full model, N·s and shares."""
+    if ledger is None:
+        return "–"
+    total = ledger["in"][1]
+    parts = [ledger[k][1] for k in ("deposited", "outside_window", "off_wall", "not_reaching", "failed")]
+    share = (lambda v: f" ({100.0 * v / total:.1f} %)") if total else (lambda v: "")
+    return (f"{_fmt(2.0 * N_S_PER_G_CM_US * total, 'N·s')} in: "
+            + ", ".join(_fmt(2.0 * N_S_PER_G_CM_US * v, "N·s") + share(v) for v in parts))
+
+
 def _criteria(names: list[str] | None) -> str:
     """The criteria that can fail the wall, in words ("none" says the wall cannot fail)."""
     if names is None:
@@ -385,7 +434,10 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
     ])
     state_rows = _rows(_debris_state_rows(st["shield"].get("debris_state")))
     loading_rows = _rows([
-        ("peak areal momentum on the wall", _fmt(dep["peak_areal_momentum_N_s_cm2"], "N·s/cm²")),
+        ("peak areal momentum on the wall: on the case grid's cells (the load); on the wall mesh's face cells",
+         _fmt(dep["peak_areal_momentum_N_s_cm2"], "N·s/cm²") + "; " + _mesh_peak(dep)),
+        ("the debris's normal momentum (full model): on the wall, outside the arrival window, off the face grid, "
+         "never reaching the wall, failed flights", _ledger(dep.get("momentum_ledger_g_cm_us"))),
         ("impulse on the wall, normal (full model)", _fmt(dep["impulse_on_wall_normal_N_s_full_model"], "N·s")),
         ("arrival times (first, median, last)", "–" if not dep["arrival_time_us"] else
          ", ".join(_fmt(dep["arrival_time_us"][k]) for k in ("first", "median", "last")) + " µs after hand-off"),
@@ -395,7 +447,7 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
         ("simulated verdict", f"{wall['verdict']} ({wall['criterion']})"),
         ("equation's verdict", f"{ble['verdict']} ({ble['equation']})"),
         ("caution", wall["caution"]),
-        ("crater depth / wall thickness", _fmt(wall.get("crater_depth_ratio"))),
+        ("crater depth / wall thickness", _crater(wall)),
         ("rear-face bulge at the end; its peak (when)", _bulge(wall)),
         ("run ended by", wall_ending(wall)),
         ("rear-face permanent bulge (the wall brought to rest)", wall_permanent_bulge(wall)),
