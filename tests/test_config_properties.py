@@ -261,12 +261,6 @@ def _names(message: str, key: str) -> bool:
 CASES = [(kind, base, key, info) for kind, k in KINDS.items() for base, data in k.bases.items()
          for key, info in _keys(k.model, data)]
 
-KNOWN = {("whipple", "wall.yield_stress_ksi"): pytest.mark.xfail(
-    raises=OverflowError, strict=False, reason="ble's JSC equations overflow for the smallest subnormal yield stress, "
-    "5e-324 ksi (its yield term underflows to 0: int(inf) in ble._jsc2011._bisect), in the report stage's "
-    "ballistic-limit verdict; ble's to fix")}
-"""Failures known to lie outside the case and its loaders, by (kind, key)."""
-
 
 @pytest.fixture(scope="module")
 def folder(tmp_path_factory) -> Path:
@@ -298,7 +292,7 @@ def test_the_bases_are_valid(folder, kind, base):
 
 
 @pytest.mark.parametrize("kind, base, key, info", [
-    pytest.param(*case, id=f"{case[0]}-{case[1]}-{case[2]}", marks=KNOWN.get((case[0], case[2]), ()))
+    pytest.param(*case, id=f"{case[0]}-{case[1]}-{case[2]}")
     for case in CASES])
 def test_any_value_gives_a_case_or_an_error_naming_the_key(folder, kind, base, key, info):
     path = folder / f"{kind}-{base}-{key.replace('[', '_').replace(']', '')}.toml"

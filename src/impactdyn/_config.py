@@ -32,6 +32,7 @@ import functools
 import inspect
 import math
 import re
+import sys
 import tomllib
 import typing
 from collections.abc import Callable, Sequence
@@ -39,15 +40,26 @@ from pathlib import Path
 from typing import Annotated, Any, TypeVar
 
 import tomli_w
-from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError, create_model, model_validator
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, TypeAdapter, ValidationError, create_model, model_validator
 from pydantic.fields import FieldInfo
 
 from impactdyn._errors import InputError, reading
 
 M = TypeVar("M", bound=BaseModel)
 
-Positive = Annotated[float, Field(gt=0)]
-NonNegative = Annotated[float, Field(ge=0)]
+
+
+def _normal(value: float) -> float:
+    """A non-zero value below the smallest normal float (2.2e-308) has lost its precision and divides
+    or powers to 0 or inf in the models' arithmetic (a yield stress of 5e-324 ksi made the JSC
+    equations' bisection overflow): refused, as nothing in a case is that small."""
+    if isinstance(value, float) and value != 0.0 and abs(value) < sys.float_info.min:
+        raise ValueError(f"{value!r} is below the smallest normal float, {sys.float_info.min:.3g}")
+    return value
+
+
+Positive = Annotated[float, Field(gt=0), AfterValidator(_normal)]
+NonNegative = Annotated[float, Field(ge=0), AfterValidator(_normal)]
 # TOML arrays are lists; strict validation does not turn them into tuples.
 Range = Annotated[list[float], Field(min_length=2, max_length=2)]
 """[lower, upper] of a coordinate, cm (the upper bound checked by :func:`check_ranges`)."""

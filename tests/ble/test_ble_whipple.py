@@ -360,6 +360,7 @@ def test_default_equation_is_used_when_none_is_named():
     ("bumper_thickness_cm", 0.0), ("wall_thickness_cm", -0.3), ("spacing_cm", float("nan")),
     ("wall_yield_ksi", float("inf")), ("bumper_density_g_cm3", 0.0), ("wall_density_g_cm3", -2.7),
     ("spacing_cm", True), ("wall_yield_ksi", "40"),
+    ("wall_yield_ksi", 5e-324),   # subnormal: (σ/40) underflowed to 0 and the bisection overflowed
 ])
 def test_bad_shield_names_the_field(field, value):
     kwargs = table2().as_dict() | {field: value}
@@ -377,6 +378,7 @@ def test_bad_shield_names_the_field(field, value):
     ({"velocity_km_s": -7.0}, "velocity_km_s"),
     ({"velocity_km_s": [7.0, float("inf")]}, "velocity_km_s"),
     ({"velocity_km_s": "fast"}, "velocity_km_s"),
+    ({"velocity_km_s": [7.0, 1e-320]}, "velocity_km_s"),
     ({"projectile_density": 0.0}, "projectile_density"),
 ])
 def test_bad_impact_inputs(eq, kwargs, name):

@@ -7,6 +7,7 @@ parameter and the offending value, before any arithmetic is done.
 from __future__ import annotations
 
 import numbers
+import sys
 
 import numpy as np
 
@@ -14,12 +15,14 @@ from impactdyn._errors import InputError
 
 
 def positive(name: str, value: object) -> float:
-    """A finite real number > 0, returned as ``float``."""
+    """A finite real number > 0, returned as ``float``; a subnormal one (below 2.2e-308) is refused: the
+    equations' powers and logarithms underflow it to 0."""
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise InputError(f"{name} = {value!r}: must be a number")
     v = float(value)
-    if not np.isfinite(v) or v <= 0.0:
-        raise InputError(f"{name} = {v!r}: must be a finite number > 0")
+    if not np.isfinite(v) or v < sys.float_info.min:
+        raise InputError(f"{name} = {v!r}: must be a finite number > 0"
+                         + (" and a normal float (at least 2.2e-308)" if v > 0.0 else ""))
     return v
 
 
@@ -36,9 +39,10 @@ def _as_float_array(name: str, value: object) -> np.ndarray:
 def positive_array(name: str, value: object) -> np.ndarray:
     """Finite values > 0 (scalar or array-like), as a float array."""
     arr = _as_float_array(name, value)
-    bad = ~(np.isfinite(arr) & (arr > 0.0))
+    bad = ~(np.isfinite(arr) & (arr >= sys.float_info.min))
     if bad.any():
-        raise InputError(f"{name} = {float(arr[bad].flat[0])!r}: must be a finite number > 0")
+        raise InputError(f"{name} = {float(arr[bad].flat[0])!r}: must be a finite number > 0 and a normal float "
+                         "(at least 2.2e-308)")
     return arr
 
 
