@@ -5,7 +5,7 @@
 
 The table lists every configuration and 1-km/s velocity band where the logistic fit of
 :func:`impactdyn.ble.fit_limit` exists; the counts below it say how often it is refused and why.
-Nothing is chosen by hand: the rules are those of :mod:`impactdyn.ble._test_limit`.
+Nothing is chosen by hand: the rules are those of :mod:`impactdyn.ble._derived_limits`.
 """
 
 from __future__ import annotations
@@ -68,7 +68,7 @@ def markdown(band_km_s: float = VELOCITY_BAND_KM_S) -> str:
         "Where the test shots of one shield configuration bracket the limit closely enough, a "
         "maximum-likelihood logistic fit P(perforation) = 1/(1 + exp(−b (ln d − ln d50))) gives the "
         "diameter d50 that perforates half the time, with its profile-likelihood 95 % interval "
-        "(`impactdyn.ble.fit_limit`; method, tolerances and refusals in `impactdyn.ble._test_limit`). "
+        "(`impactdyn.ble.fit_limit`; method, tolerances and refusals in `impactdyn.ble._derived_limits`). "
         f"A configuration: the same projectile, bumper and wall alloys, t_b, t_w and S within "
         f"{CONFIGURATION_TOLERANCE:.0%} of a reference shot's, obliquity within {CONFIGURATION_OBLIQUITY_DEG}°; "
         f"velocity bands {band_km_s:g} km/s wide; one record per firing (twins merged, conflicting "

@@ -68,7 +68,7 @@ def rerun_wall(run: Path, model_changes: dict | None = None, **changes) -> dict:
     ``damage=None``): the verdict, :data:`KEYS` of the measures and the wall time; nothing is written."""
     case = load_whipple_case(run / "case.toml")
     wall, deposition, _ = read_deposition(run / "debris" / "debris.h5")
-    options = case.wall_solver.options(case.wall.clamped_edges).replaced(output_interval_us=None, **changes)
+    options = case.wall_options.replaced(output_interval_us=None, **changes)
     model = (wall_model(options.material_model, case.wall.material, **model_changes) if model_changes
              else case.wall.material)
     tick = time.perf_counter()
@@ -108,7 +108,7 @@ def main() -> int:
     ap.add_argument("--json", type=Path)
     args = ap.parse_args()
     case = load_whipple_case(args.run / "case.toml")
-    base = case.wall_solver.options(case.wall.clamped_edges)
+    base = case.wall_options
     if args.deposition_depth is not None:
         base = base.replaced(deposition_depth_cm=args.deposition_depth)
     r = args.refinement

@@ -64,6 +64,11 @@ class WallGrid:
         return (self.x.size - 1, self.y.size - 1, self.z.size - 1)
 
     @property
+    def thickness(self) -> float:
+        """The wall's thickness y[-1] − y[0], cm."""
+        return float(self.y[-1] - self.y[0])
+
+    @property
     def n_nodes(self) -> int:
         return self.x.size * self.y.size * self.z.size
 

@@ -69,7 +69,7 @@ def heated_run(run: Path, share: float) -> tuple[wall.WallResult, float]:
     record_momentum = np.repeat(momentum / POINTS_PER_PARTICLE, points, axis=0)
     np.testing.assert_allclose(record_momentum, deposition.impulse, rtol=1e-12, atol=1e-18)
     heat = share * 0.5 * np.sum(deposition.impulse**2, axis=1) / record_mass
-    options = case.wall_solver.options(case.wall.clamped_edges).replaced(output_interval_us=None)
+    options = case.wall_options.replaced(output_interval_us=None)
     if (options.refinement_thickness, options.refinement_plane) != (1, 1):
         raise SystemExit(f"{run}: the experiment heats the case mesh's first layer; refinement must be 1")
     model = wall.wall_model(options.material_model, case.wall.material)

@@ -72,7 +72,7 @@ def fine_deposition(run: Path, wall: WallGrid) -> tuple[WallGrid, WallDeposition
 def one_run(run: Path, case, wall_name: str, k: float, variant: str) -> dict:
     model, t, _, _ = WALLS[wall_name]
     grid, dep, _ = read_deposition(run / "debris" / "debris.h5")
-    options = case.wall_solver.options(case.wall.clamped_edges)
+    options = case.wall_options
     if variant == "fine-load":
         grid, dep = fine_deposition(run, grid)
         options = options.model_copy(update={"max_element_size_cm": 0.16})

@@ -37,7 +37,7 @@ def main() -> int:
     case = load_whipple_case(args.run / "case.toml")
     grid, deposition, _ = read_deposition(args.run / "debris" / "debris.h5")
     last = float(deposition.time.max())
-    options = case.wall_solver.options(case.wall.clamped_edges).replaced(output_interval_us=args.every,
+    options = case.wall_options.replaced(output_interval_us=args.every,
                                                                        max_time_us=last + 1.0)
     result = run_wall(grid, deposition, case.wall.material, options)
     nx, ny, nz = result.mesh.shape

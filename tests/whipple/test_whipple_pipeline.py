@@ -121,7 +121,7 @@ def test_decks_carry_the_wall_stages_model(run, tmp_path, make_case):
     case, out, _ = run
     c = load_whipple_case(case)
     cards = read_lsdyna_deck(out / "decks" / "wall.k").cards
-    o = c.wall_solver.options(c.wall.clamped_edges)
+    o = c.wall_options
     assert cards["*CONTROL_HOURGLASS"][0][:2] == [LSDYNA_HOURGLASS_TYPE[o.hourglass], pytest.approx(
         o.lsdyna_hourglass[1])]
     assert cards["*CONTROL_BULK_VISCOSITY"][0][:2] == [o.q1, o.q2]

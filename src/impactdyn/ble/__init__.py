@@ -38,7 +38,7 @@ from impactdyn.ble._plot import check_plot_path, plot_ballistic_limit, plot_vali
 from impactdyn.ble._check import positive as check_positive
 from impactdyn.ble._check import scalar_obliquity as check_obliquity
 from impactdyn.ble._registry import DEFAULT_EQUATION, EQUATIONS, get_equation
-from impactdyn.ble._test_limit import (
+from impactdyn.ble._derived_limits import (
     CONFIGURATION_OBLIQUITY_DEG,
     CONFIGURATION_TOLERANCE,
     MIN_EACH,

@@ -150,7 +150,7 @@ def resolving_region(wall: WallGrid, deposition: WallDeposition, fraction: float
     area = np.outer(np.diff(wall.z), np.diff(wall.x)).ravel()      # face element i + nx k
     areal = momentum / area
     k, i = np.divmod(np.flatnonzero(areal >= fraction * areal.max()), nx)
-    margin = REGION_MARGIN_THICKNESSES * float(wall.y[-1] - wall.y[0])
+    margin = REGION_MARGIN_THICKNESSES * wall.thickness
     return ((max(wall.x[0], wall.x[i.min()] - margin), min(wall.x[-1], wall.x[i.max() + 1] + margin)),
             (max(wall.z[0], wall.z[k.min()] - margin), min(wall.z[-1], wall.z[k.max() + 1] + margin)))
 
@@ -208,7 +208,7 @@ def graded_grid(wall: WallGrid, deposition: WallDeposition, h_core: float, ratio
     """The graded grid of ``wall`` (layers of ``h_core``, which must divide the thickness) and the
     resolving region it was graded from: the first of :data:`REGION_FRACTIONS` whose grid fits
     :data:`ELEMENT_STEPS_BUDGET`, or the last (module docstring)."""
-    layers = round((wall.y[-1] - wall.y[0]) / h_core)
+    layers = round(wall.thickness / h_core)
     # beyond the grading the case grid's own lines, where they are the plateau's size
     lines = [a if np.allclose(np.diff(a), h_max, rtol=1e-9, atol=0.0) else None for a in (wall.x, wall.z)]
     steps = BUDGET_RUN_US / (STEP_PER_CM_US * h_core)
@@ -279,7 +279,7 @@ def solver_mesh(wall: WallGrid, deposition: WallDeposition, density: float, *, m
     if mesh == "report":
         return build_mesh(wall, density, refinement_thickness, refinement_plane, supports)
     check_density_supports(density, supports)
-    thickness = float(wall.y[-1] - wall.y[0])
+    thickness = wall.thickness
     check_mesh_sizes(min(wall.x[-1] - wall.x[0], wall.z[-1] - wall.z[0]), element_size_cm, max_element_size_cm)
     h = core_element_size(thickness) if element_size_cm is None else element_size_cm
     if not (isinstance(grading_ratio, (int, float)) and 1.0 < grading_ratio <= MAX_GRADING_RATIO):

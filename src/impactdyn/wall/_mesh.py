@@ -125,8 +125,8 @@ class WallMesh:
 
     @property
     def thickness(self) -> float:
-        """Wall thickness y[-1] − y[0], cm."""
-        return float(self.grid.y[-1] - self.grid.y[0])
+        """Wall thickness y[-1] − y[0], cm (the solver grid's, :attr:`WallGrid.thickness`)."""
+        return self.grid.thickness
 
     def element_ijk(self) -> np.ndarray:
         """(i, j, k) of every element in number order, shape (n_elements, 3)."""

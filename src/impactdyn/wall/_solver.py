@@ -426,7 +426,7 @@ def run_wall(wall: WallGrid, deposition: WallDeposition, model: Any = "al6061-t6
     if not isinstance(options, WallOptions):
         raise InputError(f"options: expected WallOptions, got {type(options).__name__}")
     m = resolve_model(model, options)
-    if wall.y[-1] - wall.y[0] <= 0:
+    if wall.thickness <= 0:
         raise InputError("wall: thickness must be > 0")
     mesh = solver_mesh(wall, deposition, m.density, **options.mesh_settings())
     load = nodal_load(mesh, deposition, options.spread, options.deposition_depth_cm)

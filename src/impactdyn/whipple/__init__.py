@@ -16,7 +16,7 @@ from impactdyn.whipple._cloud import cloud_figures
 from impactdyn.whipple._limit import run_limit
 from impactdyn.whipple._pipeline import run_whipple
 from impactdyn.whipple._stages import STAGES, read_stage
-from impactdyn.whipple._test_shot import (ALLOYS, DatabaseShot, alloy_substitutions, database_shot, database_shot_case,
+from impactdyn.whipple._database_shot import (ALLOYS, DatabaseShot, alloy_substitutions, database_shot, database_shot_case,
                                           database_shot_case_text)
 from impactdyn.whipple._report import ble_verdict, wall_ending, wall_permanent_bulge
 from impactdyn.whipple._selection import SelectionRule, fix_rule, load_rule, rule_hash, select_shots

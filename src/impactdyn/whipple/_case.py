@@ -292,7 +292,7 @@ class WhippleCase(Section):
         check_wave_speed(debris["lambda_Mbar"], debris["mu_Mbar"], debris["rho_ref_g_cm3"],
                          (*names, f"the density of projectile.material = {p.material!r}"))
         try:
-            resolve_model(w.material, self.wall_solver.options(w.clamped_edges))
+            resolve_model(w.material, self.wall_options)
         except InputError as err:
             raise ValueError(f"wall.material = {w.material!r} with wall_solver.material_model = "
                              f"{self.wall_solver.material_model!r}: {err}") from None
@@ -321,6 +321,12 @@ class WhippleCase(Section):
     def wall_front_y(self) -> float:
         """y of the wall's front face, cm."""
         return self.bumper.thickness_cm + self.wall.spacing_cm
+
+    @property
+    def wall_options(self):
+        """The wall stage's :class:`impactdyn.wall.WallOptions`: the ``[wall_solver]`` table with the
+        wall's supports (``wall.clamped_edges``); the one place the stages and the decks take them from."""
+        return self.wall_solver.options(self.wall.clamped_edges)
 
 
 def load_whipple_case(path: str | Path) -> WhippleCase:

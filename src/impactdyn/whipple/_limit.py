@@ -47,7 +47,7 @@ from impactdyn._sweep import case_variants
 from impactdyn.whipple._case import WhippleCase
 from impactdyn.whipple._report import ble_verdict, wall_caution
 from impactdyn.whipple._shots import run_shot, shot_name, shot_tasks, shot_variant, shot_workers
-from impactdyn.whipple._test_shot import ALLOYS
+from impactdyn.whipple._database_shot import ALLOYS
 
 LIMIT_HEADER = ["velocity_km_s", "limit_diameter_cm", "half_width_cm", "largest_safe_cm", "smallest_failed_cm",
                 "jsc_critical_diameter_cm", "n_shots", "status", "caution"]

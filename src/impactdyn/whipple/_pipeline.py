@@ -205,7 +205,7 @@ def _mesh_scale_peak(case: WhippleCase, result, fragments, inside) -> dict:
 
     if not result.deposition.element.size:
         return {"peak_g_cm_us": 0.0, "cell_cm": None}
-    options = case.wall_solver.options(case.wall.clamped_edges)
+    options = case.wall_options
     face = solver_mesh(result.wall, result.deposition, resolve_model(case.wall.material, options).density,
                        **options.mesh_settings()).grid
     impulse = element_impulse(result.deposition_on(face), face)
@@ -250,7 +250,7 @@ def _wall(s: StageContext) -> dict:
 
     s.report("wall", 0, 1)
     wall, deposition, _ = read_deposition(s.folder.path / "debris" / "debris.h5")
-    options = s.case.wall_solver.options(s.case.wall.clamped_edges)
+    options = s.case.wall_options
     check_end_times(options, deposition, key_prefix="wall_solver.")     # named as the case spells them
     result = run_wall(wall, deposition, s.case.wall.material, options,
                       progress=lambda t, t_end: s.report("wall", t, t_end),
@@ -270,7 +270,7 @@ def _decks(s: StageContext) -> dict:
 
     s.report("decks", 0, 1)
     wall, deposition, case_impulse = read_deposition(s.folder.path / "debris" / "debris.h5")
-    options = s.case.wall_solver.options(s.case.wall.clamped_edges)
+    options = s.case.wall_options
     mesh = solver_mesh(wall, deposition, resolve_model(s.case.wall.material, options).density,
                        **options.mesh_settings())
     # the DYNA3D deck's DCPOST cards: each element's total, the case cells' totals shared by area
@@ -292,7 +292,7 @@ def deck_options(case: WhippleCase):
     from impactdyn.debris import DeckOptions
     from impactdyn.wall import resolve_model
 
-    options = case.wall_solver.options(case.wall.clamped_edges)
+    options = case.wall_options
     model = resolve_model(case.wall.material, options)
     return replace(DeckOptions.of(case), material=model.deck_material, hourglass=options.lsdyna_hourglass,
                    bulk_viscosity=(options.q1, options.q2), failure_strain_floor=model.deck_failure_strain_floor,

@@ -42,7 +42,7 @@ from impactdyn._config import Positive, Section, load_toml, validate
 from impactdyn._errors import InputError, reading
 from impactdyn._runfolder import atomic_output
 from impactdyn.ble import ShotDatabase, read_database
-from impactdyn.whipple._test_shot import ALLOYS
+from impactdyn.whipple._database_shot import ALLOYS
 
 RULES_DIR = Path(__file__).parent / "rules"
 

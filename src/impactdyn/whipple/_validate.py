@@ -34,7 +34,7 @@ from impactdyn.whipple._case import WhippleCase
 from impactdyn.whipple._limit import FAILED_VERDICTS
 from impactdyn.whipple._report import ble_verdict
 from impactdyn.whipple._shots import run_shot, shot_tasks, shot_workers
-from impactdyn.whipple._test_shot import DatabaseShot, database_shot_case
+from impactdyn.whipple._database_shot import DatabaseShot, database_shot_case
 
 VALIDATION_HEADER = ["line", "source", "shot_id", "diameter_cm", "velocity_km_s", "obliquity_deg",
                      "normal_velocity_km_s", "jsc_limit_cm", "d_over_limit", "test_perforated", "jsc_perforated",

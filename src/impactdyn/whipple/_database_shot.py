@@ -23,7 +23,7 @@ geometry forces, by these rules (S₀, d₀: the base case's stand-off and proje
 The shot's speed stretches neither the window nor the hand-off time ``shield.handoff_us``,
 unlike the speed families' :func:`~impactdyn.whipple._shots.shot_variant` (× V₀/V for a slower
 shot): these are the rules the validation sets' shots were run with, and the cases are kept
-reproducible (``tests/whipple/test_test_shot.py`` checks validation set 1's twelve).  On those
+reproducible (``tests/whipple/test_database_shot.py`` checks validation set 1's twelve).  On those
 shots (6.2–7.5 km/s) the window is at least 0.88 of the example's window per flight time
 t_cut·V/S.  A slow shot at a long stand-off is not so covered: where S/V approaches t_cut
 (10.16 cm at 4 km/s: 25 µs, the example's whole window) its cloud arrives late or not at all

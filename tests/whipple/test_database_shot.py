@@ -226,7 +226,7 @@ def test_a_written_case_rounds_the_scaled_sph_pitch_and_says_how_it_was_derived(
 
 
 def test_every_alloy_mapped_to_another_alloys_material_says_why():
-    from impactdyn.whipple._test_shot import SUBSTITUTED
+    from impactdyn.whipple._database_shot import SUBSTITUTED
 
     other = {alloy for alloy, material in ALLOYS.items() if alloy.lower().removeprefix("aa") != material.removeprefix("al")}
     assert other == set(SUBSTITUTED) == {"AA2017-T4", "AA2024-T3", "AA2024-T351"}
