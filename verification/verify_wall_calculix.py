@@ -143,10 +143,13 @@ def centre_node(mesh: wall.WallMesh) -> int:
 
 
 def report_wall_mesh(refinement: int) -> wall.WallMesh:
-    """The report's wall (:func:`bench_wall.report_wall`) refined ``refinement`` times, every edge clamped."""
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-    from bench_wall import report_wall  # the benchmark's wall, from benchmarks/
-    return wall.build_mesh(report_wall(), CARD.density, refinement, refinement, "clamped")
+    """The report's wall (the wall grid of ``examples/whipple/table2_7a.toml``, its front face at y = 0) refined
+    ``refinement`` times, every edge clamped."""
+    from impactdyn.whipple import load_whipple_case
+
+    w = load_whipple_case(Path(__file__).resolve().parents[1] / "examples" / "whipple" / "table2_7a.toml").wall
+    grid = WallGrid.uniform(tuple(w.x_cm), (0.0, w.thickness_cm), tuple(w.z_cm), tuple(w.nodes))
+    return wall.build_mesh(grid, CARD.density, refinement, refinement, "clamped")
 
 
 def permanent(t: np.ndarray, u: np.ndarray, t_end: float) -> tuple[float, float, float]:
