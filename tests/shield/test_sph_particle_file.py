@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from impactdyn import InputError
-from impactdyn.shield import History, sphere_on_plate
+from impactdyn.shield import History, fragments_of, read_fragments, sphere_on_plate, write_fragments
 from impactdyn.shield._io import read_particles, write_particles
 
 
@@ -33,3 +33,18 @@ def test_foreign_files_are_refused(tmp_path):
         read_particles(tmp_path / "text.h5")
     with pytest.raises(InputError, match="no such file"):
         read_particles(tmp_path / "missing.h5")
+
+
+def test_fragments_round_trip_exactly_and_foreign_files_are_refused(tmp_path):
+    p = sphere_on_plate("al6061-t6", "al6061-t6", 0.4, 2.0, 0.0, 0.127, 0.05).particles
+    fragments = fragments_of(p, link_length_cm=0.075)
+    assert len(fragments) > 0
+    write_fragments(tmp_path / "f.h5", fragments)
+    back = read_fragments(tmp_path / "f.h5")
+    for name in ("mass", "position", "velocity", "spin", "diameter_cm", "axes_cm", "count", "ptr", "members",
+                 "from_failed"):
+        np.testing.assert_array_equal(getattr(back, name), getattr(fragments, name))
+        assert getattr(back, name).dtype == getattr(fragments, name).dtype
+    write_particles(tmp_path / "p.h5", p)
+    with pytest.raises(InputError, match="not an impactdyn fragments file"):
+        read_fragments(tmp_path / "p.h5")

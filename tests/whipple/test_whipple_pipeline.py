@@ -14,10 +14,12 @@ from impactdyn.cli import main
 from impactdyn.debris import compact_arrival_us, half_model_share, read_arrivals, read_deposition
 from impactdyn.io import read_grid, read_lsdyna_deck
 from impactdyn.materials import Mat13Card
+from impactdyn.shield import read_fragments
 from impactdyn.shield._io import read_particles
 from impactdyn.whipple import ble_verdict, load_whipple_case, wall_ending
 from impactdyn.wall import ENDINGS, LSDYNA_HOURGLASS_TYPE
 from impactdyn.whipple._case import ble_shield, projectile_mass
+from impactdyn.whipple._cloud import debris_fragments
 from impactdyn.whipple._pipeline import deck_options, run_whipple
 
 EXAMPLES = Path(__file__).parents[2] / "examples" / "whipple"
@@ -43,7 +45,7 @@ def test_run_folder_holds_every_stage(run):
                  "binning/handoff_grid.h5", "debris/debris.h5", "debris/areal_density.csv",
                  "debris/plots/areal_density.png", "decks/wall.k", "decks/wall_dyna3d.inp",
                  "plots/cloud_handoff.png", "plots/ballistic_limit.png", "plots/conservation.png",
-                 "shield/fragments.csv", "wall/stage.json", "wall/wall.json", "wall/wall.pvd", "wall/plots/wall_front.png",
+                 "shield/fragments.csv", "shield/fragments.h5", "wall/stage.json", "wall/wall.json", "wall/wall.pvd", "wall/plots/wall_front.png",
                  "wall/plots/wall_rear.png", "wall/plots/wall_history.png"):
         assert (out / path).is_file(), path
     for path in HEAVY:
@@ -209,6 +211,17 @@ def test_restart_from_a_stage_reuses_the_earlier_ones(run, tmp_path, make_case):
     assert main(["whipple", "run", str(rebinned), "-o", str(copy), "--from", "binning"]) == 0
     assert read_grid(copy / "binning" / "handoff_grid.h5").x[1] == pytest.approx(0.12)
 
+
+def test_a_restart_of_a_folder_without_the_shield_stages_fragments_is_refused(run, tmp_path, capsys):
+    """The later stages read the fragments the shield stage found; a folder of an earlier version has none."""
+    case, out, _ = run
+    copy = tmp_path / "run"
+    shutil.copytree(out, copy)
+    (copy / "shield" / "fragments.h5").unlink()
+    assert main(["whipple", "run", str(case), "-o", str(copy), "--from", "binning"]) == 2
+    err = capsys.readouterr().err
+    assert "shield/fragments.h5" in err and "--from shield" in err and "Traceback" not in err
+    assert not (copy / "shield" / "fragments.h5").exists() and (copy / "summary.json").is_file()
 
 
 def test_debris_beyond_memory_is_refused_before_seeding_naming_the_binning_key(run, tmp_path, capsys, monkeypatch):
@@ -460,6 +473,12 @@ def test_a_fragmenting_shot_reports_its_solid_fragments(tmp_path, make_case, fai
     origins = {r["origin"] for r in rows}
     assert origins == ({"intact", "failed"} if failed == "grady" else {"intact"})
     assert "Solid fragments of the debris" in (out / "report.html").read_text()
+    # found once by the shield stage, read back exactly by the later ones
+    kept = read_fragments(out / "shield" / "fragments.h5")
+    found = debris_fragments(read_particles(out / "shield" / "particles.h5")[0], load_whipple_case(case))
+    for name in ("mass", "position", "velocity", "spin", "diameter_cm", "axes_cm", "count", "ptr", "members",
+                 "from_failed"):
+        np.testing.assert_array_equal(getattr(kept, name), getattr(found, name))
     # the projectile breaks into solid pieces: the largest of them, no heavier than the largest fragment
     state = json.loads((out / "summary.json").read_text())["stages"]["shield"]["debris_state"]
     check_debris_state(state, projectile_mass(load_whipple_case(case)))
@@ -472,7 +491,7 @@ def test_a_fragmenting_shot_reports_its_solid_fragments(tmp_path, make_case, fai
     assert compact["n_fragments"] >= 1 and stages["binning"]["n_particles_in_compact_fragments"] > 0
     particles, _ = read_particles(out / "shield" / "particles.h5")
     loaded = load_whipple_case(case)
-    from impactdyn.whipple._cloud import compact_fragments, compact_particles, debris_fragments
+    from impactdyn.whipple._cloud import compact_fragments, compact_particles
     fragments = compact_fragments(debris_fragments(particles, loaded), loaded)
     taken = compact_particles(fragments, len(particles))
     behind = particles.position[:, 1] >= loaded.bumper.thickness_cm

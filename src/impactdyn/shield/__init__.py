@@ -22,7 +22,7 @@ from impactdyn.shield._fragments import (Fragments, cumulative_number, find_frag
                                          join_fragments, plot_fragment_masses)
 from impactdyn.shield._grady import grady_fragment_size, grady_fragments
 from impactdyn.shield._integrate import SPHError, run
-from impactdyn.shield._io import read_particles, write_particles
+from impactdyn.shield._io import read_fragments, read_particles, write_fragments, write_particles
 from impactdyn.shield._melt import MELTED_SHARE, ReleasedPhase, released_phase, solid_particles
 from impactdyn.shield._neighbours import Domain, neighbour_pairs
 from impactdyn.shield._options import FAILURE_MODELS, FLOW_STRESS_MODELS, FailureModel, FlowStress, SPHOptions
@@ -34,5 +34,5 @@ __all__ = [
     "History", "MELTED_SHARE", "Particles", "ReleasedPhase", "Problem", "RunResult", "SPHError", "SPHOptions", "TENSOR_COMPONENTS", "bin_to_hydrogrid",
     "cumulative_number", "find_fragments", "fragment_rows", "fragments_of", "grady_fragment_size", "grady_fragments",
     "join_fragments", "neighbour_pairs", "planar_impact",
-    "plot_fragment_masses", "read_particles", "released_phase", "run", "solid_particles", "sphere_on_plate", "write_particles",
+    "plot_fragment_masses", "read_fragments", "read_particles", "released_phase", "run", "solid_particles", "sphere_on_plate", "write_fragments", "write_particles",
 ]

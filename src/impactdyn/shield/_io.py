@@ -1,4 +1,5 @@
-"""HDF5 file of an SPH state: the particles at one time and the run's history of totals.
+"""HDF5 files of an SPH state: the particles at one time and the run's history of totals; and the
+fragments found in them (:func:`write_fragments`, :func:`read_fragments`).
 
 Layout (units cm, g, µs, Mbar)::
 
@@ -19,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from impactdyn._errors import InputError
+from impactdyn.shield._fragments import Fragments
 from impactdyn.shield._state import History, Particles
 
 FORMAT = "impactdyn-sph-particles"
@@ -70,3 +72,40 @@ def read_particles(path: str | Path) -> tuple[Particles, History | None]:
         if "history" in f:
             history = History(**{name: f["history"][name][()] for name in _HISTORY_FIELDS})
     return particles, history
+
+
+FRAGMENTS_FORMAT = "impactdyn-fragments"
+_FRAGMENT_FIELDS = tuple(f.name for f in fields(Fragments))
+
+
+def write_fragments(path: str | Path, fragments: Fragments) -> None:
+    """Write every array of ``fragments`` (:class:`Fragments`) to ``path`` (``/fragments/<field>``), atomically:
+    the fragments are found once, by the stage that has the particles, and read back exactly by the others."""
+    import h5py
+
+    from impactdyn._runfolder import atomic_output
+
+    with atomic_output(path) as tmp, h5py.File(tmp, "w") as f:
+        f.attrs["format"] = FRAGMENTS_FORMAT
+        f.attrs["version"] = VERSION
+        f.attrs["units"] = "cm, g, us; spin rad/us"
+        g = f.create_group("fragments")
+        for name in _FRAGMENT_FIELDS:
+            g.create_dataset(name, data=getattr(fragments, name))
+
+
+def read_fragments(path: str | Path) -> Fragments:
+    """The fragments of a file written by :func:`write_fragments`."""
+    from impactdyn.io import open_hdf5
+
+    path = Path(path)
+    with open_hdf5(path) as f:
+        if f.attrs.get("format") != FRAGMENTS_FORMAT or f.attrs.get("version") != VERSION or "fragments" not in f:
+            raise InputError(f"{path}: not an impactdyn fragments file (format {FRAGMENTS_FORMAT!r}, "
+                             f"version {VERSION} expected)")
+        g = f["fragments"]
+        missing = [name for name in _FRAGMENT_FIELDS if name not in g]
+        if missing:
+            raise InputError(f"{path}: /fragments lacks {', '.join(missing)}")
+        return Fragments(**{name: g[name][()] for name in _FRAGMENT_FIELDS})
+

@@ -20,8 +20,11 @@ components and no x component.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
+from impactdyn._errors import InputError
 from impactdyn.units import KM_S_PER_CM_US
 
 #: Share of the debris mass whose mean axial velocity is the leading-edge velocity.
@@ -95,6 +98,19 @@ def debris_fragments(particles, case):
                                                               seed=s.fragment_seed))
     speed = km_s_to_cm_us(case.projectile.velocity_km_s)
     return fragments.select(fragments.velocity[:, 1] > DEBRIS_FRAGMENT_SPEED_FRACTION * speed)
+
+
+def stage_fragments(folder: Path):
+    """The debris fragments the shield stage of the run folder ``folder`` found (:func:`debris_fragments`,
+    ``shield/fragments.h5``): found once, read back exactly by the later stages.  A folder whose shield
+    stage predates the file is refused, naming the stage to run from."""
+    from impactdyn.shield import read_fragments
+
+    path = Path(folder) / "shield" / "fragments.h5"
+    if not path.is_file():
+        raise InputError(f"{folder}: its shield stage kept no fragments file (shield/fragments.h5: a run folder "
+                         "of an earlier version); run it again from the shield stage (--from shield)")
+    return read_fragments(path)
 
 
 def fragment_figures(fragments, projectile_mass_g: float) -> dict:

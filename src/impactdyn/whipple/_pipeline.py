@@ -7,7 +7,8 @@ stage with exactly the code path of a full run::
 
     shield/    particles.h5        SPH particles at the hand-off time and the history of totals
                particles.vtu       the same as points (ParaView)
-               fragments.csv       the debris's solid fragments, largest first (mass, size, velocity, spin, shape)
+               fragments.h5        the debris's solid fragments, found once here and read by the later stages
+               fragments.csv       the same, largest first (mass, size, velocity, spin, shape)
     binning/   handoff_grid.h5     the HydroGrid binned from the particles behind the bumper
     debris/    (an ``impactdyn debris run`` folder: summary.json, config.resolved.toml — a
                runnable debris case —, areal_density.csv, debris.h5, particles_*.vtu,
@@ -59,7 +60,7 @@ from impactdyn.whipple._case import WhippleCase
 from impactdyn.whipple._stages import DEPENDS, KEEP, STAGES, Progress, StageContext, read_stage, settings
 
 def _shield(s: StageContext) -> dict:
-    from impactdyn.shield import fragment_rows, run, write_particles
+    from impactdyn.shield import fragment_rows, run, write_fragments, write_particles
     from impactdyn.whipple._case import projectile_mass, shield_problem
     from impactdyn.whipple._cloud import debris_fragments, debris_state, fragment_figures, projectile_particles
 
@@ -71,6 +72,7 @@ def _shield(s: StageContext) -> dict:
     if s.case.output.vtk:
         _write_points_vtk(out.file("particles.vtu"), result.state)
     fragments = debris_fragments(result.state, s.case)
+    write_fragments(out.file("fragments.h5"), fragments)
     out.write_csv("fragments.csv", *fragment_rows(fragments))
     h = result.history
     p0 = h.momentum[0]
@@ -115,12 +117,12 @@ def _binning(s: StageContext) -> dict:
     from impactdyn.shield import bin_to_hydrogrid
     from impactdyn.shield import read_particles
     from impactdyn.whipple._case import binning_region
-    from impactdyn.whipple._cloud import compact_fragments, compact_particles, debris_fragments
+    from impactdyn.whipple._cloud import compact_fragments, compact_particles, stage_fragments
 
     s.report("binning", 0, 1)
     particles, _ = read_particles(s.folder.path / "shield" / "particles.h5")
     # the compact fragments fly to the wall on their own (the debris stage): not binned into the cloud
-    compact = compact_particles(compact_fragments(debris_fragments(particles, s.case), s.case), len(particles))
+    compact = compact_particles(compact_fragments(stage_fragments(s.folder.path), s.case), len(particles))
     particles = particles.select(~compact)
     region = binning_region(s.case, particles)
     cell = s.case.binning.cell_size_cm
@@ -177,11 +179,9 @@ def _landing_fragments(case: WhippleCase, folder: Path):
     and which of them reach the wall inside the case's arrival window (``[filter]`` t_min_us, t_cut_us, as the
     cloud's particles): (fragments, inside (F,) bool)."""
     from impactdyn.debris import compact_arrival_us
-    from impactdyn.shield import read_particles
-    from impactdyn.whipple._cloud import compact_fragments, debris_fragments
+    from impactdyn.whipple._cloud import compact_fragments, stage_fragments
 
-    particles, _ = read_particles(folder / "shield" / "particles.h5")
-    fragments = compact_fragments(debris_fragments(particles, case), case)
+    fragments = compact_fragments(stage_fragments(folder), case)
     arrival = compact_arrival_us(case.wall_front_y, fragments.diameter_cm, fragments.position, fragments.velocity)
     return fragments, (arrival >= case.filter.t_min_us) & (arrival <= case.filter.t_cut_us)
 

@@ -186,7 +186,7 @@ def write_report(folder: FolderWriter, case: WhippleCase, keep: str = "all") -> 
     ``keep``: how much of the output the run keeps (``--keep``, lean or all), recorded in the summary."""
     from impactdyn.shield import plot_fragment_masses, read_particles
     from impactdyn.whipple._case import projectile_mass
-    from impactdyn.whipple._cloud import cloud_figures, debris_fragments
+    from impactdyn.whipple._cloud import cloud_figures, stage_fragments
 
     records = _records(folder)
     particles, history = read_particles(folder.path / "shield" / "particles.h5")
@@ -197,7 +197,7 @@ def write_report(folder: FolderWriter, case: WhippleCase, keep: str = "all") -> 
     _plot_cloud(plots.file("cloud_handoff.png"), particles, case, cloud)
     _plot_ble(plots.file("ballistic_limit.png"), case, ble)
     _plot_conservation(plots.file("conservation.png"), history)
-    fragments = debris_fragments(particles, case)
+    fragments = stage_fragments(folder.path)
     if len(fragments):  # with none, the report says so in words: empty axes would read as a failed plot
         plot_fragment_masses(plots.file("fragments.png"), fragments, projectile_mass_g=projectile_mass(case),
                              title=f"Solid fragments of the debris at {case.shield.handoff_us:g} µs "
