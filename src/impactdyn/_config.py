@@ -40,13 +40,13 @@ from pathlib import Path
 from typing import Annotated, Any, TypeVar
 
 import tomli_w
-from pydantic import AfterValidator, BaseModel, ConfigDict, Field, TypeAdapter, ValidationError, create_model, model_validator
+from pydantic import (AfterValidator, BaseModel, ConfigDict, Field, TypeAdapter, ValidationError, create_model,
+                      model_validator)
 from pydantic.fields import FieldInfo
 
 from impactdyn._errors import InputError, reading
 
 M = TypeVar("M", bound=BaseModel)
-
 
 
 def _normal(value: float) -> float:

@@ -29,13 +29,14 @@ import numpy as np
 from impactdyn.debris import deposit, read_deposition
 from impactdyn.debris._particle import P_SLICE
 from impactdyn.io import open_hdf5
+from impactdyn.materials import get_material
 from impactdyn.wall import run_wall, wall_model
 from impactdyn.wallgrid import WallDeposition, WallGrid
 from impactdyn.whipple import load_whipple_case
+from impactdyn.whipple._case import projectile_mass
 
-#: The walls of the family (validation/impulse-family.md): model, thickness (cm), yield σ (ksi), density.
-WALLS = {"A": ("al6061-t6", 0.3175, 40.0, 2.703), "B": ("al6061-t6", 0.16, 40.0, 2.703),
-         "C": ("al2024-t4", 0.635, 50.0, 2.785)}
+#: The walls of the family (validation/impulse-family.md): model, thickness (cm), yield σ (ksi).
+WALLS = {"A": ("al6061-t6", 0.3175, 40.0), "B": ("al6061-t6", 0.16, 40.0), "C": ("al2024-t4", 0.635, 50.0)}
 FAILED = ("perforation", "detached spall")
 BRACKET = 1.10
 BAND = 1.5          # k_c / k_14 within [1/BAND, BAND]: consistent with eq. 14 (validation/impulse-family.md)
@@ -45,15 +46,19 @@ FINE = 4            # in-plane refinement of the face grid for the ``fine-load``
 def projectile(case) -> tuple[float, float]:
     """(M_p g, V_n km/s) of the case's projectile (V_n = V cos θ)."""
     p = case.projectile
-    rho = {"al6061-t6": 2.703, "al2024-t4": 2.785}[p.material]
-    return rho * math.pi / 6.0 * p.diameter_cm ** 3, p.velocity_km_s * math.cos(math.radians(p.obliquity_deg))
+    return projectile_mass(case), p.velocity_km_s * math.cos(math.radians(p.obliquity_deg))
+
+
+def areal_density(wall: str) -> float:
+    """m_w (σ/40)^½ of the wall, g/cm²: eq. 14's wall term."""
+    model, t, sigma = WALLS[wall]
+    return get_material(model).rho0 * t * math.sqrt(sigma / 40.0)
 
 
 def k_eq14(wall: str, case) -> float:
     """Eq. 14's failing mass over M_p for the wall (validation/impulse-family.md)."""
-    _, t, sigma, rho = WALLS[wall]
     mass, vn = projectile(case)
-    return rho * t * case.wall.spacing_cm ** 2 * math.sqrt(sigma / 40.0) / (41.7 * mass * vn)
+    return areal_density(wall) * case.wall.spacing_cm ** 2 / (41.7 * mass * vn)
 
 
 def fine_deposition(run: Path, wall: WallGrid) -> tuple[WallGrid, WallDeposition]:
@@ -70,7 +75,7 @@ def fine_deposition(run: Path, wall: WallGrid) -> tuple[WallGrid, WallDeposition
 
 
 def one_run(run: Path, case, wall_name: str, k: float, variant: str) -> dict:
-    model, t, _, _ = WALLS[wall_name]
+    model, t, _ = WALLS[wall_name]
     grid, dep, _ = read_deposition(run / "debris" / "debris.h5")
     options = case.wall_options
     if variant == "fine-load":
@@ -151,12 +156,12 @@ def jsc_mass(wall: str, case) -> float:
     """The projectile mass (g) of the JSC Whipple equation's d_c for the case's shot on the wall."""
     from impactdyn.ble import WhippleShield, jsc_verdict
 
-    _, t, sigma, rho = WALLS[wall]
+    _, t, sigma = WALLS[wall]
     p = case.projectile
     shield = WhippleShield(bumper_thickness_cm=case.bumper.thickness_cm, wall_thickness_cm=t,
                            spacing_cm=case.wall.spacing_cm, wall_yield_ksi=sigma)
     d_c = jsc_verdict(shield, p.diameter_cm, p.velocity_km_s, p.obliquity_deg)["critical_diameter_cm"]
-    return 2.703 * math.pi / 6.0 * d_c ** 3
+    return get_material(p.material).rho0 * math.pi / 6.0 * d_c ** 3
 
 
 def plot(out: Path, case, figure: Path) -> None:
@@ -176,21 +181,21 @@ def plot(out: Path, case, figure: Path) -> None:
     ax.fill_between(x, x * s ** 2 / (41.7 * vn) / BAND, x * s ** 2 / (41.7 * vn) * BAND, color="0.9",
                     label=f"eq. 14 × or ÷ {BAND:g} (consistent)")
     for variant, marker, shift in (("base", "o", 0.0), ("fine-load", "s", -0.04), ("spall-cutoff", "^", 0.04)):
-        for name, (_, t, sigma, rho) in WALLS.items():
+        for name in WALLS:
             runs = [r for r in rows if r["wall"] == name and r["variant"] == variant]
             held = [r["k"] for r in runs if not r["failed"]]
             failed = [r["k"] for r in runs if r["failed"]]
             if not (held and failed):
                 continue
-            xw = rho * t * math.sqrt(sigma / 40.0) + shift
+            xw = areal_density(name) + shift
             lo, hi = max(held) * mass, min(failed) * mass
             ax.errorbar([xw], [math.sqrt(lo * hi)], yerr=[[math.sqrt(lo * hi) - lo], [hi - math.sqrt(lo * hi)]],
                         fmt=marker, color={"base": "C0", "fine-load": "C1", "spall-cutoff": "C2"}[variant], capsize=3,
                         label=f"simulated ({variant})" if name == "A" else None)
-    for name, (_, t, sigma, rho) in WALLS.items():
-        ax.plot([rho * t * math.sqrt(sigma / 40.0)], [jsc_mass(name, case)], "kx",
+    for name in WALLS:
+        ax.plot([areal_density(name)], [jsc_mass(name, case)], "kx",
                 label="JSC Whipple equation" if name == "A" else None)
-        ax.annotate(name, (rho * t * math.sqrt(sigma / 40.0), 0.0), textcoords="offset points", xytext=(0, 4),
+        ax.annotate(name, (areal_density(name), 0.0), textcoords="offset points", xytext=(0, 4),
                     ha="center")
     ax.set_xlabel("wall areal density × (σ/40 ksi)^½  (g/cm²)")
     ax.set_ylabel("projectile mass that fails the wall (g)")

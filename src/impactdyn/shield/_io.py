@@ -108,4 +108,3 @@ def read_fragments(path: str | Path) -> Fragments:
         if missing:
             raise InputError(f"{path}: /fragments lacks {', '.join(missing)}")
         return Fragments(**{name: g[name][()] for name in _FRAGMENT_FIELDS})
-

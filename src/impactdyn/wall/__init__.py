@@ -25,7 +25,7 @@ from impactdyn.wall._models import MODELS, WallModel, register_model, wall_model
 from impactdyn.wall._mat13 import Mat13Model
 from impactdyn.wall._johnson_cook import JohnsonCookModel
 from impactdyn.wall._mesh import MESH_KINDS, SUPPORTS, WallMesh, build_mesh
-from impactdyn.wall._grading import FRAGMENT_DIAMETER_CM, check_mesh_sizes, core_element_size, graded_nodes, rebin_deposition, resolving_region, solver_mesh
+from impactdyn.wall._grading import FRAGMENT_DIAMETER_CM, check_mesh_sizes, core_element_size, graded_nodes, rebin_deposition, resolving_region, solver_grid, solver_mesh
 from impactdyn.wall._load import SPREADS, NodalLoad, default_depth, depth_weights, nodal_load
 from impactdyn.wall._result import ENDINGS, HISTORY_KEYS, WallFrame, WallResult
 from impactdyn.wall._state import FAILURE_CAUSES
@@ -39,6 +39,6 @@ __all__ = [
     "NO_PERFORATION", "NodalLoad", "PERFORATION", "SPREADS", "SUPPORTS", "VERDICTS", "WallFrame", "WallMesh",
     "FRAGMENT_DIAMETER_CM", "WallModel", "WallOptions", "WallResult", "WallSolver", "WallSolverError", "build_mesh", "check_end_times", "check_mesh_sizes", "classify", "core_element_size",
     "default_depth", "depth_weights", "failed_mass_by_cause", "graded_nodes", "measures", "nodal_load",
-    "rebin_deposition", "register_model", "resolve_model", "resolving_region", "run_wall", "solver_mesh",
+    "rebin_deposition", "register_model", "resolve_model", "resolving_region", "run_wall", "solver_grid", "solver_mesh",
     "wall_model", "write_wall_outputs",
 ]

@@ -96,7 +96,7 @@ import numpy as np
 from impactdyn._errors import InputError
 from impactdyn.ble import SingleWall, penetration_depth
 from impactdyn.wall._mesh import (
-    MESH_KINDS, WallMesh, assemble_mesh, build_mesh, check_density_supports, check_refinements, refine)
+    MESH_KINDS, WallMesh, assemble_mesh, check_density_supports, check_refinements, refined)
 from impactdyn.wallgrid import WallDeposition, WallGrid, check_nodes, face_overlaps
 
 #: Layers through the thickness at least: the bulge converges from 8 (module docstring).
@@ -256,7 +256,26 @@ def solver_mesh(wall: WallGrid, deposition: WallDeposition, density: float, *, m
                 element_size_cm: float | None = None, grading_ratio: float = GRADING_RATIO,
                 max_element_size_cm: float | None = None, refinement_thickness: int = 1,
                 refinement_plane: int = 1, supports: str = "dyngen") -> WallMesh:
-    """The wall stage's mesh of the case's grid ``wall`` under ``deposition`` (on that grid).
+    """The wall stage's mesh of the case's grid ``wall`` under ``deposition`` (on that grid): the nodes of
+    :func:`solver_grid`, with ρ₀ = ``density``, the lumped masses and the ``supports``.
+
+    :func:`~._load.nodal_load` takes the deposition on ``wall`` to the mesh's nodes; the deck writers
+    take ``mesh.grid`` and the records re-binned onto it (:func:`rebin_deposition`).  Raises
+    :class:`InputError` naming the key.
+    """
+    check_density_supports(density, supports)
+    grid = solver_grid(wall, deposition, mesh=mesh, element_size_cm=element_size_cm, grading_ratio=grading_ratio,
+                       max_element_size_cm=max_element_size_cm, refinement_thickness=refinement_thickness,
+                       refinement_plane=refinement_plane)
+    refinement = check_refinements(refinement_thickness, refinement_plane)
+    return assemble_mesh(wall, grid, density, supports, refinement=refinement, kind=mesh)
+
+
+def solver_grid(wall: WallGrid, deposition: WallDeposition, *, mesh: str = "graded",
+                element_size_cm: float | None = None, grading_ratio: float = GRADING_RATIO,
+                max_element_size_cm: float | None = None, refinement_thickness: int = 1,
+                refinement_plane: int = 1) -> WallGrid:
+    """The nodes of the wall stage's mesh (:func:`solver_mesh`), without its masses and supports.
 
     ``mesh`` one of :data:`MESH_KINDS`:
 
@@ -267,18 +286,13 @@ def solver_mesh(wall: WallGrid, deposition: WallDeposition, density: float, *, m
       smaller); then every element cut into ``refinement_thickness`` layers and
       ``refinement_plane`` × ``refinement_plane`` pieces in the plane, the same mesh refined
       uniformly (the convergence study's "2×").
-    * ``"report"``: :func:`~._mesh.build_mesh` with the refinements.
-
-    :func:`~._load.nodal_load` takes the deposition on ``wall`` to the mesh's nodes; the deck writers
-    take ``mesh.grid`` and the records re-binned onto it (:func:`rebin_deposition`).  Raises
-    :class:`InputError` naming the key.
+    * ``"report"``: ``wall`` itself with the refinements (:func:`~._mesh.build_mesh`).
     """
     if mesh not in MESH_KINDS:
         raise InputError(f"mesh: {mesh!r}, expected one of {MESH_KINDS}")
     deposition.check_fits(wall)
     if mesh == "report":
-        return build_mesh(wall, density, refinement_thickness, refinement_plane, supports)
-    check_density_supports(density, supports)
+        return refined(wall, *check_refinements(refinement_thickness, refinement_plane))
     thickness = wall.thickness
     check_mesh_sizes(min(wall.x[-1] - wall.x[0], wall.z[-1] - wall.z[0]), element_size_cm, max_element_size_cm)
     h = core_element_size(thickness) if element_size_cm is None else element_size_cm
@@ -292,9 +306,7 @@ def solver_mesh(wall: WallGrid, deposition: WallDeposition, density: float, *, m
         if h_max < h_core:
             raise InputError(f"max_element_size_cm: {h_max:g} cm is below the core element's {h_core:g} cm")
     grid, _ = graded_grid(wall, deposition, h_core, grading_ratio, h_max)
-    rt, rp = check_refinements(refinement_thickness, refinement_plane)
-    grid = WallGrid(refine(grid.x, rp), refine(grid.y, rt), refine(grid.z, rp))
-    return assemble_mesh(wall, grid, density, supports, refinement=(rt, rp), kind="graded")
+    return refined(grid, *check_refinements(refinement_thickness, refinement_plane))
 
 
 def check_mesh_sizes(extent_cm: float, element_size_cm: float | None, max_element_size_cm: float | None) -> None:

@@ -200,8 +200,12 @@ def build_mesh(wall: WallGrid, density: float, refinement_thickness: int = 1, re
     """
     rt, rp = check_refinements(refinement_thickness, refinement_plane)
     check_density_supports(density, supports)
-    grid = WallGrid(refine(wall.x, rp), refine(wall.y, rt), refine(wall.z, rp))
-    return assemble_mesh(wall, grid, density, supports, refinement=(rt, rp), kind="report")
+    return assemble_mesh(wall, refined(wall, rt, rp), density, supports, refinement=(rt, rp), kind="report")
+
+
+def refined(grid: WallGrid, through: int, plane: int) -> WallGrid:
+    """``grid`` with every element cut into ``through`` layers and ``plane`` × ``plane`` pieces in the plane."""
+    return WallGrid(refine(grid.x, plane), refine(grid.y, through), refine(grid.z, plane))
 
 
 def assemble_mesh(parent: WallGrid, grid: WallGrid, density: float, supports: str,

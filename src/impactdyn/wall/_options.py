@@ -187,10 +187,14 @@ class WallOptions(Section):
         except InputError as err:
             raise ValueError(str(err).removeprefix("material_model: ")) from None
 
+    def grid_settings(self) -> dict:
+        """The keywords of :func:`impactdyn.wall.solver_grid` these options set (the mesh's nodes)."""
+        return {key: getattr(self, key) for key in ("mesh", "element_size_cm", "grading_ratio", "max_element_size_cm",
+                                                    "refinement_thickness", "refinement_plane")}
+
     def mesh_settings(self) -> dict:
         """The keywords of :func:`impactdyn.wall.solver_mesh` these options set."""
-        return {key: getattr(self, key) for key in ("mesh", "element_size_cm", "grading_ratio", "max_element_size_cm",
-                                                    "refinement_thickness", "refinement_plane", "supports")}
+        return self.grid_settings() | {"supports": self.supports}
 
     @property
     def hourglass_form(self) -> int:

@@ -201,13 +201,11 @@ def _mesh_scale_peak(case: WhippleCase, result, fragments, inside) -> dict:
     case's grid, on whose cells the wall is loaded, smooths away (the wall stage shares each case cell's
     impulse among the mesh's face cells it covers by area)."""
     from impactdyn.debris import areal_density, element_impulse
-    from impactdyn.wall import resolve_model, solver_mesh
+    from impactdyn.wall import solver_grid
 
     if not result.deposition.element.size:
         return {"peak_g_cm_us": 0.0, "cell_cm": None}
-    options = case.wall_options
-    face = solver_mesh(result.wall, result.deposition, resolve_model(case.wall.material, options).density,
-                       **options.mesh_settings()).grid
+    face = solver_grid(result.wall, result.deposition, **case.wall_options.grid_settings())
     impulse = element_impulse(result.deposition_on(face), face)
     if inside.any():
         impulse = impulse + element_impulse(_compact_records(case, face, fragments, inside), face)

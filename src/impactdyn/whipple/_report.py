@@ -50,14 +50,11 @@ def ble_verdict(case: WhippleCase) -> dict:
         shield, p.diameter_cm, p.velocity_km_s, p.obliquity_deg, rho_p)
 
 
-def momentum_ledger(debris: dict) -> dict | None:
+def momentum_ledger(debris: dict) -> dict:
     """Where the debris's momentum at hand-off went, cloud and compact fragments together (g·cm/µs, half
     model): ``in`` = ``deposited`` + ``outside_window`` + ``off_wall`` (landed beyond the face grid) +
     ``not_reaching`` (never reaches the wall plane) + ``failed`` (its flight's integration failed), to
-    round-off (without DYNOUT's legacy momentum enhancement).  None for a debris record written before
-    the ledger was kept."""
-    if "momentum_outside_window" not in debris:
-        return None
+    round-off (without DYNOUT's legacy momentum enhancement)."""
     compact = debris["compact_fragments"]
     cloud = {k: np.array(debris[f"momentum_{k}"]) for k in ("in", "outside_window", "off_wall", "not_reaching",
                                                              "failed")}
@@ -73,12 +70,12 @@ def deposition_figures(debris: dict) -> dict:
     """Wall figures of the debris stage's record (half model; the full model doubles y and z)."""
     p = np.array(debris["momentum_deposited"])
     peak = debris["peak_areal_density_g_cm_us"]
-    mesh_peak = debris.get("peak_areal_density_mesh")
+    mesh_peak = debris["peak_areal_density_mesh"]
     return {
         "peak_areal_momentum_g_cm_us": peak,
         "peak_areal_momentum_N_s_cm2": N_S_PER_G_CM_US * peak,
-        "peak_areal_momentum_mesh_N_s_cm2": None if mesh_peak is None else N_S_PER_G_CM_US * mesh_peak["peak_g_cm_us"],
-        "mesh_face_cell_cm": None if mesh_peak is None else mesh_peak["cell_cm"],
+        "peak_areal_momentum_mesh_N_s_cm2": N_S_PER_G_CM_US * mesh_peak["peak_g_cm_us"],
+        "mesh_face_cell_cm": mesh_peak["cell_cm"],
         "momentum_ledger_g_cm_us": momentum_ledger(debris),
         "impulse_on_wall_g_cm_us": p.tolist(),
         "impulse_on_wall_normal_N_s_full_model": 2.0 * N_S_PER_G_CM_US * float(p[1]),
@@ -118,8 +115,8 @@ def wall_figures(wall: dict, ble: dict) -> dict:
     """The wall stage's verdict beside the equation's, and its headline measures."""
     m = wall["measures"]
     keys = ("crater_depth_ratio", "crater_depth_cm", "crater_resolved", "rear_bulge_cm", "peak_rear_bulge_cm",
-            "peak_rear_bulge_time_us", "peak_rear_velocity_km_s", "failed_mass_g", "eroded_mass_g", "spall_mass_g", "failed_mass_by_cause_g",
-            "failed_elements", "eroded_elements", "hourglass_to_internal", "end_time_us", "ended_by",
+            "peak_rear_bulge_time_us", "peak_rear_velocity_km_s", "failed_mass_g", "eroded_mass_g", "spall_mass_g",
+            "failed_mass_by_cause_g", "failed_elements", "eroded_elements", "hourglass_to_internal", "end_time_us", "ended_by",
             "perforated_at_us", "kinetic_left_fraction", "steps", "permanent_rear_bulge_cm", "settled", "settle_steps",
             "settle_error")
     return {"verdict": wall["verdict"], "criterion": wall["evidence"].get("criterion"),
@@ -378,15 +375,11 @@ def _crater(wall: dict) -> str:
 
 def _mesh_peak(dep: dict) -> str:
     """The peak areal momentum on the wall mesh's own face cells, and their size."""
-    if dep.get("peak_areal_momentum_mesh_N_s_cm2") is None:
-        return "–"
     return f"{_fmt(dep['peak_areal_momentum_mesh_N_s_cm2'], 'N·s/cm²')} ({_fmt(dep['mesh_face_cell_cm'], 'cm', 2)} cells)"
 
 
-def _ledger(ledger: dict | None) -> str:
+def _ledger(ledger: dict) -> str:
     """The normal component of the momentum ledger (:func:`momentum_ledger`), full model, N·s and shares."""
-    if ledger is None:
-        return "–"
     total = ledger["in"][1]
     parts = [ledger[k][1] for k in ("deposited", "outside_window", "off_wall", "not_reaching", "failed")]
     share = (lambda v: f" ({100.0 * v / total:.1f} %)") if total else (lambda v: "")
@@ -437,7 +430,7 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
         ("peak areal momentum on the wall: on the case grid's cells (the load); on the wall mesh's face cells",
          _fmt(dep["peak_areal_momentum_N_s_cm2"], "N·s/cm²") + "; " + _mesh_peak(dep)),
         ("the debris's normal momentum (full model): on the wall, outside the arrival window, off the face grid, "
-         "never reaching the wall, failed flights", _ledger(dep.get("momentum_ledger_g_cm_us"))),
+         "never reaching the wall, failed flights", _ledger(dep["momentum_ledger_g_cm_us"])),
         ("impulse on the wall, normal (full model)", _fmt(dep["impulse_on_wall_normal_N_s_full_model"], "N·s")),
         ("arrival times (first, median, last)", "–" if not dep["arrival_time_us"] else
          ", ".join(_fmt(dep["arrival_time_us"][k]) for k in ("first", "median", "last")) + " µs after hand-off"),
