@@ -180,6 +180,9 @@ BAD_INPUT: dict[str, dict[str, Builder]] = {
         "missing file": _missing("whipple", "run"),
         "unknown key": lambda d, out: (["whipple", "run", str(whipple_case(d, **{"shield.bogus": 1})), "-o", str(out)],
                                        "shield.bogus: unknown key"),
+        "bad momentum transfer": lambda d, out: (
+            ["whipple", "run", str(whipple_case(d, **{"wall.momentum_transfer": "bounce"})), "-o", str(out)],
+            "wall.momentum_transfer"),
         "SPH particles beyond memory": lambda d, out: (
             ["whipple", "run", str(whipple_case(d, **{"shield.spacing_cm": 1e-5})), "-o", str(out)],
             "shield.spacing_cm = 1e-05"),

@@ -8,6 +8,7 @@ needed by the ``fine-load`` variant)::
     python studies/wall-load/impulse_family.py runs/table2_10a --out impulse_family.jsonl
     python studies/wall-load/impulse_family.py runs/table2_10a --out impulse_family.jsonl --walls A --variant fine-load
     python studies/wall-load/impulse_family.py runs/table2_10a --out impulse_family.jsonl --walls A --variant spall-cutoff
+    python studies/wall-load/impulse_family.py runs/table2_10a --out impulse_family.jsonl --variant cratering
     python studies/wall-load/impulse_family.py runs/table2_10a --out impulse_family.jsonl --count
     python studies/wall-load/impulse_family.py runs/table2_10a --out impulse_family.jsonl --plot impulse_family.png
 
@@ -26,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from impactdyn.debris import deposit, read_deposition
+from impactdyn.debris import cratering_momentum, deposit, read_deposition
 from impactdyn.debris._particle import P_SLICE
 from impactdyn.io import open_hdf5
 from impactdyn.materials import get_material
@@ -41,6 +42,9 @@ FAILED = ("perforation", "detached spall")
 BRACKET = 1.10
 BAND = 1.5          # k_c / k_14 within [1/BAND, BAND]: consistent with eq. 14 (validation/impulse-family.md)
 FINE = 4            # in-plane refinement of the face grid for the ``fine-load`` variant
+#: The variants' markers, colours and offsets along the figure's x axis (cm of the wall term, to keep them apart).
+VARIANT_STYLE = {"base": ("o", "C0", 0.0), "fine-load": ("s", "C1", -0.04), "spall-cutoff": ("^", "C2", 0.04),
+                 "cratering": ("D", "C3", 0.08)}
 
 
 def projectile(case) -> tuple[float, float]:
@@ -74,6 +78,19 @@ def fine_deposition(run: Path, wall: WallGrid) -> tuple[WallGrid, WallDeposition
     return fine, dep
 
 
+def cratering_deposition(run: Path, wall: WallGrid) -> WallDeposition:
+    """The arrival points of ``debris.h5`` deposited on the case grid with each particle's normal momentum times
+    the cratering β(V_n) (:func:`impactdyn.debris.cratering_momentum`), as ``wall.momentum_transfer =
+    "cratering"`` deposits it."""
+    with open_hdf5(run / "debris" / "debris.h5") as f:
+        index, code = f["arrival/index"][()], f["arrival/code"][()]
+        points, states = f["arrival/points"][()], f["arrival/states"][()]
+        t_arrival, mass = f["particles/t_arrival"][()], f["particles/mass"][()]
+    ok = code == 0
+    momentum = cratering_momentum(states[ok][:, P_SLICE], mass[index][ok])
+    return deposit(points[ok], momentum, t_arrival[index][ok], wall)[0]
+
+
 def one_run(run: Path, case, wall_name: str, k: float, variant: str) -> dict:
     model, t, _ = WALLS[wall_name]
     grid, dep, _ = read_deposition(run / "debris" / "debris.h5")
@@ -81,6 +98,8 @@ def one_run(run: Path, case, wall_name: str, k: float, variant: str) -> dict:
     if variant == "fine-load":
         grid, dep = fine_deposition(run, grid)
         options = options.model_copy(update={"max_element_size_cm": 0.16})
+    if variant == "cratering":
+        dep = cratering_deposition(run, grid)
     if variant == "spall-cutoff":     # the spall law at its limit: failure at once at p < −p_spall
         model = wall_model(options.material_model, model, spall_law="cutoff")
     wall = WallGrid(x=grid.x, y=grid.y[0] + np.linspace(0.0, t, grid.y.size), z=grid.z)
@@ -180,7 +199,7 @@ def plot(out: Path, case, figure: Path) -> None:
     ax.plot(x, x * s ** 2 / (41.7 * vn), "k-", label="Christiansen 1993 eq. 14")
     ax.fill_between(x, x * s ** 2 / (41.7 * vn) / BAND, x * s ** 2 / (41.7 * vn) * BAND, color="0.9",
                     label=f"eq. 14 × or ÷ {BAND:g} (consistent)")
-    for variant, marker, shift in (("base", "o", 0.0), ("fine-load", "s", -0.04), ("spall-cutoff", "^", 0.04)):
+    for variant, (marker, colour, shift) in VARIANT_STYLE.items():
         for name in WALLS:
             runs = [r for r in rows if r["wall"] == name and r["variant"] == variant]
             held = [r["k"] for r in runs if not r["failed"]]
@@ -190,7 +209,7 @@ def plot(out: Path, case, figure: Path) -> None:
             xw = areal_density(name) + shift
             lo, hi = max(held) * mass, min(failed) * mass
             ax.errorbar([xw], [math.sqrt(lo * hi)], yerr=[[math.sqrt(lo * hi) - lo], [hi - math.sqrt(lo * hi)]],
-                        fmt=marker, color={"base": "C0", "fine-load": "C1", "spall-cutoff": "C2"}[variant], capsize=3,
+                        fmt=marker, color=colour, capsize=3,
                         label=f"simulated ({variant})" if name == "A" else None)
     for name in WALLS:
         ax.plot([areal_density(name)], [jsc_mass(name, case)], "kx",
@@ -216,7 +235,7 @@ def main() -> None:
     ap.add_argument("run", type=Path, help="the 10a run folder (--keep all)")
     ap.add_argument("--out", type=Path, default=Path("impulse_family.jsonl"))
     ap.add_argument("--walls", default="A,B,C")
-    ap.add_argument("--variant", choices=("base", "fine-load", "spall-cutoff"), default="base")
+    ap.add_argument("--variant", choices=tuple(VARIANT_STYLE), default="base")
     ap.add_argument("--count", action="store_true", help="print the momentum ledger and stop")
     ap.add_argument("--plot", type=Path, help="draw the runs in --out against eq. 14 into this PNG and stop")
     args = ap.parse_args()

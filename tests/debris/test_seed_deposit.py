@@ -4,8 +4,9 @@ import numpy as np
 import pytest
 
 from impactdyn.debris import (
-    POINTS_PER_PARTICLE, AL_6061_T6_MAT13, ArrivalWindow, ComputeOptions, HydroGrid, ParticleMaterial, SeedFilter, WallGrid,
-    areal_density, arrival_times, deposit, element_impulse, element_records, face_areas, face_element,
+    AL_6061_T6_MAT13, CRATERING_MOMENTUM, POINTS_PER_PARTICLE, ArrivalWindow, ComputeOptions, DepositionOptions,
+    HydroGrid, ParticleMaterial, SeedFilter, WallGrid, areal_density, arrival_times, cratering_factor, cratering_momentum, deposit,
+    element_impulse, element_records, face_areas, face_element,
     propagate_chunked, remap_impulse, run_debris, seed_cells, seed_particles, signed_volume)
 
 AL = ParticleMaterial(mu=0.276, lam=0.536, rho_ref=2.703, eta=1.0)
@@ -162,9 +163,11 @@ def test_wall_material_of_the_report():
     assert AL_6061_T6_MAT13.youngs_modulus == pytest.approx(0.734, abs=1e-3)
 
 
-def test_the_clouds_momentum_is_accounted_for_in_full():
+@pytest.mark.parametrize("transfer", ["arrival", "cratering"])
+def test_the_clouds_momentum_is_accounted_for_in_full(transfer):
     """momentum in = arrived + failed + outside the window + never reaching the wall plane, and
-    arrived = deposited + off the face grid, to round-off, on a cloud that takes every path."""
+    arrived + added at the wall = deposited + off the face grid, to round-off, on a cloud that takes
+    every path; the crater ejecta add (β − 1) times the normal momentum that lands on the face grid."""
     shape = (8, 2, 8)
     g = slab_grid(shape=shape, origin=(0.0, -0.6, 0.0))
     v = np.zeros(shape + (3,))
@@ -176,14 +179,40 @@ def test_the_clouds_momentum_is_accounted_for_in_full():
                   pressure=g.pressure, temperature=g.temperature, specific_energy=g.specific_energy,
                   sound_speed=g.sound_speed, velocity=v)
     wall = WallGrid.uniform((0.0, 0.8), (0.0, 0.3), (0.0, 0.8), (5, 2, 5))
-    s = run_debris(g, wall, AL, window=ArrivalWindow(0.0, 10.0)).summary()
+    result = run_debris(g, wall, AL, window=ArrivalWindow(0.0, 10.0),
+                        deposition=DepositionOptions(momentum_transfer=transfer))
+    s = result.summary()
     parts = {k: np.array(s[f"momentum_{k}"]) for k in ("arrived", "failed", "outside_window", "not_reaching",
-                                                       "deposited", "off_wall")}
+                                                       "deposited", "off_wall", "added_at_wall")}
     assert all(np.abs(parts[k]).sum() > 0 for k in ("arrived", "outside_window", "not_reaching", "off_wall"))
     assert s["mass_outside_window_g"] > 0 and s["mass_not_reaching_g"] > 0
     np.testing.assert_allclose(parts["arrived"] + parts["failed"] + parts["outside_window"] + parts["not_reaching"],
                                s["momentum_in"], rtol=1e-12, atol=1e-15)
-    np.testing.assert_allclose(parts["deposited"] + parts["off_wall"], parts["arrived"], rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(parts["deposited"] + parts["off_wall"], parts["arrived"] + parts["added_at_wall"],
+                               rtol=1e-12, atol=1e-15)
+    moving = result.cloud.subset(result.propagated)
+    on_share = result.on_wall.mean(axis=1)
+    beta = cratering_factor(10.0 * moving.momentum[:, 1] / moving.mass) if transfer == "cratering" else 1.0
+    expected = ((beta - 1.0) * moving.momentum[:, 1] * on_share).sum()
+    assert parts["added_at_wall"][1] == pytest.approx(expected, rel=1e-12, abs=1e-15)
+    assert (expected > 0) == (transfer == "cratering")
+    np.testing.assert_array_equal(parts["added_at_wall"][[0, 2]], 0.0)
+
+
+def test_cratering_scales_the_normal_momentum_by_beta_of_the_normal_speed():
+    speeds, betas = CRATERING_MOMENTUM
+    np.testing.assert_allclose(cratering_factor(np.array(speeds)), betas, rtol=0, atol=0)
+    mid = 0.5 * (speeds[2] + speeds[3])
+    assert cratering_factor(mid) == pytest.approx(0.5 * (betas[2] + betas[3]), rel=1e-14)
+    assert cratering_factor(0.5 * speeds[0]) == betas[0] and cratering_factor(2.0 * speeds[-1]) == betas[-1]
+    assert cratering_factor(-3.0) == 1.0 and cratering_factor(0.0) == 1.0      # not moving toward the wall
+    assert all(b > 1.0 for b in betas)
+    mass = np.array([2.0, 0.5])
+    p = np.array([[0.3, 1.4, -0.2], [0.1, -0.05, 0.0]])        # 7 km/s toward the wall; 1 km/s away from it
+    out = cratering_momentum(p, mass)
+    np.testing.assert_array_equal(out[:, [0, 2]], p[:, [0, 2]])
+    assert out[0, 1] == pytest.approx(1.4 * float(cratering_factor(7.0)), rel=1e-14)
+    assert out[1, 1] == p[1, 1]
 
 
 def test_the_points_deposited_again_on_the_case_grid_are_its_records_and_conserved_on_a_finer_one():

@@ -109,12 +109,32 @@ def test_the_debris_momentum_is_accounted_for_in_full(run):
     ledger = {k: np.array(v) for k, v in s["deposition"]["momentum_ledger_g_cm_us"].items()}
     parts = sum(ledger[k] for k in ("deposited", "outside_window", "off_wall", "not_reaching", "failed"))
     np.testing.assert_allclose(parts, ledger["in"], rtol=1e-12, atol=1e-15)
+    np.testing.assert_array_equal(ledger["added_at_wall"], 0.0)       # the default gives the wall what arrives
     np.testing.assert_array_equal(ledger["deposited"], s["stages"]["debris"]["momentum_deposited"])
     assert ledger["deposited"][1] > 0
     mesh_peak = s["stages"]["debris"]["peak_areal_density_mesh"]
     assert mesh_peak["peak_g_cm_us"] > 0 and 0 < mesh_peak["cell_cm"] <= 0.16
     text = html.unescape((out / "report.html").read_text())
     assert "outside the arrival window" in text and "on the wall mesh's face cells" in text
+
+
+def test_the_crater_ejecta_add_to_the_walls_momentum_and_the_ledger_says_how_much(run, tmp_path, make_case):
+    """``wall.momentum_transfer = "cratering"`` (a restart from the debris stage): each arrival's normal
+    momentum times β(V_n) > 1; in + added at the wall = deposited + the rest, to round-off; the report says it."""
+    _, out, base = run
+    copy = tmp_path / "run"
+    shutil.copytree(out, copy)
+    case = make_case(tmp_path, "cratering.toml", wall_solver__mesh="graded", wall__momentum_transfer="cratering")
+    assert main(["whipple", "run", str(case), "-o", str(copy), "--from", "debris"]) == 0
+    s = json.loads((copy / "summary.json").read_text())
+    ledger = {k: np.array(v) for k, v in s["deposition"]["momentum_ledger_g_cm_us"].items()}
+    parts = sum(ledger[k] for k in ("deposited", "outside_window", "off_wall", "not_reaching", "failed"))
+    np.testing.assert_allclose(parts, ledger["in"] + ledger["added_at_wall"], rtol=1e-12, atol=1e-15)
+    default = np.array(base["deposition"]["momentum_ledger_g_cm_us"]["deposited"])
+    assert ledger["added_at_wall"][1] > 0
+    assert ledger["deposited"][1] == pytest.approx(default[1] + ledger["added_at_wall"][1], rel=1e-12)
+    np.testing.assert_allclose(ledger["deposited"][[0, 2]], default[[0, 2]], rtol=1e-12, atol=1e-15)
+    assert "more from the crater ejecta" in html.unescape((copy / "report.html").read_text())
 
 
 def test_decks_carry_the_wall_stages_model(run, tmp_path, make_case):
@@ -295,6 +315,7 @@ def test_restart_needs_a_run_folder(tmp_path, capsys, make_case):
     (dict(wall__spacing_cm=-0.05), "wall.spacing_cm: -0.05: the wall's front face would lie inside the bumper"),
     (dict(wall__spacing_cm=0.5), "wall.spacing_cm = 0.5 cannot hold the hand-off grid"),
     (dict(shield__spacing_cm=0.2), "shield.spacing_cm = 0.2 is too coarse"),
+    (dict(wall__momentum_transfer="bounce"), "wall.momentum_transfer: "),
     (dict(binning__cell_size_cm=4.0), "binning.cell_size_cm = 4.0 does not fit"),
     (dict(wall__nodes=[16, 1, 31]), "wall.nodes[1]: must be greater than or equal to 2"),
     (dict(shield__handoff_us="4"), "shield.handoff_us: must be a valid number"),

@@ -10,8 +10,9 @@ from impactdyn.debris._case import (
     ComputeSection, DebrisCase, FilterSection, IntegratorSection, LegacySection, OutputSection, WallSection, build,
     check_bulk_modulus, check_seeding, load_debris_case, remap_grid)
 from impactdyn.debris._deposit import (
-    POINTS_PER_PARTICLE, areal_density, arrival_points, deposit, element_impulse, element_records, face_areas,
-    face_element, momentum_enhancement, remap_impulse)
+    CRATERING_MOMENTUM, POINTS_PER_PARTICLE, MomentumTransfer, areal_density, arrival_points, cratering_factor,
+    cratering_momentum, deposit, element_impulse, element_records, face_areas, face_element, momentum_enhancement,
+    remap_impulse)
 from impactdyn.hydrogrid import HydroGrid
 from impactdyn.debris._legacy import run_legacy
 from impactdyn.debris._integrators import (
@@ -37,7 +38,7 @@ def run_case(case: DebrisCase, progress=None, source: str = "<case>") -> DebrisR
 
 
 __all__ = [
-    "DeckOptions",
+    "CRATERING_MOMENTUM", "DeckOptions", "MomentumTransfer", "cratering_factor", "cratering_momentum",
     "AL_6061_T6_MAT13", "ArrivalWindow", "ComputeOptions", "ComputeSection", "DebrisCase", "DebrisResult",
     "DepositionOptions", "Failure", "FilterSection", "HydroGrid", "INTEGRATORS", "IntegratorOptions",
     "IntegratorSection", "LegacySection", "OutputSection", "ParticleMaterial", "POINTS_PER_PARTICLE", "ParticleCloud",

@@ -29,6 +29,7 @@ from impactdyn._errors import InputError
 from impactdyn.debris._analytic import ShellCloud, check_shell, grid_box, shell_cloud_grid
 from impactdyn.debris._integrators import IntegratorOptions
 from impactdyn.debris._particle import LIGHT_SPEED, ParticleMaterial, check_bulk_modulus, check_wave_speed
+from impactdyn.debris._deposit import MomentumTransfer
 from impactdyn.debris._propagate import ArrivalWindow, ComputeOptions, DepositionOptions, check_window
 from impactdyn.debris._seed import SeedFilter, SeedOptions, check_particle_count, seed_cells
 from impactdyn.io import formats, read_grid, write_lsdyna_deck
@@ -199,6 +200,9 @@ class WallSection(Section):
     clamped_edges : the decks fix every translation of the wall's three outer edges (all but the
         symmetry plane x = x_cm[0]); false: DYNGEN's edge codes (the edge x = x_max fixes x and y,
         the edges z = z_min and z_max fix y and z).
+    momentum_transfer : what an arriving particle gives the wall: "arrival" (default) its own
+        momentum; "cratering" its normal component times the β(V_n) of a droplet cratering a thick
+        wall (:data:`impactdyn.debris.CRATERING_MOMENTUM`), an upper bound for a cloud.
     """
 
     material: MaterialName = REPORT_MATERIAL
@@ -207,6 +211,7 @@ class WallSection(Section):
     z_cm: Range
     nodes: Annotated[list[NodeCount], Field(min_length=3, max_length=3)]
     clamped_edges: bool = True
+    momentum_transfer: MomentumTransfer = field_of(DepositionOptions, "momentum_transfer")
     remap: RemapSection | None = None
 
     @model_validator(mode="after")
@@ -411,7 +416,7 @@ def build(case: DebrisCase, source: str = "<case>", grid=None) -> dict:
         seed_options=SeedOptions(**_legacy(lg, SeedOptions)),
         window=ArrivalWindow(t_min=f.t_min_us, t_cut=f.t_cut_us, **_legacy(lg, ArrivalWindow)),
         integrator=case.integrator, compute=case.compute,
-        deposition=DepositionOptions(**_legacy(lg, DepositionOptions)),
+        deposition=DepositionOptions(momentum_transfer=w.momentum_transfer, **_legacy(lg, DepositionOptions)),
     )
 
 

@@ -24,8 +24,8 @@ from pydantic import Field
 from impactdyn._config import NonNegative, Positive, Section, field_of, rule
 from impactdyn._errors import InputError
 from impactdyn._parallel import run_tasks
-from impactdyn.debris._deposit import (
-    POINTS_PER_PARTICLE, areal_density, arrival_points, deposit, element_impulse, momentum_enhancement)
+from impactdyn.debris._deposit import (POINTS_PER_PARTICLE, MomentumTransfer, areal_density, arrival_points,
+                                       cratering_momentum, deposit, element_impulse, momentum_enhancement)
 from impactdyn.hydrogrid import HydroGrid
 from impactdyn.debris._integrators import IntegratorOptions, PropagationStats, propagate
 from impactdyn.debris._particle import STATE_SIZE, ParticleMaterial
@@ -69,8 +69,14 @@ class ComputeOptions(Section):
 
 
 class DepositionOptions(Section):
-    """DYNOUT's legacy options (:mod:`._deposit`)."""
+    """What a particle deposits (:mod:`._deposit`).
 
+    momentum_transfer : "arrival" (default): its own momentum; "cratering": its normal component times
+        the β(V_n) of a droplet cratering a thick wall (:func:`cratering_momentum`, an upper bound).
+    legacy_vertex_scaling, legacy_momentum_enhancement : DYNOUT's legacy options.
+    """
+
+    momentum_transfer: MomentumTransfer = "arrival"
     legacy_vertex_scaling: bool = False
     legacy_momentum_enhancement: bool = False
 
@@ -129,10 +135,11 @@ class DebrisResult:
         The cloud's momentum at hand-off is accounted for in full: ``momentum_in`` =
         ``momentum_arrived`` + ``momentum_failed`` (propagated, integration failed) +
         ``momentum_outside_window`` (reaches the wall plane before ``t_min`` or after ``t_cut``) +
-        ``momentum_not_reaching`` (never reaches it), and ``momentum_arrived`` =
-        ``momentum_deposited`` + ``momentum_off_wall`` (its points off the face grid), to round-off;
-        DYNOUT's legacy momentum enhancement, when on, multiplies what is deposited and breaks the
-        second sum by its factor.
+        ``momentum_not_reaching`` (never reaches it), and ``momentum_arrived`` +
+        ``momentum_added_at_wall`` = ``momentum_deposited`` + ``momentum_off_wall`` (its points off the
+        face grid), to round-off.  ``momentum_added_at_wall`` is what the deposition gives the wall
+        beyond the arriving momentum on the face grid: the crater ejecta's of ``momentum_transfer =
+        "cratering"``, and DYNOUT's legacy enhancement where it is on; zero otherwise.
         """
         cloud, arrived = self.cloud, self.arrived
         p_prop = cloud.momentum[self.propagated]
@@ -142,6 +149,8 @@ class DebrisResult:
         late = reaches & ~in_window
         share = p_prop[:, None, :] / POINTS_PER_PARTICLE
         off_wall = (share * (~self.on_wall & arrived[:, None])[..., None]).sum(axis=(0, 1))
+        added = (self.point_momentum - p_prop)[:, None, :] / POINTS_PER_PARTICLE
+        added_at_wall = (added * (self.on_wall & arrived[:, None])[..., None]).sum(axis=(0, 1))
         t_arr = self.t_arrival[self.propagated][arrived]
         return {
             "t_handoff_us": self.t_handoff,
@@ -160,6 +169,7 @@ class DebrisResult:
             "momentum_arrived": p_prop[arrived].sum(axis=0).tolist(),
             "momentum_deposited": self.deposition.impulse.sum(axis=0).tolist(),
             "momentum_off_wall": off_wall.tolist(),
+            "momentum_added_at_wall": added_at_wall.tolist(),
             "momentum_failed": p_prop[~arrived].sum(axis=0).tolist(),
             "momentum_outside_window": cloud.momentum[late].sum(axis=0).tolist(),
             "momentum_not_reaching": cloud.momentum[~reaches].sum(axis=0).tolist(),
@@ -276,6 +286,8 @@ def run_debris(grid: HydroGrid, wall: WallGrid, material: ParticleMaterial, *,
     scale = np.cbrt(moving.density_ratio) if deposition.legacy_vertex_scaling else None
     points = arrival_points(states, moving.vertices, scale)
     p = moving.momentum
+    if deposition.momentum_transfer == "cratering":
+        p = cratering_momentum(p, moving.mass)
     if deposition.legacy_momentum_enhancement:
         p = p * momentum_enhancement(wall, moving.mass, material.rho_ref)[:, None]
     ok = stats.code == 0

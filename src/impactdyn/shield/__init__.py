@@ -26,13 +26,14 @@ from impactdyn.shield._io import read_fragments, read_particles, write_fragments
 from impactdyn.shield._melt import MELTED_SHARE, ReleasedPhase, released_phase, solid_particles
 from impactdyn.shield._neighbours import Domain, neighbour_pairs
 from impactdyn.shield._options import FAILURE_MODELS, FLOW_STRESS_MODELS, FailureModel, FlowStress, SPHOptions
-from impactdyn.shield._problems import Problem, planar_impact, sphere_on_plate
+from impactdyn.shield._problems import (DEFAULT_PLATE_RADIUS_D, Problem, planar_impact, spacing_too_coarse,
+                                        sphere_on_plate)
 from impactdyn.shield._state import TENSOR_COMPONENTS, History, Particles, RunResult
 
 __all__ = [
-    "BinningMethod", "Domain", "FAILURE_MODELS", "FLOW_STRESS_MODELS", "FailureModel", "FlowStress", "Fragments",
+    "BinningMethod", "DEFAULT_PLATE_RADIUS_D", "Domain", "FAILURE_MODELS", "FLOW_STRESS_MODELS", "FailureModel", "FlowStress", "Fragments",
     "History", "MELTED_SHARE", "Particles", "ReleasedPhase", "Problem", "RunResult", "SPHError", "SPHOptions", "TENSOR_COMPONENTS", "bin_to_hydrogrid",
     "cumulative_number", "find_fragments", "fragment_rows", "fragments_of", "grady_fragment_size", "grady_fragments",
     "join_fragments", "neighbour_pairs", "planar_impact",
-    "plot_fragment_masses", "read_fragments", "read_particles", "released_phase", "run", "solid_particles", "sphere_on_plate", "write_fragments", "write_particles",
+    "plot_fragment_masses", "read_fragments", "read_particles", "released_phase", "run", "solid_particles", "spacing_too_coarse", "sphere_on_plate", "write_fragments", "write_particles",
 ]

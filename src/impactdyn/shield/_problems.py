@@ -27,6 +27,8 @@ DEFAULT_H_FACTOR = 1.3
 #: the lattice, so that particles and their images continue it without a gap or an
 #: overlap; the two stacking layers of an hcp lattice cannot both satisfy that.
 LATTICES = ("cubic",)
+#: The plate's radius when none is given, in projectile diameters.
+DEFAULT_PLATE_RADIUS_D = 2.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -74,6 +76,18 @@ def _positive(name: str, value: float) -> float:
     return v
 
 
+def spacing_too_coarse(spacing_cm: float, diameter_cm: float, plate_thickness_cm: float,
+                       plate: str = "plate") -> str | None:
+    """Why a particle spacing cannot model a sphere on a plate, as the end of "<spacing> is too coarse …"
+    (``plate`` names the plate), or None: at least 4 particles across the sphere and one layer through the
+    plate (a plate of 2/3 of a spacing and up keeps one layer, its thickness exact)."""
+    if spacing_cm > diameter_cm / 4:
+        return f"for the {diameter_cm} cm projectile: at least 4 particles across it"
+    if spacing_cm > 1.5 * plate_thickness_cm:
+        return f"for the {plate_thickness_cm} cm {plate}: at least one particle layer through it"
+    return None
+
+
 def _axis(lo: float, hi: float, step: float) -> np.ndarray:
     """lo + (k + ½)·step for k < round((hi − lo)/step) (at least one point)."""
     return lo + step * (np.arange(max(1, int(round((hi - lo) / step)))) + 0.5)
@@ -84,7 +98,7 @@ def sphere_on_plate(projectile: str | Material, plate: str | Material, diameter_
                     plate_radius_cm: float | None = None, lattice: str = "cubic") -> Problem:
     """Half model of a sphere striking a plate (docs/theory/shield.md).
 
-    Plate: the half disc x > 0, x² + z² ≤ R_p² (default R_p = 2 d), y ∈ [0, t], on
+    Plate: the half disc x > 0, x² + z² ≤ R_p² (default R_p = 2 d, :data:`DEFAULT_PLATE_RADIUS_D`), y ∈ [0, t], on
     a cubic lattice of pitch Δ in x and z and t/round(t/Δ) through the thickness
     (so the areal density is exact). Projectile: the lattice points of pitch Δ
     (x = (i + ½)Δ, mirror-continuous across x = 0) inside the sphere of diameter
@@ -106,13 +120,13 @@ def sphere_on_plate(projectile: str | Material, plate: str | Material, diameter_
         raise InputError(f"obliquity_deg: must be a number, got {obliquity_deg!r}") from None
     if not 0 <= theta_deg < 90:
         raise InputError(f"obliquity_deg: must lie in [0, 90), got {obliquity_deg!r}")
-    radius_plate = 2.0 * d if plate_radius_cm is None else _positive("plate_radius_cm", plate_radius_cm)
+    radius_plate = (DEFAULT_PLATE_RADIUS_D * d if plate_radius_cm is None
+                    else _positive("plate_radius_cm", plate_radius_cm))
     if radius_plate <= d / 2:
         raise InputError(f"plate_radius_cm: {radius_plate} must exceed the projectile radius {d / 2}")
-    if dx > d / 4:
-        raise InputError(f"spacing_cm: {dx} is too coarse: at least 4 particles across the {d} cm projectile")
-    if dx > t * 1.5:
-        raise InputError(f"spacing_cm: {dx} is too coarse for the {t} cm plate (at least one particle layer)")
+    coarse = spacing_too_coarse(dx, d, t)
+    if coarse:
+        raise InputError(f"spacing_cm = {dx} is too coarse {coarse}")
     if lattice not in LATTICES:
         raise InputError(f"lattice: {lattice!r}, expected one of {LATTICES}")
     theta = math.radians(theta_deg)

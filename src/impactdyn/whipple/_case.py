@@ -27,11 +27,11 @@ from impactdyn._config import (NodeCount, Positive, Range, Section, check_ranges
                                section_of, validate)
 from impactdyn._errors import InputError
 from impactdyn.debris import (
-    ComputeSection, DebrisCase, FilterSection, IntegratorSection, LegacySection, OutputSection, ParticleMaterial,
-    check_bulk_modulus, check_wave_speed)
+    ComputeSection, DebrisCase, FilterSection, IntegratorSection, LegacySection, MomentumTransfer, OutputSection,
+    ParticleMaterial, check_bulk_modulus, check_wave_speed)
 from impactdyn.debris import WallSection as DebrisWallSection
 from impactdyn.materials import REPORT_MATERIAL, Material, MaterialName, get_material
-from impactdyn.shield import BinningMethod, SPHOptions, bin_to_hydrogrid
+from impactdyn.shield import DEFAULT_PLATE_RADIUS_D, BinningMethod, SPHOptions, bin_to_hydrogrid, spacing_too_coarse
 from impactdyn.wall import WallOptions, check_mesh_sizes, resolve_model
 
 
@@ -92,6 +92,10 @@ class WallSection(Section):
     clamped_edges : the three outer edges of the wall (all but the symmetry plane) clamped, every
         translation fixed, in the wall stage and the decks; false: DYNGEN's edge codes (the edge
         x = x_max fixes x and y, the edges z = z_min and z_max fix y and z).
+    momentum_transfer : what the debris gives the wall: "arrival" (default) its own momentum;
+        "cratering" each particle's normal momentum times the β(V_n) of a droplet cratering a thick
+        wall (:data:`impactdyn.debris.CRATERING_MOMENTUM`: the crater ejecta's momentum besides
+        its own), an upper bound for a cloud (docs/vv/test-shots.md).
     """
 
     material: MaterialName = REPORT_MATERIAL
@@ -102,6 +106,7 @@ class WallSection(Section):
     z_cm: Range = [-4.0, 12.0]
     nodes: Annotated[list[NodeCount], Field(min_length=3, max_length=3)] = [51, 5, 101]
     clamped_edges: bool = field_of(DebrisWallSection, "clamped_edges")
+    momentum_transfer: MomentumTransfer = field_of(DebrisWallSection, "momentum_transfer")
 
     @field_validator("spacing_cm")
     @classmethod
@@ -264,12 +269,9 @@ class WhippleCase(Section):
             if lacking:
                 raise ValueError(f"shield.failed_fragments = \"grady\": no fracture toughness for "
                                  f"{', '.join(lacking)} (impactdyn.materials.FRACTURE_TOUGHNESS)")
-        if s.spacing_cm > p.diameter_cm / 4:
-            raise ValueError(f"shield.spacing_cm = {s.spacing_cm} is too coarse for the {p.diameter_cm} cm "
-                             "projectile: at least 4 particles across it")
-        if s.spacing_cm > 1.5 * b.thickness_cm:
-            raise ValueError(f"shield.spacing_cm = {s.spacing_cm} is too coarse for the {b.thickness_cm} cm "
-                             "bumper: at least one particle layer through it")
+        coarse = spacing_too_coarse(s.spacing_cm, p.diameter_cm, b.thickness_cm, plate="bumper")
+        if coarse:
+            raise ValueError(f"shield.spacing_cm = {s.spacing_cm} is too coarse {coarse}")
         if b.radius_cm is not None and b.radius_cm <= p.diameter_cm / 2:
             raise ValueError(f"bumper.radius_cm = {b.radius_cm} must exceed the projectile radius")
         reach = units.km_s_to_cm_us(p.velocity_km_s) * s.handoff_us  # cm: no debris outruns the projectile
@@ -310,7 +312,7 @@ class WhippleCase(Section):
 
         from impactdyn._limits import SPH_PARTICLE_BYTES, check_fits  # SPH particles, before allocating them
 
-        dx, R = s.spacing_cm, 2.0 * p.diameter_cm if b.radius_cm is None else b.radius_cm
+        dx, R = s.spacing_cm, DEFAULT_PLATE_RADIUS_D * p.diameter_cm if b.radius_cm is None else b.radius_cm
         across, radius, layers = p.diameter_cm / dx, R / dx, max(1.0, b.thickness_cm / dx - 0.5)  # in spacings
         n = across * across * across * math.pi / 12 + radius * radius * math.pi / 2 * layers  # half sphere, disc
         check_fits(f"shield.spacing_cm = {dx:g} for the {p.diameter_cm:g} cm projectile and the {R:g} cm "
@@ -391,7 +393,8 @@ def debris_case(case: WhippleCase, grid_file: str) -> DebrisCase:
     return validate(DebrisCase, shared | {
         "title": case.title, "grid": {"file": grid_file}, "material": debris_material_constants(case),
         "wall": {"x_cm": list(w.x_cm), "y_cm": [y0, y0 + w.thickness_cm], "z_cm": list(w.z_cm),
-                 "nodes": list(w.nodes), "clamped_edges": w.clamped_edges, "material": w.material}}, source="debris case of the Whipple case")
+                 "nodes": list(w.nodes), "clamped_edges": w.clamped_edges, "material": w.material,
+                 "momentum_transfer": w.momentum_transfer}}, source="debris case of the Whipple case")
 
 
 def ble_shield(case: WhippleCase):

@@ -168,7 +168,8 @@ def _debris(s: StageContext) -> dict:
                                                 "peak_areal_density_mesh": _mesh_scale_peak(s.case, result, *landing)})
     return {key: summary[key] for key in (
         "n_cells_seeded", "n_particles", "n_propagated", "n_arrived", "mass_seeded_g", "mass_arrived_g",
-        "momentum_in", "momentum_arrived", "momentum_deposited", "momentum_off_wall", "momentum_failed",
+        "momentum_in", "momentum_arrived", "momentum_deposited", "momentum_off_wall", "momentum_added_at_wall",
+        "momentum_failed",
         "momentum_outside_window", "momentum_not_reaching", "mass_outside_window_g", "mass_not_reaching_g",
         "arrival_time_us", "peak_areal_density_g_cm_us", "peak_areal_density_mesh", "integrator", "timings_s",
         "compact_fragments")}

@@ -52,14 +52,16 @@ def ble_verdict(case: WhippleCase) -> dict:
 
 def momentum_ledger(debris: dict) -> dict:
     """Where the debris's momentum at hand-off went, cloud and compact fragments together (g·cm/µs, half
-    model): ``in`` = ``deposited`` + ``outside_window`` + ``off_wall`` (landed beyond the face grid) +
-    ``not_reaching`` (never reaches the wall plane) + ``failed`` (its flight's integration failed), to
-    round-off (without DYNOUT's legacy momentum enhancement)."""
+    model): ``in`` + ``added_at_wall`` = ``deposited`` + ``outside_window`` + ``off_wall`` (landed beyond
+    the face grid) + ``not_reaching`` (never reaches the wall plane) + ``failed`` (its flight's integration
+    failed), to round-off.  ``added_at_wall`` is what the deposition gives beyond the arriving momentum
+    (the cloud's crater ejecta under ``wall.momentum_transfer = "cratering"``); zero by default."""
     compact = debris["compact_fragments"]
     cloud = {k: np.array(debris[f"momentum_{k}"]) for k in ("in", "outside_window", "off_wall", "not_reaching",
-                                                             "failed")}
+                                                             "failed", "added_at_wall")}
     landed = np.array(compact["momentum"]) - np.array(compact["momentum_outside_window"])
-    ledger = {"in": cloud["in"] + compact["momentum"], "deposited": np.array(debris["momentum_deposited"]),
+    ledger = {"in": cloud["in"] + compact["momentum"], "added_at_wall": cloud["added_at_wall"],
+              "deposited": np.array(debris["momentum_deposited"]),
               "outside_window": cloud["outside_window"] + compact["momentum_outside_window"],
               "off_wall": cloud["off_wall"] + landed - compact["momentum_deposited"],
               "not_reaching": cloud["not_reaching"], "failed": cloud["failed"]}
@@ -383,8 +385,11 @@ def _ledger(ledger: dict) -> str:
     total = ledger["in"][1]
     parts = [ledger[k][1] for k in ("deposited", "outside_window", "off_wall", "not_reaching", "failed")]
     share = (lambda v: f" ({100.0 * v / total:.1f} %)") if total else (lambda v: "")
+    added = ledger["added_at_wall"][1]
     return (f"{_fmt(2.0 * N_S_PER_G_CM_US * total, 'N·s')} in: "
-            + ", ".join(_fmt(2.0 * N_S_PER_G_CM_US * v, "N·s") + share(v) for v in parts))
+            + ", ".join(_fmt(2.0 * N_S_PER_G_CM_US * v, "N·s") + share(v) for v in parts)
+            + (f"; the wall took {_fmt(2.0 * N_S_PER_G_CM_US * added, 'N·s')} more from the crater ejecta "
+               "(wall.momentum_transfer = \"cratering\")" if added else ""))
 
 
 def _criteria(names: list[str] | None) -> str:

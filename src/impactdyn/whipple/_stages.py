@@ -17,6 +17,7 @@ from pathlib import Path
 
 from impactdyn._errors import InputError
 from impactdyn._runfolder import FolderWriter
+from impactdyn.whipple._case import WhippleCase
 
 STAGES = ("shield", "binning", "debris", "wall", "decks", "report")
 
@@ -59,7 +60,7 @@ class StageContext:
     """What a stage function gets: the case, the staging folder, the progress callback and how much
     to keep (:data:`KEEP`)."""
 
-    case: object
+    case: WhippleCase
     folder: FolderWriter
     progress: Progress | None
     keep: str = "lean"
