@@ -115,8 +115,11 @@ def _echo_summary(s: dict, out: Path) -> None:
                f"{s['wall_time_s']:.1f} s")
     ledger = dep.get("momentum_ledger_g_cm_us")
     if ledger and ledger["in"][1] > 0:
-        share = {k: 100.0 * ledger[k][1] / ledger["in"][1] for k in ("deposited", "outside_window")}
-        typer.echo(f"the debris's normal momentum: {share['deposited']:.1f} % on the wall, "
+        share = {k: 100.0 * ledger[k][1] / ledger["in"][1]
+                 for k in ("deposited", "outside_window", "added_at_wall")}
+        ejecta = (f" (the crater ejecta's {share['added_at_wall']:.1f} % included, wall.momentum_transfer)"
+                  if ledger["added_at_wall"][1] else "")
+        typer.echo(f"the debris's normal momentum: {share['deposited']:.1f} % on the wall{ejecta}, "
                    f"{share['outside_window']:.1f} % outside the arrival window ([filter] t_min_us, t_cut_us)")
     w = s["wall"]
     typer.echo(f"wall response: {w['verdict']} ({w['criterion']}); crater depth {w.get('crater_depth_ratio', 0):.2f} "
