@@ -86,7 +86,7 @@ def main() -> int:
                     help="deposition_depth_cm on every row (default: the case's)")
     ap.add_argument("--failure-switches", action="store_true",
                     help="also the case's and the refined mesh with JC damage, spall or both off")
-    ap.add_argument("--model-option", action="append", default=[], metavar="KEY=VALUE",
+    ap.add_argument("--model-option", type=parse_assignment, action="append", default=[], metavar="KEY=VALUE",
                     help="a material-model keyword for every row (VALUE as JSON: false, null, 0.5)")
     ap.add_argument("--json", type=Path)
     args = ap.parse_args()
@@ -105,7 +105,7 @@ def main() -> int:
                  for n in range(2, args.thickness_series + 1)}
     if not args.no_spreads:
         variants |= {f"spread {s}": {"spread": s} for s in SPREADS if s != base.spread}
-    model = dict(parse_assignment(text) for text in args.model_option)
+    model = dict(args.model_option)
     # (row, wall-option changes, material-model keywords, the row its change is taken against)
     specs = [(name, changes, model, "case settings") for name, changes in variants.items()]
     if args.failure_switches:
