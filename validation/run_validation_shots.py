@@ -24,11 +24,11 @@ that failed it (``failed_mass_by_cause_g``).  No constant of the pipeline is cal
 disjoint set that decides the default wall model).
 
 ``--wall-model``: score the finished shots with the wall stage rerun under another material
-model (``verification/wall_convergence.rerun_wall``; nothing is written but
+model (:func:`impactdyn.whipple.rerun_wall`; nothing is written but
 ``scores_MODEL.json``); with ``--wall-refinement R`` the rerun wall is refined R× through the
 thickness and in the plane (the shots' cases use 1), into ``scores_MODEL_Rx.json``, or with
 ``--thickness-only`` through the thickness alone, into ``scores_MODEL_tRx.json``.
-``--model-option KEY=VALUE`` (repeatable, as in ``wall_convergence.py``) reruns the wall with that
+``--model-option KEY=VALUE`` (repeatable, as in ``verification/wall_convergence.py``) reruns the wall with that
 change to its material model (the case's model unless ``--wall-model`` names another), into
 ``scores_[MODEL_]KEY-VALUE.json``; ``--wall-option KEY=VALUE`` the same with a change to the
 wall solver's options (:class:`impactdyn.wall.WallOptions`, e.g. ``max_time_us=300``).
@@ -42,15 +42,11 @@ import sys
 import time
 from pathlib import Path
 
-HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE))
-sys.path.insert(1, str(HERE.parent / "verification"))  # wall_convergence's rerun of the wall stage
+from select_validation_shots import select
 
-from select_validation_shots import select  # noqa: E402
-from wall_convergence import key_value_option, rerun_wall  # noqa: E402
-
-from impactdyn.ble import read_database  # noqa: E402
-from impactdyn.whipple import WhippleCase, database_shot, database_shot_case, run_whipple  # noqa: E402
+from impactdyn._config import parse_assignment
+from impactdyn.ble import read_database
+from impactdyn.whipple import WhippleCase, database_shot, database_shot_case, rerun_wall, run_whipple
 
 FAILED_VERDICTS = ("perforation", "detached spall")
 
@@ -75,9 +71,9 @@ def main() -> int:
     ap.add_argument("--from-wall", action="store_true", help="rerun the wall stage on existing shot folders")
     ap.add_argument("--score-only", action="store_true", help="score the shot folders that exist")
     ap.add_argument("--wall-model", help="rescore with the wall stage rerun under this material model")
-    ap.add_argument("--model-option", type=key_value_option, action="append", default=[], metavar="KEY=VALUE",
+    ap.add_argument("--model-option", type=parse_assignment, action="append", default=[], metavar="KEY=VALUE",
                     help="rescore with the wall stage rerun with this change to its material model")
-    ap.add_argument("--wall-option", type=key_value_option, action="append", default=[], metavar="KEY=VALUE",
+    ap.add_argument("--wall-option", type=parse_assignment, action="append", default=[], metavar="KEY=VALUE",
                     help="rescore with the wall stage rerun with this change to its solver options")
     ap.add_argument("--wall-refinement", type=int, default=1, help="with --wall-model: refine the rerun wall R times")
     ap.add_argument("--thickness-only", action="store_true", help="with --wall-refinement: refine the thickness alone")
@@ -103,7 +99,11 @@ def main() -> int:
         if not summary_file.exists():
             continue
         s = json.loads(summary_file.read_text())
-        wall = rerun_wall(folder, dict(args.model_option), **changes) if rerun else s["wall"]
+        if rerun:
+            result = rerun_wall(folder, dict(args.model_option), **changes)
+            wall = {"verdict": result.verdict, **result.measures}
+        else:
+            wall = s["wall"]
         rows.append({**{k: shot[k] for k in ("line", "source", "shot_id", "perforated", "diameter_cm",
                                              "velocity_km_s", "obliquity_deg", "bumper_thickness_cm",
                                              "wall_thickness_cm", "spacing_cm")},

@@ -36,9 +36,9 @@ import sys
 import time
 from pathlib import Path
 
-from impactdyn.debris import read_deposition
-from impactdyn.wall import SPREADS, run_wall, wall_model
-from impactdyn.whipple import load_whipple_case
+from impactdyn._config import parse_assignment
+from impactdyn.wall import SPREADS
+from impactdyn.whipple import load_whipple_case, rerun_wall
 
 KEYS = ("crater_depth_ratio", "crater_resolved", "rear_bulge_cm", "peak_rear_bulge_cm", "failed_mass_g", "eroded_mass_g",
         "failed_mass_by_cause_g", "hourglass_to_internal", "end_time_us", "ended_by", "steps")
@@ -62,32 +62,15 @@ def _crater_agreement(row: dict, reference: dict, change: float) -> str:
     return f"{change:+.1%}, {'within' if abs(change) <= CONVERGED_CHANGE else 'beyond'} {CONVERGED_CHANGE:.0%}"
 
 
-def rerun_wall(run: Path, model_changes: dict | None = None, **changes) -> dict:
-    """The wall stage of a finished run again, with ``changes`` to its wall options and
-    ``model_changes`` to its material model (:func:`impactdyn.wall.wall_model` keywords, e.g.
-    ``damage=None``): the verdict, :data:`KEYS` of the measures and the wall time; nothing is written."""
-    case = load_whipple_case(run / "case.toml")
-    wall, deposition, _ = read_deposition(run / "debris" / "debris.h5")
-    options = case.wall_options.replaced(output_interval_us=None, **changes)
-    model = (wall_model(options.material_model, case.wall.material, **model_changes) if model_changes
-             else case.wall.material)
+def wall_row(run: Path, model_changes: dict | None = None, **changes) -> dict:
+    """A row of the study: :func:`impactdyn.whipple.rerun_wall`'s verdict, :data:`KEYS` of its
+    measures, the work of the load, the plastic work and the rerun's wall time."""
     tick = time.perf_counter()
-    result = run_wall(wall, deposition, model, options)
+    result = rerun_wall(run, model_changes, **changes)
     energy = result.measures["energy"]
     return {"verdict": result.verdict, **{k: result.measures[k] for k in KEYS},
             "load_work": energy["load_work"], "plastic_work": energy["plastic"],
             "wall_time_s": time.perf_counter() - tick}
-
-
-def key_value_option(text: str) -> tuple[str, object]:
-    """``KEY=VALUE`` of ``--model-option`` (and ``--wall-option``), VALUE read as JSON (a bare word stays a string)."""
-    key, sep, value = text.partition("=")
-    if not sep or not key:
-        raise SystemExit(f"expected KEY=VALUE, got {text!r}")
-    try:
-        return key, json.loads(value)
-    except json.JSONDecodeError:
-        return key, value
 
 
 def main() -> int:
@@ -103,7 +86,7 @@ def main() -> int:
                     help="deposition_depth_cm on every row (default: the case's)")
     ap.add_argument("--failure-switches", action="store_true",
                     help="also the case's and the refined mesh with JC damage, spall or both off")
-    ap.add_argument("--model-option", action="append", default=[], metavar="KEY=VALUE",
+    ap.add_argument("--model-option", type=parse_assignment, action="append", default=[], metavar="KEY=VALUE",
                     help="a material-model keyword for every row (VALUE as JSON: false, null, 0.5)")
     ap.add_argument("--json", type=Path)
     args = ap.parse_args()
@@ -122,7 +105,7 @@ def main() -> int:
                  for n in range(2, args.thickness_series + 1)}
     if not args.no_spreads:
         variants |= {f"spread {s}": {"spread": s} for s in SPREADS if s != base.spread}
-    model = dict(key_value_option(text) for text in args.model_option)
+    model = dict(args.model_option)
     # (row, wall-option changes, material-model keywords, the row its change is taken against)
     specs = [(name, changes, model, "case settings") for name, changes in variants.items()]
     if args.failure_switches:
@@ -130,8 +113,8 @@ def main() -> int:
                   for mesh in ("case settings", f"{r}x refinement") for switch, kw in FAILURE_SWITCHES.items()]
     rows = {}
     for name, changes, model_changes, reference in specs:
-        rows[name] = row = rerun_wall(args.run, model_changes or None, deposition_depth_cm=base.deposition_depth_cm,
-                                      **changes)
+        rows[name] = row = wall_row(args.run, model_changes or None, deposition_depth_cm=base.deposition_depth_cm,
+                                    **changes)
         ref = rows[reference]
         change = {k: (row[k] / ref[k] - 1.0) if ref[k] else float("nan")
                   for k in ("crater_depth_ratio", "rear_bulge_cm", "load_work", "plastic_work")}

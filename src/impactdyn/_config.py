@@ -30,6 +30,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import inspect
+import json
 import math
 import re
 import sys
@@ -335,6 +336,18 @@ def parse_range(option: str, spec: str, example: str) -> list[float]:
     if count < 1 or not np.all(np.isfinite(values)):
         raise InputError(f"{option} {spec!r}: N must be at least 1 and the bounds finite")
     return values.tolist()
+
+
+def parse_assignment(text: str) -> tuple[str, Any]:
+    """``KEY=VALUE`` of a command-line option → (KEY, VALUE read as JSON: ``false``, ``null``, ``0.5``);
+    a VALUE that is not JSON stays a string (a bare word: ``material_model=mat13``)."""
+    key, sep, value = text.partition("=")
+    if not sep or not key:
+        raise InputError(f"expected KEY=VALUE, got {text!r}")
+    try:
+        return key, json.loads(value)
+    except json.JSONDecodeError:
+        return key, value
 
 
 def _deepcopy(d: Any) -> Any:

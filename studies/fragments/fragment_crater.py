@@ -38,9 +38,7 @@ product option: nothing in the wall stage changes.
 from __future__ import annotations
 
 import argparse
-import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -48,9 +46,7 @@ from impactdyn import ble, shield, wall
 from impactdyn.materials import get_material
 from impactdyn.wallgrid import WallGrid, sphere_deposition
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))  # _machine lives there
-from _machine import describe_machine  # noqa: E402
-from _particles import linked_clusters, projectile_count  # noqa: E402
+from _particles import linked_clusters, projectile_count
 
 PROJECTILE_DENSITY = 2.7
 #: The sphere's material in the SPH cross-check (ρ₀ 2.703).
@@ -142,7 +138,6 @@ def main() -> int:
     ap.add_argument("--sph", type=float, metavar="SPACING",
                     help="run the shield stage's SPH on the same sphere and plate instead, at this particle spacing (cm)")
     args = ap.parse_args()
-    print(describe_machine())
     if args.sph:
         print(f"{args.material} plate of radius {args.half_width} cm, {SPH_PROJECTILE} sphere at {args.velocity} km/s, "
               f"SPH spacing {args.sph} cm, {args.end} µs after the sphere's transit")

@@ -16,7 +16,9 @@ from impactdyn.io import read_grid, read_lsdyna_deck
 from impactdyn.materials import Mat13Card
 from impactdyn.shield import read_fragments
 from impactdyn.shield._io import read_particles
-from impactdyn.whipple import ble_verdict, load_whipple_case, wall_ending
+from impactdyn._config import parse_assignment
+from impactdyn._errors import InputError
+from impactdyn.whipple import ble_verdict, load_whipple_case, rerun_wall, wall_ending
 from impactdyn.wall import ENDINGS, LSDYNA_HOURGLASS_TYPE
 from impactdyn.whipple._case import ble_shield, projectile_mass
 from impactdyn.whipple._cloud import debris_fragments
@@ -348,6 +350,32 @@ def test_existing_run_folder_needs_force(run, capsys):
     assert main(["whipple", "run", str(case), "-o", str(out)]) == 2
     assert "pass --force" in capsys.readouterr().err
     assert (out / "summary.json").stat().st_mtime_ns == stamp
+
+
+def test_rerun_wall_repeats_the_wall_stage_and_writes_nothing(run):
+    """The wall stage of a finished run again: without changes the run's wall (its verdict and mesh; its
+    measures to the time stepping, the rerun keeping no frames), the changes applied with them (options
+    and material model), and the run folder left as it was."""
+    _, out, _ = run
+    files = {p: p.stat().st_mtime_ns for p in out.rglob("*")}
+    wall = json.loads((out / "wall" / "stage.json").read_text())
+    same = rerun_wall(out)
+    assert same.verdict == wall["verdict"] and same.mesh.describe() == wall["mesh"]
+    assert same.measures["rear_bulge_cm"] == pytest.approx(wall["measures"]["rear_bulge_cm"], rel=1e-3)
+    changed = rerun_wall(out, {"damage": None}, refinement_thickness=2 * same.mesh.refinement[0])
+    assert changed.mesh.shape[1] == 2 * same.mesh.shape[1]
+    assert "ductile_damage" not in changed.model["failure_criteria"]
+    assert {p: p.stat().st_mtime_ns for p in out.rglob("*")} == files
+
+
+def test_key_value_options_read_their_values_as_json():
+    """The command-line form of rerun_wall's changes (the V&V scripts' --model-option, --wall-option)."""
+    assert parse_assignment("damage=null") == ("damage", None)
+    assert parse_assignment("max_time_us=300") == ("max_time_us", 300)
+    assert parse_assignment("material_model=mat13") == ("material_model", "mat13")
+    for text in ("damage", "=1"):
+        with pytest.raises(InputError, match=f"expected KEY=VALUE, got {text!r}"):
+            parse_assignment(text)
 
 
 @pytest.mark.parametrize("name, verdict", [("7a", "perforation"), ("7b", "no perforation"),

@@ -85,7 +85,8 @@ particle keeps the last state reached (``stats.t_reached``) and does not affect
 the others.
 
 Modules: the interface and registry (:mod:`._registry`), the splittings
-(:mod:`._splitting`), ``rk45`` (:mod:`._rk45`), ``legacy`` (:mod:`._rk4_doubling`);
+(:mod:`._splitting`), ``rk45`` (:mod:`._rk45`), ``legacy`` (:mod:`._rk4_doubling`), what these two
+share (:mod:`._adaptive`);
 here :class:`IntegratorOptions`, the one home of the integrator settings' defaults
 and bounds, and :func:`propagate`.
 """

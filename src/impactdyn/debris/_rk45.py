@@ -12,11 +12,12 @@ import math
 import numpy as np
 from numba import prange
 
-from impactdyn.debris._failure import BUDGET, OK, UNDERFLOW, state_failure
+from impactdyn.debris._adaptive import next_step, start_particle
+from impactdyn.debris._failure import OK, UNDERFLOW, state_failure
 from impactdyn.debris._particle import EP_SLICE, H_SLICE, N_WORK, STATE_ROWS, STATE_SIZE, kernel
 from impactdyn.debris._registry import ParticleBatch, StepControl, body_rates, register_integrator
 
-_OK, _UNDERFLOW, _BUDGET = OK, UNDERFLOW, BUDGET  # failure codes as compile-time constants
+_OK, _UNDERFLOW = OK, UNDERFLOW  # failure codes as compile-time constants
 
 _DP_A = np.array([
     [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
@@ -39,19 +40,15 @@ _N_H = H_SLICE.stop
 def _rk45_particle(y, body, t_end, h0, h_floor, eps, max_steps, K, ytrial, w):
     Y, Ytrial = y.reshape((STATE_ROWS, 3)), ytrial.reshape((STATE_ROWS, 3))
     Kr = K.reshape((7, STATE_ROWS, 3))
-    code = state_failure(Y)
-    if code != _OK or t_end <= 0.0:
+    stays, code = start_particle(Y, body, t_end, Kr[0], w)
+    if stays:
         return 0.0, 0, 0, code
-    body_rates(Y, body, Kr[0], w)
     t, h, h_min = 0.0, min(h0, t_end), 1e-10 * h0
     steps, rejected, after_rejection, err_old = 0, 0, False, 1e-4
     while True:
-        if steps + rejected >= max_steps:
-            code = _BUDGET
+        code, final, h = next_step(t, h, t_end, steps + rejected, max_steps)
+        if code != _OK:
             break
-        final = t + h >= t_end
-        if final:
-            h = t_end - t
         for s in range(1, 7):
             for i in range(STATE_SIZE):
                 acc = 0.0

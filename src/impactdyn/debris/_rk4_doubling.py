@@ -11,11 +11,12 @@ from __future__ import annotations
 import numpy as np
 from numba import prange
 
-from impactdyn.debris._failure import BUDGET, OK, UNDERFLOW, state_failure
+from impactdyn.debris._adaptive import next_step, start_particle
+from impactdyn.debris._failure import OK, UNDERFLOW, state_failure
 from impactdyn.debris._particle import N_WORK, STATE_ROWS, STATE_SIZE, kernel
 from impactdyn.debris._registry import ParticleBatch, StepControl, body_rates, register_integrator
 
-_OK, _UNDERFLOW, _BUDGET = OK, UNDERFLOW, BUDGET  # failure codes as compile-time constants
+_OK, _UNDERFLOW = OK, UNDERFLOW  # failure codes as compile-time constants
 
 
 @kernel
@@ -43,22 +44,18 @@ def _legacy_particle(y, body, t_end, eps, ymxref, max_steps, K, W, w):
     # W rows: f(y), f(y_half), y_full, y_half, y_two, ymax, tmp
     f_y, f_half, y_full, y_half, y_two, ymax, tmp = W[0], W[1], W[2], W[3], W[4], W[5], W[6]
     Y, Wr = y.reshape((STATE_ROWS, 3)), W.reshape((7, STATE_ROWS, 3))
-    code = state_failure(Y)
-    if code != _OK or t_end <= 0.0:
+    stays, code = start_particle(Y, body, t_end, Wr[0], w)
+    if stays:
         return 0.0, 0, 0, code
     for i in range(STATE_SIZE):
         ymax[i] = max(ymxref, abs(y[i]))
     h = t_end / 1.0e6
     h_min = h / 10.0
     t, steps, rejected = 0.0, 0, 0
-    body_rates(Y, body, Wr[0], w)
     while True:
-        if steps + rejected >= max_steps:
-            code = _BUDGET
+        code, final, h = next_step(t, h, t_end, steps + rejected, max_steps)
+        if code != _OK:
             break
-        final = t + h >= t_end
-        if final:
-            h = t_end - t
         _rk4_step(y, f_y, h, y_full, body, K, tmp, w)
         _rk4_step(y, f_y, 0.5 * h, y_half, body, K, tmp, w)
         body_rates(Wr[3], body, Wr[1], w)

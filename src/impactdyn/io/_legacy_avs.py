@@ -41,6 +41,7 @@ from impactdyn import units
 from impactdyn._config import MAX_REACH
 from impactdyn._errors import InputError
 from impactdyn.hydrogrid import HydroGrid, check_cells
+from impactdyn.io._cell_block import BLOCK_FIELDS, INDEX_FIELDS, INDEX_RANGES, MESH_FIELDS, CellBlock
 from impactdyn.io._fortran import format_e, parse_real, read_lines, record_fields
 from impactdyn._runfolder import atomic_output
 from impactdyn.io._registry import register_format
@@ -50,41 +51,23 @@ FIELD_WIDTH = 11
 _RECORD1 = ("vx", "vy", "vz", "p", "T", "rho", "e")
 _RECORD2 = ("mass", "phi", "c")
 _PER_CELL = len(_RECORD1) + len(_RECORD2)
-_INT_KEYS = ("i1", "i2", "j1", "j2", "k1", "k2")
-_REAL_KEYS = ("xlow", "dx", "ylow", "dy", "zlow", "dz")
 _KEY_LINE = re.compile(r"^\s*([A-Za-z_]\w*)\s*=\s*(\S+)\s*$")
 _RECORD2_FIELDS = ("mass", "void_fraction", "sound_speed")  # the HydroGrid fields of the second record
 _CELL_ERROR = re.compile(r"HydroGrid\.(\w+): .* at index \((\d+), (\d+), (\d+)")
 
 
 @dataclass(frozen=True)
-class AvsLayout:
-    """Where the dump's cells lie in the CTH mesh (dc3din records 2–7).
-
-    i1..i2, j1..j2, k1..k2: absolute CTH cell indices of the dumped block
-    (inclusive; CTH's first real cell is 2).  xlow, ylow, zlow: lower mesh bound
-    (the lower node of cell 2), cm.  dx, dy, dz: cell size, cm.
+class AvsLayout(CellBlock):
+    """Where the dump's cells lie in the CTH mesh (dc3din records 2–7): a :class:`CellBlock`
+    (its fields), checked on construction (an :class:`InputError` for a block that cannot be a dump).
     """
 
-    i1: int
-    i2: int
-    j1: int
-    j2: int
-    k1: int
-    k2: int
-    xlow: float
-    dx: float
-    ylow: float
-    dy: float
-    zlow: float
-    dz: float
-
     def __post_init__(self) -> None:
-        for a, b in (("i1", "i2"), ("j1", "j2"), ("k1", "k2")):
+        for a, b in INDEX_RANGES:
             lo, hi = getattr(self, a), getattr(self, b)
             if not (1 <= lo <= hi):
                 raise InputError(f"avsout layout: need 1 <= {a} <= {b}, got {a} = {lo}, {b} = {hi}")
-        for name in _REAL_KEYS:
+        for name in MESH_FIELDS:
             v = getattr(self, name)
             if not np.isfinite(v) or (name.startswith("d") and v <= 0):
                 raise InputError(f"avsout layout: {name} = {v} must be finite" + (" and > 0" if name[0] == "d" else ""))
@@ -95,16 +78,20 @@ class AvsLayout:
                 raise InputError(f"avsout layout: the {axis} nodes reach {nodes[0]:g} .. {nodes[-1]:g}, more than "
                                  f"{MAX_REACH} cells of d{axis} = {d:g} from the origin (they would not be distinct)")
 
-    @property
-    def shape(self) -> tuple[int, int, int]:
-        """Cells in the dump (nx, ny, nz)."""
-        return (self.i2 - self.i1 + 1, self.j2 - self.j1 + 1, self.k2 - self.k1 + 1)
-
     def nodes(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Node coordinates x (nx+1,), y, z: ``x_l = xlow + (i1 + l − 2) Δx`` (RDAVS), cm."""
         return tuple(low + (first + np.arange(n + 1) - 2) * d
                      for low, first, n, d in zip((self.xlow, self.ylow, self.zlow), (self.i1, self.j1, self.k1),
                                                  self.shape, (self.dx, self.dy, self.dz)))
+
+    @classmethod
+    def from_values(cls, values: dict[str, float | int], where: str) -> "AvsLayout":
+        """The layout of the twelve ``values`` read from a file, by field name; an :class:`InputError`
+        begins with ``where``, the file and lines that gave them."""
+        try:
+            return cls(**{name: values[name] for name in BLOCK_FIELDS})
+        except InputError as err:
+            raise InputError(f"{where}: {err}") from None
 
     @classmethod
     def of_grid(cls, grid: HydroGrid) -> "AvsLayout":
@@ -209,8 +196,8 @@ def _header_lines(layout: AvsLayout, time: float) -> list[str]:
         "  vx vy vz p T rho e  /  mass phi c      (cells: k outer, j, i inner)",
         "the key = value lines give the grid (as dc3din does) and the time:",
     ]
-    lines += [f"{k} = {getattr(layout, k)}" for k in _INT_KEYS]
-    lines += [f"{k} = {float(getattr(layout, k))!r}" for k in _REAL_KEYS]
+    lines += [f"{k} = {getattr(layout, k)}" for k in INDEX_FIELDS]
+    lines += [f"{k} = {float(getattr(layout, k))!r}" for k in MESH_FIELDS]
     lines.append(f"time_us = {float(time)!r}")
     return lines + ["*"] * (HEADER_LINES - len(lines))
 
@@ -229,21 +216,18 @@ def _header_values(header: list[str]) -> dict[str, tuple[float, int]]:
 
 
 def _layout_from_header(path: Path, header: dict[str, tuple[float, int]]) -> AvsLayout:
-    keys = _INT_KEYS + _REAL_KEYS
-    missing = [k for k in keys if k not in header]
+    missing = [k for k in BLOCK_FIELDS if k not in header]
     if missing:
         raise InputError(f"{path}:{HEADER_LINES}: the header (lines 1-{HEADER_LINES}) does not give the grid layout "
                          f"({', '.join(missing)} missing); a CTH dump needs the layout from dc3din: "
                          "read_avsout(path, Dc3dInput.avs_layout)")
-    for k in _INT_KEYS:
+    for k in INDEX_FIELDS:
         value, no = header[k]
         if not value.is_integer():
             raise InputError(f"{path}:{no}: {k} = {value!r} must be an integer")
-    where = sorted(header[k][1] for k in keys)
-    try:
-        return AvsLayout(*(int(header[k][0]) for k in _INT_KEYS), *(header[k][0] for k in _REAL_KEYS))
-    except InputError as err:
-        raise InputError(f"{path}:{where[0]}-{where[-1]}: {err}") from None
+    where = sorted(header[k][1] for k in BLOCK_FIELDS)
+    return AvsLayout.from_values({k: int(header[k][0]) if k in INDEX_FIELDS else header[k][0] for k in BLOCK_FIELDS},
+                          f"{path}:{where[0]}-{where[-1]}")
 
 
 def _read_values(path: Path, lines: list[str], n_cells: int, layout: AvsLayout) -> tuple[np.ndarray, list[int]]:

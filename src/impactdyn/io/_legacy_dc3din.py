@@ -52,20 +52,19 @@ from pathlib import Path
 from impactdyn._errors import InputError
 from impactdyn.hydrogrid import check_cells
 from impactdyn.wallgrid import WallGrid, check_nodes
+from impactdyn.io._cell_block import BLOCK_FIELDS, FIELD_PAIRS, INDEX_FIELDS, INDEX_RANGES, CellBlock
 from impactdyn.io._fortran import read_lines, read_record
 from impactdyn.io._legacy_avs import AvsLayout
 
 HEADER_LINES = 3
 
+#: Records 2–7: the cell block's fields in pairs, the indices ``2i10``, the mesh's bounds and cell sizes ``2e15``.
+_BLOCK_RECORDS = tuple((pair, "ii", 10) if pair[0] in INDEX_FIELDS else (pair, "ee", 15) for pair in FIELD_PAIRS)
+
 #: (field names, kinds 'i'/'e', Fortran field width) of each record, in file order.
 _RECORDS = (
     (("itype", "jtype"), "ii", 10),
-    (("i1", "i2"), "ii", 10),
-    (("j1", "j2"), "ii", 10),
-    (("k1", "k2"), "ii", 10),
-    (("xlow", "dx"), "ee", 15),
-    (("ylow", "dy"), "ee", 15),
-    (("zlow", "dz"), "ee", 15),
+    *_BLOCK_RECORDS,
     (("tcut", "tmin", "dencut"), "eee", 15),
     (("idmax", "jdmax", "kdmax", "idmaxn", "jdmaxn", "kdmaxn"), "iiiiii", 10),
     (("xdmin", "xdmax", "xdminn", "xdmaxn"), "eeee", 15),
@@ -106,23 +105,15 @@ class RunType(Enum):
 
 
 @dataclass(frozen=True)
-class Dc3dInput:
-    """The contents of a dc3din file; fields and units as in the module table."""
+class Dc3dInput(CellBlock):
+    """The contents of a dc3din file; fields and units as in the module table.
+
+    Records 2–7 are the fields of the :class:`CellBlock` (first in the field order), as read: they
+    are checked as an :class:`AvsLayout` only where the run reads the avsout (:attr:`avs_layout`).
+    """
 
     itype: int
     jtype: int
-    i1: int
-    i2: int
-    j1: int
-    j2: int
-    k1: int
-    k2: int
-    xlow: float
-    dx: float
-    ylow: float
-    dy: float
-    zlow: float
-    dz: float
     tcut: float
     tmin: float
     dencut: float
@@ -162,8 +153,7 @@ class Dc3dInput:
     @property
     def avs_layout(self) -> AvsLayout:
         """Where the avsout cells lie (records 2–7)."""
-        return AvsLayout(self.i1, self.i2, self.j1, self.j2, self.k1, self.k2,
-                         self.xlow, self.dx, self.ylow, self.dy, self.zlow, self.dz)
+        return AvsLayout(*(getattr(self, name) for name in BLOCK_FIELDS))
 
     @property
     def wall_grid(self) -> WallGrid:
@@ -219,7 +209,7 @@ def _check(path: Path, v: dict, line_of: dict[str, int]) -> None:
     if (v["itype"], v["jtype"]) not in {t.value for t in RunType}:
         fail("itype", f"itype {v['itype']}, jtype {v['jtype']}: DC3D knows 2/1 (propagate, wall deck), "
                       "2/2 and 2/3 (wall deck only, old or new wall grid), 1/1 (propagate, CTH packages)")
-    for a, b in (("i1", "i2"), ("j1", "j2"), ("k1", "k2")):
+    for a, b in INDEX_RANGES:
         if not 1 <= v[a] <= v[b]:
             fail(a, f"inconsistent grid indices: need 1 <= {a} <= {b}, got {a} = {v[a]}, {b} = {v[b]}")
     for name in ("dx", "dy", "dz", "rho_ref", "mu", "eta", "eps", "ymxref", "factor"):
@@ -246,11 +236,9 @@ def _check(path: Path, v: dict, line_of: dict[str, int]) -> None:
     # grid, and the new wall grid where it is used (the deck's grid for 2/3, the remap face for 2/1)
     if v["jtype"] == 1:
         check_cells(f"{path}:{line_of['i1']}-{line_of['k1']}: records i1 i2, j1 j2, k1 k2 (the avsout cells)",
-                    [v[b] - v[a] + 1 for a, b in (("i1", "i2"), ("j1", "j2"), ("k1", "k2"))])
-        try:  # where its cells lie
-            AvsLayout(*(v[name] for name in AvsLayout.__dataclass_fields__))
-        except InputError as err:
-            raise InputError(f"{path}:{line_of['i1']}-{line_of['dz']}: records i1 i2 to zlow dz: {err}") from None
+                    [v[b] - v[a] + 1 for a, b in INDEX_RANGES])
+        # where its cells lie
+        AvsLayout.from_values(v, f"{path}:{line_of['i1']}-{line_of['dz']}: records i1 i2 to zlow dz")
     at = f"{path}:{line_of['idmax']}"
     check_nodes(f"{at}: idmax jdmax kdmax", [v["idmax"], v["jdmax"], v["kdmax"]])
     if v["jtype"] == 3:

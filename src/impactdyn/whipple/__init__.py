@@ -15,6 +15,7 @@ from impactdyn.whipple._campaign import run_campaign
 from impactdyn.whipple._cloud import cloud_figures
 from impactdyn.whipple._limit import run_limit
 from impactdyn.whipple._pipeline import run_whipple
+from impactdyn.whipple._rerun import rerun_wall
 from impactdyn.whipple._stages import STAGES, read_stage
 from impactdyn.whipple._database_shot import (ALLOYS, DatabaseShot, alloy_substitutions, database_shot, database_shot_case,
                                           database_shot_case_text)
@@ -26,7 +27,7 @@ from impactdyn.whipple._validation_record import (ValidationRecord, limit_statem
 
 __all__ = ["ALLOYS", "STAGES", "DatabaseShot", "SelectionRule", "WhippleCase", "ble_verdict", "cloud_figures",
            "database_shot", "database_shot_case", "fix_rule", "load_rule", "load_whipple_case", "read_stage",
-           "rule_hash", "run_campaign", "run_limit", "run_validation", "run_whipple", "score_validation",
+           "rerun_wall", "rule_hash", "run_campaign", "run_limit", "run_validation", "run_whipple", "score_validation",
            "select_shots", "shield_problem", "wall_ending", "wall_permanent_bulge", "ValidationRecord",
            "limit_statement", "record_validation", "validation_record", "alloy_substitutions",
            "database_shot_case_text"]
