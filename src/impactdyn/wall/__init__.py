@@ -26,7 +26,7 @@ from impactdyn.wall._mat13 import Mat13Model
 from impactdyn.wall._johnson_cook import JohnsonCookModel
 from impactdyn.wall._mesh import MESH_KINDS, SUPPORTS, WallMesh, build_mesh
 from impactdyn.wall._grading import FRAGMENT_DIAMETER_CM, check_mesh_sizes, core_element_size, graded_nodes, rebin_deposition, resolving_region, solver_grid, solver_mesh
-from impactdyn.wall._load import SPREADS, NodalLoad, default_depth, depth_weights, nodal_load
+from impactdyn.wall._load import SPREADS, NodalLoad, check_deposition_depth, default_depth, depth_weights, nodal_load
 from impactdyn.wall._result import ENDINGS, HISTORY_KEYS, WallFrame, WallResult
 from impactdyn.wall._state import FAILURE_CAUSES
 from impactdyn.wall._solver import WallSolver, check_end_times, resolve_model, run_wall
@@ -37,7 +37,7 @@ from impactdyn.wall._output import write_wall_outputs
 __all__ = [
     "DETACHED_SPALL", "ENDINGS", "FAILURE_CAUSES", "HISTORY_KEYS", "HOURGLASS_FORMS", "JohnsonCookModel", "LSDYNA_HOURGLASS_TYPE", "MESH_KINDS", "MODELS", "Mat13Model",
     "NO_PERFORATION", "NodalLoad", "PERFORATION", "SPREADS", "SUPPORTS", "VERDICTS", "WallFrame", "WallMesh",
-    "FRAGMENT_DIAMETER_CM", "WallModel", "WallOptions", "WallResult", "WallSolver", "WallSolverError", "build_mesh", "check_end_times", "check_mesh_sizes", "classify", "core_element_size",
+    "FRAGMENT_DIAMETER_CM", "WallModel", "WallOptions", "WallResult", "WallSolver", "WallSolverError", "build_mesh", "check_deposition_depth", "check_end_times", "check_mesh_sizes", "classify", "core_element_size",
     "default_depth", "depth_weights", "failed_mass_by_cause", "graded_nodes", "measures", "nodal_load",
     "rebin_deposition", "register_model", "resolve_model", "resolving_region", "run_wall", "solver_grid", "solver_mesh",
     "wall_model", "write_wall_outputs",

@@ -130,13 +130,20 @@ def default_depth(mesh: WallMesh) -> float:
     return 0.5 * float(mesh.parent.y[1] - mesh.parent.y[0])
 
 
+def check_deposition_depth(depth: float, thickness_cm: float) -> None:
+    """InputError naming the key unless 0 ≤ ``depth`` ≤ the wall's thickness (a case checks it before any
+    stage runs, the solver when it spreads the load)."""
+    if not (math.isfinite(depth) and 0.0 <= depth <= thickness_cm):
+        raise InputError(f"deposition_depth_cm: must be in [0, {thickness_cm:g}] (the wall's thickness), "
+                         f"got {depth!r}")
+
+
 def depth_weights(mesh: WallMesh, depth: float) -> np.ndarray:
     """Shares of the node layers j = 0, 1, … of a uniform body force over [0, ``depth``] below the
     front face: their tributary thicknesses inside it, normalised, shape (J,) (module docstring);
     ``depth`` 0 is the front face alone."""
     y = mesh.grid.y - mesh.grid.y[0]
-    if not (math.isfinite(depth) and 0.0 <= depth <= y[-1]):
-        raise InputError(f"deposition_depth_cm: must be in [0, {y[-1]:g}] (the wall's thickness), got {depth!r}")
+    check_deposition_depth(depth, y[-1])
     if depth == 0.0:
         return np.ones(1)
     mid = 0.5 * (y[:-1] + y[1:])

@@ -32,7 +32,7 @@ from impactdyn.debris import (
 from impactdyn.debris import WallSection as DebrisWallSection
 from impactdyn.materials import REPORT_MATERIAL, Material, MaterialName, get_material
 from impactdyn.shield import DEFAULT_PLATE_RADIUS_D, BinningMethod, SPHOptions, bin_to_hydrogrid, spacing_too_coarse
-from impactdyn.wall import WallOptions, check_mesh_sizes, resolve_model
+from impactdyn.wall import WallOptions, check_deposition_depth, check_mesh_sizes, resolve_model
 
 
 class ProjectileSection(Section):
@@ -302,12 +302,10 @@ class WhippleCase(Section):
         try:
             check_mesh_sizes(min(w.x_cm[1] - w.x_cm[0], w.z_cm[1] - w.z_cm[0]), solver.element_size_cm,
                              solver.max_element_size_cm)
+            if solver.deposition_depth_cm is not None:
+                check_deposition_depth(solver.deposition_depth_cm, w.thickness_cm)
         except InputError as err:
             raise ValueError(f"wall_solver.{err}") from None
-        depth = self.wall_solver.deposition_depth_cm
-        if depth is not None and depth > w.thickness_cm:
-            raise ValueError(f"wall_solver.deposition_depth_cm = {depth} exceeds the wall's thickness "
-                             f"(wall.thickness_cm = {w.thickness_cm})")
         import math
 
         from impactdyn._limits import SPH_PARTICLE_BYTES, check_fits  # SPH particles, before allocating them
