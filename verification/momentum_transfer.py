@@ -12,9 +12,9 @@ over many d/V, slowest last, so β is read at the end time 40 d/V (at most 12 µ
 of it: the difference is what the reading may still miss.  The EOS, the strength and the failure
 thresholds carry no length, so β depends on the normal speed alone: one sphere stands for droplets of
 any size.  The plate is 4 d thick and 5 d in radius (Cour-Palais's crater in a thick Al plate is 2.3 d
-deep at 10 km/s).  The crater's depth on the axis is printed beside Cour-Palais's p∞ (the handbook's
-semi-infinite crater, :func:`impactdyn.ble.penetration_depth`): the cratering flow that throws the
-ejecta, checked against a measured law.
+deep at 10 km/s; the plate is not semi-infinite for the crater's own depth, whose comparison with
+Cour-Palais needs a thicker one: at 7 km/s it sits at the single wall's detached-spall thickness, 2.2 p∞,
+and its rear moves as the crater forms).
 
     python3 verification/momentum_transfer.py                    # the table at d/6 (about 30 minutes on 2 cores)
     python3 verification/momentum_transfer.py --per-d 8 --speeds 7 10   # the resolution check
@@ -31,7 +31,6 @@ import time
 import numpy as np
 
 from impactdyn import shield
-from impactdyn.ble import SingleWall, penetration_depth
 
 MATERIAL = "al6061-t6"
 DIAMETER_CM = 0.1                 # any size: β carries no length
@@ -58,18 +57,7 @@ def momentum_transfer(speed_km_s: float, per_d: float) -> dict:
 
     return {"speed_km_s": speed_km_s, "per_d": per_d, "particles": len(init.mass), "t_end_us": t_end,
             "beta": round(beta(run.state), 4), "beta_at_0.7_t_end": round(beta(run.snapshots[0]), 4),
-            "crater_depth_over_d": round(crater_depth(run.state, d / per_d, speed_km_s) / d, 3),
-            "cour_palais_over_d": round(float(penetration_depth(SingleWall(THICKNESS_D * d), d, speed_km_s)) / d, 3),
             "seconds": round(time.perf_counter() - start, 1)}
-
-
-def crater_depth(state, spacing_cm: float, speed_km_s: float) -> float:
-    """Depth of the crater's floor on the axis below the plate's face (cm): the shallowest particle within
-    1.5 spacings of the axis that has come nearly to rest (under 5 % of the impact speed); the ejecta
-    still in the cavity are faster."""
-    near = np.hypot(state.position[:, 0], state.position[:, 2]) < 1.5 * spacing_cm
-    slow = np.linalg.norm(state.velocity, axis=1) < 0.05 * 0.1 * speed_km_s
-    return float(state.position[near & slow, 1].min())
 
 
 def main() -> None:
