@@ -29,7 +29,8 @@ numba does not reference-count, :func:`_borrow`): a 1-s sample run takes about
 50,000 steps of 2–3 µs each.
 
 The kernels take their data as records (NamedTuples, which numba passes like their
-fields): the model of the segment (:class:`._model.SegmentModel`), the step control
+fields): the model of the segment (:class:`._model.SegmentModel`, with the coupled
+model's :class:`._model.CoupledTerms` or None beside it), the step control
 (:class:`._step_control.StepControl`), an accepted step with its dense output
 (:class:`Step`), the event scan (:class:`EventScan`) and the run's output buffers
 (:class:`Outputs`).
@@ -90,7 +91,8 @@ class EventScan(NamedTuple):
 
 def event_scan(dirs: np.ndarray, n_state: int) -> EventScan:
     """A fresh :class:`EventScan` for the crossing directions ``dirs``, nothing armed."""
-    return EventScan(dirs, np.zeros(2, dtype=np.bool_), np.empty((SAMPLES_PER_STEP + 1, 2)), np.empty(n_state))
+    return EventScan(dirs=dirs, armed=np.zeros(2, dtype=np.bool_), values=np.empty((SAMPLES_PER_STEP + 1, 2)),
+                     state=np.empty(n_state))
 
 
 class Outputs(NamedTuple):
@@ -194,21 +196,22 @@ def first_crossing(vals, dirs, armed):
 
 
 @njit(cache=True)
-def record_outputs(step, t_hi, model, out, k_out):
+def record_outputs(step, t_hi, model, coupled, out, k_out):
     """Fill the rows of the :class:`Outputs` ``out`` from row ``k_out`` whose times lie in
-    (ta, t_hi] with the step's interpolant and the contact force of the segment ``model``;
-    returns the next row."""
-    while k_out < out.t.shape[0] and out.t[k_out] <= t_hi + 1e-13 * abs(t_hi):
-        if out.t[k_out] > step.ta or k_out == 0:
-            y = hermite_into(step, min(out.t[k_out], step.tb), out.y[k_out])
-            f_c = contact_force_kernel(y, model)
-            out.force[k_out] = f_c
+    (ta, t_hi] with the step's interpolant and the contact force of the segment ``model``
+    (and ``coupled``, :mod:`._model`); returns the next row."""
+    times, states, force = out.t, out.y, out.force  # read once: each read of a field is a reference count
+    while k_out < times.shape[0] and times[k_out] <= t_hi + 1e-13 * abs(t_hi):
+        if times[k_out] > step.ta or k_out == 0:
+            y = hermite_into(step, min(times[k_out], step.tb), states[k_out])
+            f_c = contact_force_kernel(y, model, coupled)
+            force[k_out] = f_c
         k_out += 1
     return k_out
 
 
 @njit(cache=True)
-def track_peak(step, t_hi, model, peak):
+def track_peak(step, t_hi, model, coupled, peak):
     """Raise ``peak`` (2,) = (F_max, t at F_max) with the contact force over [ta, t_hi].
 
     Samples the interpolant and refines the largest sample by a parabola through it
@@ -221,7 +224,7 @@ def track_peak(step, t_hi, model, peak):
     yt = np.empty_like(step.ya)
     for j in range(k + 1):
         ts[j] = ta + (t_hi - ta) * j / k
-        f_c = contact_force_kernel(hermite_into(step, ts[j], yt), model)
+        f_c = contact_force_kernel(hermite_into(step, ts[j], yt), model, coupled)
         fs[j] = f_c
     j = np.argmax(fs)
     f_best, t_best = fs[j], ts[j]
@@ -230,7 +233,7 @@ def track_peak(step, t_hi, model, peak):
         if denom < 0.0:
             off = 0.5 * (fs[j - 1] - fs[j + 1]) / denom
             t_try = ts[j] + off * (ts[1] - ts[0])
-            f_try = contact_force_kernel(hermite_into(step, t_try, yt), model)
+            f_try = contact_force_kernel(hermite_into(step, t_try, yt), model, coupled)
             if f_try > f_best:
                 f_best, t_best = f_try, t_try
     if f_best > peak[0]:
@@ -239,22 +242,22 @@ def track_peak(step, t_hi, model, peak):
 
 
 @njit(cache=True)
-def process_step(step, model, events, out, k_out, peak):
+def process_step(step, model, coupled, events, out, k_out, peak):
     """Scan an accepted :class:`Step` for events; without one, write its outputs and force peak.
 
     Returns (j, e, k_out): the event bracket of :func:`first_crossing` (−1, −1 if none).
     """
     k = SAMPLES_PER_STEP
     ta, tb = step.ta, step.tb
-    vals = events.values
+    vals, state = events.values, events.state
     for j in range(k + 1):
         t = ta + (tb - ta) * j / k
-        vals[j, 0], vals[j, 1] = event_kernel(hermite_into(step, t, events.state), model)
+        vals[j, 0], vals[j, 1] = event_kernel(hermite_into(step, t, state), model, coupled)
     j, e = first_crossing(vals, events.dirs, events.armed)
     if j < 0:
-        k_out = record_outputs(step, tb, model, out, k_out)
+        k_out = record_outputs(step, tb, model, coupled, out, k_out)
         if model.sc[IN_CONTACT] == 1.0:
-            track_peak(step, tb, model, peak)
+            track_peak(step, tb, model, coupled, peak)
     return j, e, k_out
 
 
@@ -334,11 +337,12 @@ class _StepBuffers(NamedTuple):
 
 
 @njit(cache=True)
-def rosenbrock_segment(t, y0, t_end, h_try, control, model, events, out, k_out, peak, stats):
+def rosenbrock_segment(t, y0, t_end, h_try, control, model, coupled, events, out, k_out, peak, stats):
     """Integrate from t toward ``t_end`` until an event (Rosenbrock 4(3), module docstring).
 
     ``control`` a :class:`._step_control.StepControl`, ``model`` the segment's
-    :class:`._model.SegmentModel`, ``events`` its :class:`EventScan`, ``out`` the run's
+    :class:`._model.SegmentModel` and ``coupled`` its :class:`._model.CoupledTerms` or None,
+    ``events`` its :class:`EventScan`, ``out`` the run's
     :class:`Outputs` (filled from row ``k_out``), ``peak`` as in :func:`track_peak`;
     ``stats`` (4,) accumulates steps, rejected steps, rhs and Jacobian evaluations.
     The leading 2m = 2n + 2 components [p, v] are the dynamic state (error-controlled).
@@ -351,18 +355,19 @@ def rosenbrock_segment(t, y0, t_end, h_try, control, model, events, out, k_out, 
     buffers = _StepBuffers(np.empty((4, n)), np.empty((9, n)), np.empty((n, n)), np.empty((m, m)),
                            np.empty(m, dtype=np.int64))
     buffers.ends[2] = y0
-    status, k_out, h, j, e, ta, tb = _rosenbrock_steps(t, t_end, h_try, control, model, events, out, k_out, peak,
-                                                       stats, buffers)
+    status, k_out, h, j, e, ta, tb = _rosenbrock_steps(t, t_end, h_try, control, model, coupled, events, out, k_out,
+                                                       peak, stats, buffers)
     ends = buffers.ends
     return status, k_out, h, j, e, Step(ta, ends[0], ends[1], tb, ends[2], ends[3])
 
 
 @njit(cache=True)
-def _rosenbrock_steps(t, t_end, h, control, model, events, out, k_out, peak, stats, buffers):
+def _rosenbrock_steps(t, t_end, h, control, model, coupled, events, out, k_out, peak, stats, buffers):
     """The step loop of :func:`rosenbrock_segment`, on borrowed views of its arrays,
     which the caller keeps alive. The state starts in ``buffers.ends[2]``; the last
     step's end values are left in ``buffers.ends``. Returns (status, k_out, h_next, j, e, ta, tb)."""
-    model, events, out, buffers = _borrowed(model), _borrowed(events), _borrowed(out), _borrowed(buffers)
+    model, coupled, events = _borrowed(model), _borrowed(coupled), _borrowed(events)
+    out, buffers = _borrowed(out), _borrowed(buffers)
     peak, stats = _borrow(peak), _borrow(stats)
     ends, stages, jac, lu, piv = buffers.ends, buffers.stages, buffers.jac, buffers.lu, buffers.piv
     n = ends.shape[1]
@@ -374,7 +379,7 @@ def _rosenbrock_steps(t, t_end, h, control, model, events, out, k_out, peak, sta
     f, yt, y_new, f_new = stages[4], stages[5], stages[6], stages[7]
     gv = stages[8][:m]
 
-    rhs_into(t, y, f0, model)
+    rhs_into(t, y, f0, model, coupled)
     ya[:] = y
     fa[:] = f0
     stats[2] += 1
@@ -386,7 +391,7 @@ def _rosenbrock_steps(t, t_end, h, control, model, events, out, k_out, peak, sta
         last = t + h >= t_end
         if last:
             h = t_end - t
-        jacobian_kernel(t, y, model, jac)
+        jacobian_kernel(t, y, model, coupled, jac)
         stats[3] += 1
         gh = _GAM * h
         for r in range(m):
@@ -398,13 +403,13 @@ def _rosenbrock_steps(t, t_end, h, control, model, events, out, k_out, peak, sta
         _stage_solve(lu, piv, jac, gh, m, g1, gv)
         for i in range(n):
             yt[i] = y[i] + _A21 * g1[i]
-        rhs_into(t + h, yt, f, model)
+        rhs_into(t + h, yt, f, model, coupled)
         for i in range(n):
             g2[i] = f[i] + _C21 * g1[i] / h
         _stage_solve(lu, piv, jac, gh, m, g2, gv)
         for i in range(n):
             yt[i] = y[i] + _A31 * g1[i] + _A32 * g2[i]
-        rhs_into(t + h, yt, f, model)
+        rhs_into(t + h, yt, f, model, coupled)
         for i in range(n):
             g3[i] = f[i] + (_C31 * g1[i] + _C32 * g2[i]) / h
         _stage_solve(lu, piv, jac, gh, m, g3, gv)
@@ -424,10 +429,10 @@ def _rosenbrock_steps(t, t_end, h, control, model, events, out, k_out, peak, sta
             err = 1e10
         if err <= 1.0:
             t_new = t_end if last else t + h
-            rhs_into(t_new, y_new, f_new, model)
+            rhs_into(t_new, y_new, f_new, model, coupled)
             stats[0] += 1
             stats[2] += 1
-            j, e, k_out = process_step(Step(t, y, f0, t_new, y_new, f_new), model, events, out, k_out, peak)
+            j, e, k_out = process_step(Step(t, y, f0, t_new, y_new, f_new), model, coupled, events, out, k_out, peak)
             ta = t
             ya[:] = y
             fa[:] = f0

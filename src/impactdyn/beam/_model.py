@@ -113,15 +113,16 @@ N_FW = 13
 
 
 class CoupledTerms(NamedTuple):
-    """The coupled model's arrays, the field ``coupled`` of :class:`SegmentModel`: C (n, n, n),
+    """The coupled model's arrays, one argument ``coupled`` of every kernel: C (n, n, n),
     E, F, D (n, n, n, n) (:class:`BeamModel`) and the workspace fw (N_FW + 3n, n + 1, n + 1).
 
-    The linearised model passes None instead. numba compiles each kernel that takes
-    ``coupled`` as an argument once per its type and drops the ``coupled is not None``
-    branches from the None version (:func:`_solve`, :func:`_coupled_forces`,
-    :func:`_coupled_jacobian`), so the default path runs nothing of the coupled model: passing
+    The linearised model passes None instead. numba compiles each kernel once per
+    argument type and drops the ``coupled is not None`` branches from the None version,
+    so the default path neither runs nor passes anything of the coupled model: passing
     its five arrays through every kernel call and testing a flag at run time made the
     linearised IMPACTB sample 1.64x slower (benchmarks/BENCHMARKS.md, "Rotating beam: sample runs against SciPy").
+    It stays an argument of its own, not a field of :class:`SegmentModel`: numba drops those
+    branches only where ``coupled`` is a compiled function's argument, not a record's field.
     """
 
     C: np.ndarray
@@ -132,11 +133,12 @@ class CoupledTerms(NamedTuple):
 
 
 class SegmentModel(NamedTuple):
-    """What the model's kernels read in one smooth segment, one argument ``model`` of each:
-    the packed scalars ``sc`` of the segment (torque, contact mode, V0 among them), the
-    arrays m0 … phi_p of :class:`BeamModel`, the workspace ``work`` (2n + 4, n + 1), the
-    :class:`CoupledTerms` or None, and the contact law's registry id ``law_id`` and
-    parameters ``lawp`` (:mod:`._contact`). Built by :meth:`BeamModel.segment`."""
+    """What the model's kernels read in one smooth segment besides ``coupled``, one argument
+    ``model`` of each: the packed scalars ``sc`` of the segment (torque, contact mode, V0 among
+    them), the arrays m0 … phi_p of :class:`BeamModel`, the workspace ``work`` (2n + 4, n + 1),
+    and the contact law's registry id ``law_id`` and parameters ``lawp`` (:mod:`._contact`).
+    Built by :meth:`BeamModel.segment`; a kernel reads a field at most once, into the name the
+    maths uses (every read of an array field costs a reference count, in the step loop too)."""
 
     sc: np.ndarray
     m0: np.ndarray
@@ -147,7 +149,6 @@ class SegmentModel(NamedTuple):
     b: np.ndarray
     phi_p: np.ndarray
     work: np.ndarray
-    coupled: CoupledTerms | None
     law_id: int
     lawp: np.ndarray
 
@@ -226,13 +227,10 @@ def _cholesky_solve(lf, work, r):
         work[r, i] = s / lf[i, i]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _solve(sc, m0, work, coupled, r):
     """work[r] ← M⁻¹ work[r]: the linearised model's arrow matrix, or the coupled
-    model's M(q), factorised in fw[MASS] by :func:`accelerations_kernel`.
-
-    Compiled on its own (not inlined), so that ``coupled`` is an argument here and
-    numba drops the branch the type of ``coupled`` rules out."""
+    model's M(q), factorised in fw[MASS] by :func:`accelerations_kernel`."""
     if coupled is not None:
         _cholesky_solve(coupled.fw[MASS], work, r)
     else:
@@ -305,15 +303,11 @@ def mass_matrix_kernel(y, sc, m0, G, C, E, F, D, fw):
     M[0, 0] = m00
 
 
-@njit(cache=True)
-def _coupled_forces(y, sc, m0, G, h, b, work, coupled):
+@njit(cache=True, inline="always")
+def _coupled_forces(y, sc, m0, G, h, b, C, E, F, D, work, fw):
     """Turn the linearised model's generalized forces in work[0] into the coupled
     model's (module docstring: gravity terms with Δ, −h without its first term, −Φq),
-    and factorise M(q) in fw[MASS]; nothing for the linearised model (``coupled`` None,
-    whose compiled version is empty: see :func:`_solve`)."""
-    if coupled is None:
-        return
-    C, E, F, D, fw = coupled.C, coupled.E, coupled.F, coupled.D, coupled.fw
+    and factorise M(q) in fw[MASS]."""
     n = m0.shape[0]
     q, qd, thd = y[1 : n + 1], y[n + 2 : 2 * n + 2], y[n + 1]
     cth, sth = np.cos(y[0]), np.sin(y[0])
@@ -347,7 +341,7 @@ def _coupled_forces(y, sc, m0, G, h, b, work, coupled):
 
 
 @njit(cache=True, inline="always")
-def accelerations_kernel(y, model):
+def accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled):
     """Free accelerations a₀ = M⁻¹Q (no contact) and the unit-force response u = M⁻¹J_F.
 
     J_F = [moment arm, φ₁(x_p/L), …] is the generalized direction of the contact
@@ -355,8 +349,6 @@ def accelerations_kernel(y, model):
     written to rows 0 and 1 of ``work`` (2n + 4, n + 1); the coupled model leaves its
     terms in ``coupled.fw``.
     """
-    sc, m0, kd, cd, G, b = model.sc, model.m0, model.kd, model.cd, model.G, model.b
-    phi_p, work = model.phi_p, model.work
     n = m0.shape[0]
     thd = y[n + 1]
     cth = np.cos(y[0])
@@ -366,9 +358,10 @@ def accelerations_kernel(y, model):
         pq_i = _p_times(y, sc, G, i, 1)
         work[0, 1 + i] = -kd[i] * y[1 + i] + thd * thd * pq_i - cd[i] * y[n + 2 + i] - sc[GRAV_MODAL] * b[i] * cth
         work[1, 1 + i] = phi_p[i]
-    _coupled_forces(y, sc, m0, G, model.h, b, work, model.coupled)
-    _solve(sc, m0, work, model.coupled, 0)
-    _solve(sc, m0, work, model.coupled, 1)
+    if coupled is not None:
+        _coupled_forces(y, sc, m0, G, h, b, coupled.C, coupled.E, coupled.F, coupled.D, work, coupled.fw)
+    _solve(sc, m0, work, coupled, 0)
+    _solve(sc, m0, work, coupled, 1)
 
 
 @njit(cache=True, inline="always")
@@ -394,27 +387,35 @@ def _mode_force(y, sc, phi_p, work, law_id, lawp):
 
 
 @njit(cache=True, inline="always")
-def contact_force_kernel(y, model):
-    """F_c in the segment's mode (:func:`_mode_force`); leaves a₀ and u in ``model.work``."""
-    accelerations_kernel(y, model)
-    return _mode_force(y, model.sc, model.phi_p, model.work, model.law_id, model.lawp)
+def _contact_force(y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp):
+    """F_c in the segment's mode (:func:`_mode_force`); leaves a₀ and u in ``work``."""
+    accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled)
+    return _mode_force(y, sc, phi_p, work, law_id, lawp)
+
+
+@njit(cache=True, inline="always")
+def contact_force_kernel(y, model, coupled):
+    """F_c in the segment ``model`` (:func:`_contact_force`); leaves a₀ and u in ``model.work``."""
+    return _contact_force(y, model.sc, model.m0, model.kd, model.cd, model.G, model.h, model.b, model.phi_p,
+                          model.work, coupled, model.law_id, model.lawp)
 
 
 @njit(cache=True)
-def rhs_kernel(t, y, model):
+def rhs_kernel(t, y, model, coupled):
     """dy/dt of the state (module docstring), allocated; see :func:`rhs_into`."""
     dy = np.empty_like(y)
-    rhs_into(t, y, dy, model)
+    rhs_into(t, y, dy, model, coupled)
     return dy
 
 
 @njit(cache=True)
-def rhs_into(t, y, dy, model):
-    """dy/dt of the state y (2n + 7,) into ``dy`` (2n + 7,) in the segment ``model``
-    (a :class:`SegmentModel`)."""
-    sc, cd, phi_p, work = model.sc, model.cd, model.phi_p, model.work
-    n = model.m0.shape[0]
-    f_c = contact_force_kernel(y, model)
+def rhs_into(t, y, dy, model, coupled):
+    """dy/dt of the state y (2n + 7,) into ``dy`` (2n + 7,) in the segment ``model`` (a
+    :class:`SegmentModel`), ``coupled`` a :class:`CoupledTerms` or None."""
+    sc, m0, kd, cd, G, h, b = model.sc, model.m0, model.kd, model.cd, model.G, model.h, model.b
+    phi_p, work, law_id, lawp = model.phi_p, model.work, model.law_id, model.lawp
+    n = m0.shape[0]
+    f_c = _contact_force(y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp)
     thd = y[n + 1]
     dy[0] = thd
     dy[n + 1] = work[0, 0] + f_c * work[1, 0]
@@ -445,8 +446,8 @@ def _law_slopes(law_id, delta, delta_dot, v0, lawp, force):
             (force_kernel(law_id, delta, delta_dot + d_rate, v0, lawp) - force) / d_rate)
 
 
-@njit(cache=True)
-def _coupled_jacobian(y, sc, G, h, b, work, coupled, hub_acc, f_c):
+@njit(cache=True, inline="always")
+def _coupled_jacobian(y, sc, G, h, b, C, E, F, D, work, fw, hub_acc, f_c):
     """Add the coupled model's terms to ∂Q/∂xₖ − (∂M/∂xₖ) a in work[2 + k] (columns θ,
     q_m, θ̇, q̇_m; :func:`jacobian_kernel`), a = [hub_acc, a_q] the accelerations under
     the contact force f_c. With Λ, Γ, B, Ψ, Ξ, Φ of the module docstring and
@@ -462,12 +463,8 @@ def _coupled_jacobian(y, sc, G, h, b, work, coupled, hub_acc, f_c):
 
     (the θ̇²P and 2θ̇Pq parts of hₐ's derivatives are the linearised model's, already
     in ``work``), plus the derivatives of the gravity terms, among them ∂(Δq)ₐ/∂qₘ = 3Δₐₘ
-    (d is symmetric in all four indices). Nothing for the linearised model (``coupled``
-    None, whose compiled version is empty: see :func:`_solve`).
+    (d is symmetric in all four indices).
     """
-    if coupled is None:
-        return
-    C, E, fw = coupled.C, coupled.E, coupled.fw
     n = G.shape[0]
     q, qd, thd = y[1 : n + 1], y[n + 2 : 2 * n + 2], y[n + 1]
     cth, sth = np.cos(y[0]), np.sin(y[0])
@@ -538,7 +535,7 @@ def _coupled_jacobian(y, sc, G, h, b, work, coupled, hub_acc, f_c):
 
 
 @njit(cache=True)
-def jacobian_kernel(t, y, model, jac):
+def jacobian_kernel(t, y, model, coupled, jac):
     """∂f/∂y of :func:`rhs_into` into ``jac`` (2n + 7, 2n + 7), analytically.
 
     The right-hand side is autonomous within a segment (the torque is constant
@@ -561,15 +558,14 @@ def jacobian_kernel(t, y, model, jac):
     of the running integrals follow by the chain rule; their columns are zero (they
     do not feed back). ``model.work`` rows 2…2n+3 hold Bₖ.
     """
-    sc, m0, kd, cd, G, b = model.sc, model.m0, model.kd, model.cd, model.G, model.b
-    phi_p, work = model.phi_p, model.work
-    law_id, lawp = model.law_id, model.lawp
+    sc, m0, kd, cd, G, h, b = model.sc, model.m0, model.kd, model.cd, model.G, model.h, model.b
+    phi_p, work, law_id, lawp = model.phi_p, model.work, model.law_id, model.lawp
     n = m0.shape[0]
     nd = 2 * n + 2
     rho_l = sc[RHO_L]
     thd = y[n + 1]
     sth = np.sin(y[0])
-    accelerations_kernel(y, model)
+    accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled)
     f_c = _mode_force(y, sc, phi_p, work, law_id, lawp)
     # ∂Q/∂xₖ into work[2 + k]: θ, q_j, θ̇, q̇_j columns
     for k in range(nd):
@@ -584,9 +580,11 @@ def jacobian_kernel(t, y, model, jac):
         for j in range(n):
             work[3 + j, 1 + i] = -thd * thd * G[i, j]
         work[3 + i, 1 + i] += thd * thd * rho_l - kd[i]
-    _coupled_jacobian(y, sc, G, model.h, b, work, model.coupled, work[0, 0] + f_c * work[1, 0], f_c)
+    if coupled is not None:
+        _coupled_jacobian(y, sc, G, h, b, coupled.C, coupled.E, coupled.F, coupled.D, work, coupled.fw,
+                          work[0, 0] + f_c * work[1, 0], f_c)
     for k in range(nd):
-        _solve(sc, m0, work, model.coupled, 2 + k)
+        _solve(sc, m0, work, coupled, 2 + k)
     ns = nd + 5
     for r in range(ns):
         for k in range(ns):
@@ -653,13 +651,13 @@ def coupled_energy_kernel(states, sc, m0, G, C, E, F, D, fw):
 
 
 @njit(cache=True)
-def event_kernel(y, model):
+def event_kernel(y, model, coupled):
     """The two event functions of the current mode: free: (g, 0); contact:
     (g, release indicator); resting: (λ, 0)."""
     sc, phi_p = model.sc, model.phi_p
     mode = sc[IN_CONTACT]
     if mode == 2.0:
-        return contact_force_kernel(y, model), 0.0
+        return contact_force_kernel(y, model, coupled), 0.0
     g = gap_kernel(y, sc, phi_p)
     if mode == 1.0:
         return g, release_kernel(model.law_id, -g, -gap_rate_kernel(y, sc, phi_p), sc[V0], model.lawp)
@@ -860,19 +858,23 @@ class BeamModel:
 
     def segment(self, sc: np.ndarray, law_id: int = 0, lawp: np.ndarray | None = None) -> SegmentModel:
         """The kernels' :class:`SegmentModel` of a segment with the scalars ``sc`` and the
-        contact law ``law_id``, ``lawp``: fresh workspaces ``work`` and (coupled model) ``fw``."""
-        coupled = CoupledTerms(self.C, self.E, self.F, self.D, self._workspace()) if self.coupled else None
-        return SegmentModel(sc, self.m0, self.kd, self.cd, self.G, self.h, self.b, self.phi_p,
-                            np.empty((2 * self.n + 4, self.n + 1)), coupled, law_id,
-                            np.zeros(1) if lawp is None else lawp)
+        contact law ``law_id``, ``lawp``, with a fresh workspace ``work``."""
+        return SegmentModel(sc=sc, m0=self.m0, kd=self.kd, cd=self.cd, G=self.G, h=self.h, b=self.b,
+                            phi_p=self.phi_p, work=np.empty((2 * self.n + 4, self.n + 1)), law_id=law_id,
+                            lawp=np.zeros(1) if lawp is None else lawp)
+
+    def coupled_terms(self) -> CoupledTerms | None:
+        """The kernels' argument ``coupled``: the :class:`CoupledTerms` with a fresh workspace
+        ``fw``, or None for the linearised model."""
+        return CoupledTerms(self.C, self.E, self.F, self.D, self._workspace()) if self.coupled else None
 
     def jacobian(self, y: np.ndarray, sc: np.ndarray, law_id: int = 0, lawp=None) -> np.ndarray:
         """∂f/∂y of the right-hand side in the segment mode of ``sc``, shape (2n + 7, 2n + 7)."""
         jac = np.empty((self.n_state, self.n_state))
-        jacobian_kernel(0.0, y, self.segment(sc, law_id, lawp), jac)
+        jacobian_kernel(0.0, y, self.segment(sc, law_id, lawp), self.coupled_terms(), jac)
         return jac
 
     def contact_force(self, y: np.ndarray, sc: np.ndarray, law_id: int = 0, lawp=None) -> float:
         """F_c (N) in the segment's contact mode; in resting contact the multiplier λ
         (positive: the stop pushes, so contact persists)."""
-        return contact_force_kernel(y, self.segment(sc, law_id, lawp))
+        return contact_force_kernel(y, self.segment(sc, law_id, lawp), self.coupled_terms())

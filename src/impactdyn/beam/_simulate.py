@@ -260,13 +260,14 @@ class _Segment:
     def __init__(self, run: "_Run", mode: _Mode, sc: np.ndarray):
         self.run, self.mode = run, mode
         self.model = run.model.segment(sc, run.law.kernel_id, run.law.params())
+        self.coupled = run.model.coupled_terms()
         self.events = event_scan(_event_directions(mode), run.model.n_state)
 
     def rhs(self, t, y):
-        return rhs_kernel(t, y, self.model)
+        return rhs_kernel(t, y, self.model, self.coupled)
 
     def event_values(self, y):
-        return event_kernel(y, self.model)
+        return event_kernel(y, self.model, self.coupled)
 
     def locate(self, step: Step, j, e) -> tuple[float, np.ndarray]:
         """Root of event e inside sample bracket j of the step (Brent on the interpolant)."""
@@ -287,9 +288,9 @@ class _Segment:
 
     def finish_partial_step(self, step: Step, t_ev, peak):
         run = self.run
-        run.k_out = record_outputs(step, t_ev, self.model, run.out, run.k_out)
+        run.k_out = record_outputs(step, t_ev, self.model, self.coupled, run.out, run.k_out)
         if self.mode.kind == CONTACT:
-            track_peak(step, t_ev, self.model, peak)
+            track_peak(step, t_ev, self.model, self.coupled, peak)
 
 
 def _integrate_segment(run: "_Run", case: BeamCase, mode: _Mode, sc, t, t_seg, y):
@@ -300,7 +301,7 @@ def _integrate_segment(run: "_Run", case: BeamCase, mode: _Mode, sc, t, t_seg, y
     h0 = min(_first_step(run.model, y, f0, run.h_next), t_seg - t)
     if case.solver.method == "rosenbrock":
         status, run.k_out, run.h_next, j, e, step = rosenbrock_segment(
-            t, y, t_seg, h0, run.control, seg.model, seg.events, run.out, run.k_out, peak, run.counts)
+            t, y, t_seg, h0, run.control, seg.model, seg.coupled, seg.events, run.out, run.k_out, peak, run.counts)
         if status == STEP_UNDERFLOW:
             raise SimulationError(f"step size underflow at t = {step.tb:.9g} s")
         if status == TOO_MANY_STEPS:
@@ -316,7 +317,7 @@ def _integrate_segment(run: "_Run", case: BeamCase, mode: _Mode, sc, t, t_seg, y
                 raise SimulationError(f"integrator failed at t = {solver.t:.9g} s: {msg}")
             f1 = seg.rhs(solver.t, solver.y)
             step = Step(solver.t_old, y, f0, solver.t, solver.y.copy(), f1)
-            j, e, run.k_out = process_step(step, seg.model, seg.events, run.out, run.k_out, peak)
+            j, e, run.k_out = process_step(step, seg.model, seg.coupled, seg.events, run.out, run.k_out, peak)
             run.counts[0] += 1
             event = j >= 0
             y, f0 = step.yb, f1
@@ -388,8 +389,9 @@ def simulate(case: BeamCase) -> Result:
     law = contact_law(case)
     t0, t_end, dt = case.time.start_s, case.time.end_s, case.time.output_step_s
     n_out = int(np.floor((t_end - t0) / dt + 1e-9)) + 1
-    out = Outputs(t0 + dt * np.arange(n_out), np.full((n_out, model.n_state), np.nan), np.zeros(n_out))
-    run = _Run(model, law, StepControl(case.solver.rtol, case.solver.atol, case.solver.max_steps), out)
+    out = Outputs(t=t0 + dt * np.arange(n_out), y=np.full((n_out, model.n_state), np.nan), force=np.zeros(n_out))
+    control = StepControl(rtol=case.solver.rtol, atol=case.solver.atol, max_steps=case.solver.max_steps)
+    run = _Run(model, law, control, out)
     corners, torques = torque_schedule(case)
 
     y = initial_state(case, model)  # clear of the stop: BeamCase checks it (initial_gap)
