@@ -35,10 +35,9 @@ model's :class:`._model.CoupledTerms` or None beside it), the step control
 (:class:`Step`), the event scan (:class:`EventScan`) and the run's output buffers
 (:class:`Outputs`).
 
-numba's on-disk cache keys each compiled function on its own source file only, and
-the step loop here compiles the kernels of ``_model`` and ``_step_control`` into itself:
-after editing one of those alone, touch this file (or delete
-``__pycache__/_integrator.*.nb*``), or the loop keeps running the old kernels.
+The step loop compiles the kernels of ``_model`` and ``_step_control`` into itself; its
+cached machine code is stamped with a digest of all the package's sources
+(:mod:`impactdyn._jitcache`), so an edit of any of them recompiles it.
 """
 
 from __future__ import annotations
@@ -104,9 +103,10 @@ class Outputs(NamedTuple):
     force: np.ndarray
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def hermite_into(step, t, out):
-    """Cubic Hermite interpolant of the :class:`Step` at t ∈ [ta, tb], written into ``out``."""
+    """Cubic Hermite interpolant of the :class:`Step` at t ∈ [ta, tb], written into ``out``.
+    Inlined (like :func:`._model.event_kernel`): a call would count references to the step's arrays."""
     ta, ya, fa, tb, yb, fb = step
     h = tb - ta
     s = (t - ta) / h

@@ -650,10 +650,11 @@ def coupled_energy_kernel(states, sc, m0, G, C, E, F, D, fw):
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def event_kernel(y, model, coupled):
     """The two event functions of the current mode: free: (g, 0); contact:
-    (g, release indicator); resting: (λ, 0)."""
+    (g, release indicator); resting: (λ, 0). Inlined into the step's event scan, which
+    calls it nine times a step: a call would count references to every array of ``model``."""
     sc, phi_p = model.sc, model.phi_p
     mode = sc[IN_CONTACT]
     if mode == 2.0:
