@@ -18,7 +18,7 @@ LAW_MODES = [(COMPLIANT[0], 0)] + [(law, 1 if law in COMPLIANT else 2) for law i
 PENETRATION = 1e-5  # m, of the contact states
 
 
-def finite_difference_jacobian(y, args, scale):
+def finite_difference_jacobian(y, model, coupled, scale):
     """Fourth-order central differences of the compiled right-hand side, column by
     column, with steps of 1e-3 ``scale``."""
     jac = np.empty((y.size, y.size))
@@ -28,7 +28,7 @@ def finite_difference_jacobian(y, args, scale):
         for s in (-2, -1, 1, 2):
             yp = y.copy()
             yp[k] += s * d
-            f[s] = rhs_kernel(0.0, yp, *args)
+            f[s] = rhs_kernel(0.0, yp, model, coupled)
         jac[:, k] = (8.0 * (f[1] - f[-1]) - (f[2] - f[-2])) / (12.0 * d)
     return jac
 
@@ -69,7 +69,7 @@ def test_analytic_jacobian_matches_finite_differences(make_case, law, mode, coup
                      beam={"hub_radius_m": 0.02}, damping={"modal_ratio": 0.01})
     m, y, sc = state_and_params(case, mode, amplitude)
     law_obj = contact_law(case)
-    args = (*m.kernel_args(sc), law_obj.kernel_id, law_obj.params())
+    segment = m.segment(sc, law_obj.kernel_id, law_obj.params())
     if mode == 1:
         assert m.contact_force(y, sc, law_obj.kernel_id, law_obj.params()) > 0.0
     analytic = m.jacobian(y, sc, law_obj.kernel_id, law_obj.params())
@@ -77,7 +77,7 @@ def test_analytic_jacobian_matches_finite_differences(make_case, law, mode, coup
     if mode == 1:  # steps in θ, q small against the penetration, where the force law curves
         gap_row = np.abs(m.jacobian_row())
         scale[: m.n + 1] = np.minimum(scale[: m.n + 1], PENETRATION / gap_row)
-    numeric = finite_difference_jacobian(y, args, scale)
+    numeric = finite_difference_jacobian(y, segment, m.coupled_terms(), scale)
     floor = 1e-9 * np.max(np.abs(numeric), axis=1, keepdims=True)
     err = np.abs(analytic - numeric)
     assert np.all(err <= 1e-6 * np.abs(numeric) + floor)

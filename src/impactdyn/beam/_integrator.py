@@ -28,20 +28,28 @@ step (the hot loop works in buffers made once per segment, through views that
 numba does not reference-count, :func:`_borrow`): a 1-s sample run takes about
 50,000 steps of 2–3 µs each.
 
-numba's on-disk cache keys each compiled function on its own source file only, and
-the step loop here compiles the kernels of ``_model`` into itself: after editing
-``_model`` alone, touch this file (or delete ``__pycache__/_integrator.*.nb*``), or the
-loop keeps running the old kernels.
+The kernels take their data as records (NamedTuples, which numba passes like their
+fields): the model of the segment (:class:`._model.SegmentModel`, with the coupled
+model's :class:`._model.CoupledTerms` or None beside it), the step control
+(:class:`._step_control.StepControl`), an accepted step with its dense output
+(:class:`Step`), the event scan (:class:`EventScan`) and the run's output buffers
+(:class:`Outputs`).
+
+The step loop compiles the kernels of ``_model`` and ``_step_control`` into itself; its
+cached machine code is stamped with a digest of all the package's sources
+(:mod:`impactdyn._jitcache`), so an edit of any of them recompiles it.
 """
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 from numba import carray, njit, types
-from numba.extending import intrinsic
+from numba.extending import intrinsic, overload
 
-from impactdyn.beam._model import (
-    IN_CONTACT, CoupledTerms, contact_force_kernel, event_kernel, jacobian_kernel, rhs_into)
+from impactdyn.beam._model import IN_CONTACT, contact_force_kernel, event_kernel, jacobian_kernel, rhs_into
+from impactdyn.beam._step_control import next_step
 
 # Shampine (1982) parameters
 _GAM = 0.5
@@ -51,15 +59,55 @@ _C41, _C42, _C43 = -112.0 / 125.0, -54.0 / 125.0, -2.0 / 5.0
 _B1, _B2, _B3, _B4 = 19.0 / 9.0, 0.5, 25.0 / 108.0, 125.0 / 108.0
 _E1, _E2, _E3, _E4 = 17.0 / 54.0, 7.0 / 36.0, 0.0, 125.0 / 108.0
 SAMPLES_PER_STEP = 8
-ORDER = 4
 
 # status codes of rosenbrock_segment
 REACHED_END, EVENT, STEP_UNDERFLOW, TOO_MANY_STEPS = 0, 1, 2, 3
 
 
-@njit(cache=True)
-def hermite_into(ta, ya, fa, tb, yb, fb, t, out):
-    """Cubic Hermite interpolant of the step [ta, tb] at t, written into ``out``."""
+class Step(NamedTuple):
+    """An accepted step from (ta, ya) to (tb, yb), with the slopes fa = f(ta, ya) and
+    fb = f(tb, yb) that its dense output interpolates (:func:`hermite_into`)."""
+
+    ta: float
+    ya: np.ndarray
+    fa: np.ndarray
+    tb: float
+    yb: np.ndarray
+    fb: np.ndarray
+
+
+class EventScan(NamedTuple):
+    """The event scan of one segment: the crossing directions ``dirs`` (2,) and the arming
+    ``armed`` (2,) of the two event slots (:func:`first_crossing`), and the scratch of
+    :func:`process_step`: ``values`` (SAMPLES_PER_STEP + 1, 2) of the sampled event
+    functions and ``state`` (2n + 7,) of the interpolated state. Made by :func:`event_scan`."""
+
+    dirs: np.ndarray
+    armed: np.ndarray
+    values: np.ndarray
+    state: np.ndarray
+
+
+def event_scan(dirs: np.ndarray, n_state: int) -> EventScan:
+    """A fresh :class:`EventScan` for the crossing directions ``dirs``, nothing armed."""
+    return EventScan(dirs=dirs, armed=np.zeros(2, dtype=np.bool_), values=np.empty((SAMPLES_PER_STEP + 1, 2)),
+                     state=np.empty(n_state))
+
+
+class Outputs(NamedTuple):
+    """The run's output buffers: times ``t`` (k,) and the states ``y`` (k, 2n + 7) and
+    contact ``force`` (k,) at them, written in order by :func:`record_outputs`."""
+
+    t: np.ndarray
+    y: np.ndarray
+    force: np.ndarray
+
+
+@njit(cache=True, inline="always")
+def hermite_into(step, t, out):
+    """Cubic Hermite interpolant of the :class:`Step` at t ∈ [ta, tb], written into ``out``.
+    Inlined (like :func:`._model.event_kernel`): a call would count references to the step's arrays."""
+    ta, ya, fa, tb, yb, fb = step
     h = tb - ta
     s = (t - ta) / h
     s2 = s * s
@@ -71,9 +119,9 @@ def hermite_into(ta, ya, fa, tb, yb, fb, t, out):
 
 
 @njit(cache=True)
-def hermite(ta, ya, fa, tb, yb, fb, t):
-    """Cubic Hermite interpolant of the step at t ∈ [ta, tb]; shape of ``ya``."""
-    return hermite_into(ta, ya, fa, tb, yb, fb, t, np.empty_like(ya))
+def hermite(step, t):
+    """Cubic Hermite interpolant of the :class:`Step` at t ∈ [ta, tb]; shape of ``ya``."""
+    return hermite_into(step, t, np.empty_like(step.ya))
 
 
 @njit(cache=True)
@@ -148,33 +196,35 @@ def first_crossing(vals, dirs, armed):
 
 
 @njit(cache=True)
-def record_outputs(ta, ya, fa, tb, yb, fb, t_hi, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp,
-                   out_t, out_y, out_f, k_out):
-    """Fill output rows with times in (ta, t_hi] from the step's interpolant; returns the next row."""
-    while k_out < out_t.shape[0] and out_t[k_out] <= t_hi + 1e-13 * abs(t_hi):
-        if out_t[k_out] > ta or k_out == 0:
-            y = hermite_into(ta, ya, fa, tb, yb, fb, min(out_t[k_out], tb), out_y[k_out])
-            f_c = contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp)
-            out_f[k_out] = f_c
+def record_outputs(step, t_hi, model, coupled, out, k_out):
+    """Fill the rows of the :class:`Outputs` ``out`` from row ``k_out`` whose times lie in
+    (ta, t_hi] with the step's interpolant and the contact force of the segment ``model``
+    (and ``coupled``, :mod:`._model`); returns the next row."""
+    times, states, force = out.t, out.y, out.force  # read once: each read of a field is a reference count
+    while k_out < times.shape[0] and times[k_out] <= t_hi + 1e-13 * abs(t_hi):
+        if times[k_out] > step.ta or k_out == 0:
+            y = hermite_into(step, min(times[k_out], step.tb), states[k_out])
+            f_c = contact_force_kernel(y, model, coupled)
+            force[k_out] = f_c
         k_out += 1
     return k_out
 
 
 @njit(cache=True)
-def track_peak(ta, ya, fa, tb, yb, fb, t_hi, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp, peak):
+def track_peak(step, t_hi, model, coupled, peak):
     """Raise ``peak`` (2,) = (F_max, t at F_max) with the contact force over [ta, t_hi].
 
     Samples the interpolant and refines the largest sample by a parabola through it
     and its neighbours (the force is smooth inside a contact phase).
     """
     k = SAMPLES_PER_STEP
+    ta = step.ta
     ts = np.empty(k + 1)
     fs = np.empty(k + 1)
-    yt = np.empty_like(ya)
+    yt = np.empty_like(step.ya)
     for j in range(k + 1):
         ts[j] = ta + (t_hi - ta) * j / k
-        f_c = contact_force_kernel(hermite_into(ta, ya, fa, tb, yb, fb, ts[j], yt), sc, m0, kd, cd, G, h, b,
-                                         phi_p, work, coupled, law_id, lawp)
+        f_c = contact_force_kernel(hermite_into(step, ts[j], yt), model, coupled)
         fs[j] = f_c
     j = np.argmax(fs)
     f_best, t_best = fs[j], ts[j]
@@ -183,8 +233,7 @@ def track_peak(ta, ya, fa, tb, yb, fb, t_hi, sc, m0, kd, cd, G, h, b, phi_p, wor
         if denom < 0.0:
             off = 0.5 * (fs[j - 1] - fs[j + 1]) / denom
             t_try = ts[j] + off * (ts[1] - ts[0])
-            f_try = contact_force_kernel(hermite_into(ta, ya, fa, tb, yb, fb, t_try, yt), sc, m0, kd, cd, G, h, b,
-                                               phi_p, work, coupled, law_id, lawp)
+            f_try = contact_force_kernel(hermite_into(step, t_try, yt), model, coupled)
             if f_try > f_best:
                 f_best, t_best = f_try, t_try
     if f_best > peak[0]:
@@ -193,25 +242,22 @@ def track_peak(ta, ya, fa, tb, yb, fb, t_hi, sc, m0, kd, cd, G, h, b, phi_p, wor
 
 
 @njit(cache=True)
-def process_step(ta, ya, fa, tb, yb, fb, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp, dirs,
-                 armed, vals, yt, out_t, out_y, out_f, k_out, peak):
-    """Scan an accepted step for events; without one, write its outputs and force peak.
+def process_step(step, model, coupled, events, out, k_out, peak):
+    """Scan an accepted :class:`Step` for events; without one, write its outputs and force peak.
 
-    ``vals`` (SAMPLES_PER_STEP + 1, 2) and ``yt`` (like ``ya``) are scratch.
     Returns (j, e, k_out): the event bracket of :func:`first_crossing` (−1, −1 if none).
     """
     k = SAMPLES_PER_STEP
+    ta, tb = step.ta, step.tb
+    vals, state = events.values, events.state
     for j in range(k + 1):
         t = ta + (tb - ta) * j / k
-        vals[j, 0], vals[j, 1] = event_kernel(hermite_into(ta, ya, fa, tb, yb, fb, t, yt), sc, m0, kd, cd, G, h, b,
-                                              phi_p, work, coupled, law_id, lawp)
-    j, e = first_crossing(vals, dirs, armed)
+        vals[j, 0], vals[j, 1] = event_kernel(hermite_into(step, t, state), model, coupled)
+    j, e = first_crossing(vals, events.dirs, events.armed)
     if j < 0:
-        k_out = record_outputs(ta, ya, fa, tb, yb, fb, tb, sc, m0, kd, cd, G, h, b, phi_p, work, coupled,
-                               law_id, lawp, out_t, out_y, out_f, k_out)
-        if sc[IN_CONTACT] == 1.0:
-            track_peak(ta, ya, fa, tb, yb, fb, tb, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp,
-                       peak)
+        k_out = record_outputs(step, tb, model, coupled, out, k_out)
+        if model.sc[IN_CONTACT] == 1.0:
+            track_peak(step, tb, model, coupled, peak)
     return j, e, k_out
 
 
@@ -259,68 +305,93 @@ def _borrow(a):
     return carray(_data_pointer(a), a.shape)
 
 
+def _borrowed(value):
+    """A copy of the record ``value`` whose arrays are :func:`_borrow`-ed views, nested
+    records too; None and scalars as they are. For compiled callers only (:func:`_borrowed_of`)."""
+
+
+@overload(_borrowed)
+def _borrowed_of(value):
+    """:func:`_borrowed` for the type of ``value``; a record's is written out field by field,
+    record(_borrowed(value[0]), _borrowed(value[1]), …), so that no list of fields is kept by hand."""
+    if isinstance(value, types.Array):
+        return lambda value: _borrow(value)
+    if isinstance(value, types.BaseNamedTuple):
+        fields = ", ".join(f"_borrowed(value[{i}])" for i in range(len(value)))
+        scope = {"record": value.instance_class, "_borrowed": _borrowed}
+        exec(f"def borrowed_record(value):\n    return record({fields})", scope)
+        return scope["borrowed_record"]
+    return lambda value: value
+
+
+class _StepBuffers(NamedTuple):
+    """The step loop's buffers, made once per segment: ``ends`` (4, n) ya, fa, y, f of the
+    last step, ``stages`` (9, n) g₁…g₄, f, the stage state, y₁, f(y₁) and the velocity part
+    of a stage solve, the Jacobian ``jac`` (n, n), and the factors ``lu`` (m, m), ``piv`` (m,)."""
+
+    ends: np.ndarray
+    stages: np.ndarray
+    jac: np.ndarray
+    lu: np.ndarray
+    piv: np.ndarray
+
+
 @njit(cache=True)
-def rosenbrock_segment(t, y0, t_end, h_try, rtol, atol, n_dyn, max_steps,
-                       sc, m0, kd, cd, G, hmat, b, phi_p, work, coupled, law_id, lawp, dirs, armed,
-                       out_t, out_y, out_f, k_out, peak, stats):
+def rosenbrock_segment(t, y0, t_end, h_try, control, model, coupled, events, out, k_out, peak, stats):
     """Integrate from t toward ``t_end`` until an event (Rosenbrock 4(3), module docstring).
 
-    ``n_dyn`` = 2m leading components [p, v] are the dynamic state (error-controlled);
+    ``control`` a :class:`._step_control.StepControl`, ``model`` the segment's
+    :class:`._model.SegmentModel` and ``coupled`` its :class:`._model.CoupledTerms` or None,
+    ``events`` its :class:`EventScan`, ``out`` the run's
+    :class:`Outputs` (filled from row ``k_out``), ``peak`` as in :func:`track_peak`;
     ``stats`` (4,) accumulates steps, rejected steps, rhs and Jacobian evaluations.
-    Returns (status, k_out, h_next, j, e, ta, ya, fa, tb, yb, fb): on ``EVENT`` the
-    step [ta, tb] holds the crossing in its sample bracket j of event e; on
-    ``REACHED_END`` (tb, yb) is the state at t_end.
+    The leading 2m = 2n + 2 components [p, v] are the dynamic state (error-controlled).
+    Returns (status, k_out, h_next, j, e, step): on ``EVENT`` the :class:`Step` holds the
+    crossing in its sample bracket j of event e; on ``REACHED_END`` (tb, yb) is the state
+    at t_end.
     """
     n = y0.shape[0]
-    m = n_dyn // 2
-    ends = np.empty((4, n))  # ya, fa, yb, fb of the last step
-    ends[2] = y0
-    scratch = np.empty((9, n))
-    jac, lu, piv = np.empty((n, n)), np.empty((m, m)), np.empty(m, dtype=np.int64)
-    vals = np.empty((SAMPLES_PER_STEP + 1, 2))
-    status, k_out, h, j, e, ta, tb = _rosenbrock_steps(
-        t, t_end, h_try, rtol, atol, n_dyn, max_steps, ends, scratch, jac, lu, piv, vals,
-        sc, m0, kd, cd, G, hmat, b, phi_p, work, coupled, law_id, lawp, dirs, armed, out_t, out_y, out_f, k_out,
-        peak, stats)
-    return status, k_out, h, j, e, ta, ends[0], ends[1], tb, ends[2], ends[3]
+    m = model.m0.shape[0] + 1
+    buffers = _StepBuffers(np.empty((4, n)), np.empty((9, n)), np.empty((n, n)), np.empty((m, m)),
+                           np.empty(m, dtype=np.int64))
+    buffers.ends[2] = y0
+    status, k_out, h, j, e, ta, tb = _rosenbrock_steps(t, t_end, h_try, control, model, coupled, events, out, k_out,
+                                                       peak, stats, buffers)
+    ends = buffers.ends
+    return status, k_out, h, j, e, Step(ta, ends[0], ends[1], tb, ends[2], ends[3])
 
 
 @njit(cache=True)
-def _rosenbrock_steps(t, t_end, h, rtol, atol, n_dyn, max_steps, ends, scratch, jac, lu, piv, vals,
-                      sc, m0, kd, cd, G, hmat, b, phi_p, work, coupled, law_id, lawp, dirs, armed,
-                      out_t, out_y, out_f, k_out, peak, stats):
+def _rosenbrock_steps(t, t_end, h, control, model, coupled, events, out, k_out, peak, stats, buffers):
     """The step loop of :func:`rosenbrock_segment`, on borrowed views of its arrays,
-    which the caller keeps alive. The state starts in ``ends[2]``; the last step's
-    end values are left in ``ends`` (4, n). Returns (status, k_out, h_next, j, e, ta, tb)."""
+    which the caller keeps alive. The state starts in ``buffers.ends[2]``; the last
+    step's end values are left in ``buffers.ends``. Returns (status, k_out, h_next, j, e, ta, tb)."""
+    model, coupled, events = _borrowed(model), _borrowed(coupled), _borrowed(events)
+    out, buffers = _borrowed(out), _borrowed(buffers)
+    peak, stats = _borrow(peak), _borrow(stats)
+    ends, stages, jac, lu, piv = buffers.ends, buffers.stages, buffers.jac, buffers.lu, buffers.piv
     n = ends.shape[1]
-    m = n_dyn // 2
-    ya, fa, y, f0 = _borrow(ends[0]), _borrow(ends[1]), _borrow(ends[2]), _borrow(ends[3])
-    g1, g2, g3, g4 = _borrow(scratch[0]), _borrow(scratch[1]), _borrow(scratch[2]), _borrow(scratch[3])
-    f, yt, y_new, f_new = _borrow(scratch[4]), _borrow(scratch[5]), _borrow(scratch[6]), _borrow(scratch[7])
-    gv = _borrow(scratch[8])[:m]
-    jac, lu, piv, vals = _borrow(jac), _borrow(lu), _borrow(piv), _borrow(vals)
-    sc, m0, kd, cd, G, hmat, b, phi_p = (_borrow(sc), _borrow(m0), _borrow(kd), _borrow(cd), _borrow(G),
-                                         _borrow(hmat), _borrow(b), _borrow(phi_p))
-    work = _borrow(work)
-    if coupled is not None:
-        coupled = CoupledTerms(_borrow(coupled.C), _borrow(coupled.E), _borrow(coupled.F), _borrow(coupled.D),
-                               _borrow(coupled.fw))
-    lawp, dirs, armed = _borrow(lawp), _borrow(dirs), _borrow(armed)
-    out_t, out_y, out_f, peak, stats = _borrow(out_t), _borrow(out_y), _borrow(out_f), _borrow(peak), _borrow(stats)
+    m = lu.shape[0]
+    n_dyn = 2 * m
+    rtol, atol = control.rtol, control.atol
+    ya, fa, y, f0 = ends[0], ends[1], ends[2], ends[3]
+    g1, g2, g3, g4 = stages[0], stages[1], stages[2], stages[3]
+    f, yt, y_new, f_new = stages[4], stages[5], stages[6], stages[7]
+    gv = stages[8][:m]
 
-    rhs_into(t, y, f0, sc, m0, kd, cd, G, hmat, b, phi_p, work, coupled, law_id, lawp)
+    rhs_into(t, y, f0, model, coupled)
     ya[:] = y
     fa[:] = f0
     stats[2] += 1
     h = min(h, t_end - t)
     ta = t
     while t < t_end:
-        if stats[0] >= max_steps:
+        if stats[0] >= control.max_steps:
             return TOO_MANY_STEPS, k_out, h, -1, -1, ta, t
         last = t + h >= t_end
         if last:
             h = t_end - t
-        jacobian_kernel(t, y, sc, m0, kd, cd, G, hmat, b, phi_p, work, coupled, law_id, lawp, jac)
+        jacobian_kernel(t, y, model, coupled, jac)
         stats[3] += 1
         gh = _GAM * h
         for r in range(m):
@@ -332,13 +403,13 @@ def _rosenbrock_steps(t, t_end, h, rtol, atol, n_dyn, max_steps, ends, scratch, 
         _stage_solve(lu, piv, jac, gh, m, g1, gv)
         for i in range(n):
             yt[i] = y[i] + _A21 * g1[i]
-        rhs_into(t + h, yt, f, sc, m0, kd, cd, G, hmat, b, phi_p, work, coupled, law_id, lawp)
+        rhs_into(t + h, yt, f, model, coupled)
         for i in range(n):
             g2[i] = f[i] + _C21 * g1[i] / h
         _stage_solve(lu, piv, jac, gh, m, g2, gv)
         for i in range(n):
             yt[i] = y[i] + _A31 * g1[i] + _A32 * g2[i]
-        rhs_into(t + h, yt, f, sc, m0, kd, cd, G, hmat, b, phi_p, work, coupled, law_id, lawp)
+        rhs_into(t + h, yt, f, model, coupled)
         for i in range(n):
             g3[i] = f[i] + (_C31 * g1[i] + _C32 * g2[i]) / h
         _stage_solve(lu, piv, jac, gh, m, g3, gv)
@@ -358,25 +429,24 @@ def _rosenbrock_steps(t, t_end, h, rtol, atol, n_dyn, max_steps, ends, scratch, 
             err = 1e10
         if err <= 1.0:
             t_new = t_end if last else t + h
-            rhs_into(t_new, y_new, f_new, sc, m0, kd, cd, G, hmat, b, phi_p, work, coupled, law_id, lawp)
+            rhs_into(t_new, y_new, f_new, model, coupled)
             stats[0] += 1
             stats[2] += 1
-            j, e, k_out = process_step(t, y, f0, t_new, y_new, f_new, sc, m0, kd, cd, G, hmat, b, phi_p, work,
-                                       coupled, law_id, lawp, dirs, armed, vals, yt, out_t, out_y, out_f, k_out, peak)
+            j, e, k_out = process_step(Step(t, y, f0, t_new, y_new, f_new), model, coupled, events, out, k_out, peak)
             ta = t
             ya[:] = y
             fa[:] = f0
             t = t_new
             y[:] = y_new
             f0[:] = f_new
-            h_next = h * min(5.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.25))
+            h_next = next_step(control, h, err)
             if j >= 0:
                 return EVENT, k_out, h_next, j, e, ta, t
             if not last:
                 h = h_next
         else:
             stats[1] += 1
-            h *= max(0.2, 0.9 * err**-0.25)
-            if h < 1e-15 * max(abs(t), 1.0):
+            h = next_step(control, h, err)
+            if h < control.underflow * max(abs(t), 1.0):
                 return STEP_UNDERFLOW, k_out, h, -1, -1, ta, t
     return REACHED_END, k_out, h, -1, -1, ta, t

@@ -121,6 +121,8 @@ class CoupledTerms(NamedTuple):
     so the default path neither runs nor passes anything of the coupled model: passing
     its five arrays through every kernel call and testing a flag at run time made the
     linearised IMPACTB sample 1.64x slower (benchmarks/BENCHMARKS.md, "Rotating beam: sample runs against SciPy").
+    It stays an argument of its own, not a field of :class:`SegmentModel`: numba drops those
+    branches only where ``coupled`` is a compiled function's argument, not a record's field.
     """
 
     C: np.ndarray
@@ -128,6 +130,27 @@ class CoupledTerms(NamedTuple):
     F: np.ndarray
     D: np.ndarray
     fw: np.ndarray
+
+
+class SegmentModel(NamedTuple):
+    """What the model's kernels read in one smooth segment besides ``coupled``, one argument
+    ``model`` of each: the packed scalars ``sc`` of the segment (torque, contact mode, V0 among
+    them), the arrays m0 … phi_p of :class:`BeamModel`, the workspace ``work`` (2n + 4, n + 1),
+    and the contact law's registry id ``law_id`` and parameters ``lawp`` (:mod:`._contact`).
+    Built by :meth:`BeamModel.segment`; a kernel reads a field at most once, into the name the
+    maths uses (every read of an array field costs a reference count, in the step loop too)."""
+
+    sc: np.ndarray
+    m0: np.ndarray
+    kd: np.ndarray
+    cd: np.ndarray
+    G: np.ndarray
+    h: np.ndarray
+    b: np.ndarray
+    phi_p: np.ndarray
+    work: np.ndarray
+    law_id: int
+    lawp: np.ndarray
 
 
 @njit(cache=True, inline="always")
@@ -364,26 +387,35 @@ def _mode_force(y, sc, phi_p, work, law_id, lawp):
 
 
 @njit(cache=True, inline="always")
-def contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp):
+def _contact_force(y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp):
     """F_c in the segment's mode (:func:`_mode_force`); leaves a₀ and u in ``work``."""
     accelerations_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled)
     return _mode_force(y, sc, phi_p, work, law_id, lawp)
 
 
+@njit(cache=True, inline="always")
+def contact_force_kernel(y, model, coupled):
+    """F_c in the segment ``model`` (:func:`_contact_force`); leaves a₀ and u in ``model.work``."""
+    return _contact_force(y, model.sc, model.m0, model.kd, model.cd, model.G, model.h, model.b, model.phi_p,
+                          model.work, coupled, model.law_id, model.lawp)
+
+
 @njit(cache=True)
-def rhs_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp):
+def rhs_kernel(t, y, model, coupled):
     """dy/dt of the state (module docstring), allocated; see :func:`rhs_into`."""
     dy = np.empty_like(y)
-    rhs_into(t, y, dy, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp)
+    rhs_into(t, y, dy, model, coupled)
     return dy
 
 
 @njit(cache=True)
-def rhs_into(t, y, dy, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp):
-    """dy/dt of the state into ``dy``; shapes: y, dy (2n+7,), m0/kd/cd/b/phi_p (n,),
-    G/h (n,n), work (2n+4, n+1), coupled a :class:`CoupledTerms` or None."""
+def rhs_into(t, y, dy, model, coupled):
+    """dy/dt of the state y (2n + 7,) into ``dy`` (2n + 7,) in the segment ``model`` (a
+    :class:`SegmentModel`), ``coupled`` a :class:`CoupledTerms` or None."""
+    sc, m0, kd, cd, G, h, b = model.sc, model.m0, model.kd, model.cd, model.G, model.h, model.b
+    phi_p, work, law_id, lawp = model.phi_p, model.work, model.law_id, model.lawp
     n = m0.shape[0]
-    f_c = contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp)
+    f_c = _contact_force(y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp)
     thd = y[n + 1]
     dy[0] = thd
     dy[n + 1] = work[0, 0] + f_c * work[1, 0]
@@ -503,7 +535,7 @@ def _coupled_jacobian(y, sc, G, h, b, C, E, F, D, work, fw, hub_acc, f_c):
 
 
 @njit(cache=True)
-def jacobian_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp, jac):
+def jacobian_kernel(t, y, model, coupled, jac):
     """∂f/∂y of :func:`rhs_into` into ``jac`` (2n + 7, 2n + 7), analytically.
 
     The right-hand side is autonomous within a segment (the torque is constant
@@ -524,8 +556,10 @@ def jacobian_kernel(t, y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id,
     (δ = −g, δ̇ = −ġ, J the gap row, slopes by :func:`_law_slopes`; 0 where F is
     clipped); at rest λ keeps J a = 0 for every x, so ∂λ/∂xₖ = −J·Bₖ / J·u. The rows
     of the running integrals follow by the chain rule; their columns are zero (they
-    do not feed back). ``work`` rows 2…2n+3 hold Bₖ.
+    do not feed back). ``model.work`` rows 2…2n+3 hold Bₖ.
     """
+    sc, m0, kd, cd, G, h, b = model.sc, model.m0, model.kd, model.cd, model.G, model.h, model.b
+    phi_p, work, law_id, lawp = model.phi_p, model.work, model.law_id, model.lawp
     n = m0.shape[0]
     nd = 2 * n + 2
     rho_l = sc[RHO_L]
@@ -616,16 +650,18 @@ def coupled_energy_kernel(states, sc, m0, G, C, E, F, D, fw):
     return out
 
 
-@njit(cache=True)
-def event_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp):
+@njit(cache=True, inline="always")
+def event_kernel(y, model, coupled):
     """The two event functions of the current mode: free: (g, 0); contact:
-    (g, release indicator); resting: (λ, 0)."""
+    (g, release indicator); resting: (λ, 0). Inlined into the step's event scan, which
+    calls it nine times a step: a call would count references to every array of ``model``."""
+    sc, phi_p = model.sc, model.phi_p
     mode = sc[IN_CONTACT]
     if mode == 2.0:
-        return contact_force_kernel(y, sc, m0, kd, cd, G, h, b, phi_p, work, coupled, law_id, lawp), 0.0
+        return contact_force_kernel(y, model, coupled), 0.0
     g = gap_kernel(y, sc, phi_p)
     if mode == 1.0:
-        return g, release_kernel(law_id, -g, -gap_rate_kernel(y, sc, phi_p), sc[V0], lawp)
+        return g, release_kernel(model.law_id, -g, -gap_rate_kernel(y, sc, phi_p), sc[V0], model.lawp)
     return g, 0.0
 
 
@@ -821,20 +857,25 @@ class BeamModel:
         """fw (N_FW + 3n, n + 1, n + 1) of the coupled kernels."""
         return np.empty((N_FW + 3 * self.n, self.n + 1, self.n + 1))
 
-    def kernel_args(self, sc: np.ndarray) -> tuple:
-        """The model arrays after ``sc``, in the order every kernel takes them, with a
-        fresh workspace ``work`` and the :class:`CoupledTerms` (with a fresh ``fw``) or None."""
-        coupled = CoupledTerms(self.C, self.E, self.F, self.D, self._workspace()) if self.coupled else None
-        return (sc, self.m0, self.kd, self.cd, self.G, self.h, self.b, self.phi_p,
-                np.empty((2 * self.n + 4, self.n + 1)), coupled)
+    def segment(self, sc: np.ndarray, law_id: int = 0, lawp: np.ndarray | None = None) -> SegmentModel:
+        """The kernels' :class:`SegmentModel` of a segment with the scalars ``sc`` and the
+        contact law ``law_id``, ``lawp``, with a fresh workspace ``work``."""
+        return SegmentModel(sc=sc, m0=self.m0, kd=self.kd, cd=self.cd, G=self.G, h=self.h, b=self.b,
+                            phi_p=self.phi_p, work=np.empty((2 * self.n + 4, self.n + 1)), law_id=law_id,
+                            lawp=np.zeros(1) if lawp is None else lawp)
+
+    def coupled_terms(self) -> CoupledTerms | None:
+        """The kernels' argument ``coupled``: the :class:`CoupledTerms` with a fresh workspace
+        ``fw``, or None for the linearised model."""
+        return CoupledTerms(self.C, self.E, self.F, self.D, self._workspace()) if self.coupled else None
 
     def jacobian(self, y: np.ndarray, sc: np.ndarray, law_id: int = 0, lawp=None) -> np.ndarray:
         """∂f/∂y of the right-hand side in the segment mode of ``sc``, shape (2n + 7, 2n + 7)."""
         jac = np.empty((self.n_state, self.n_state))
-        jacobian_kernel(0.0, y, *self.kernel_args(sc), law_id, np.zeros(1) if lawp is None else lawp, jac)
+        jacobian_kernel(0.0, y, self.segment(sc, law_id, lawp), self.coupled_terms(), jac)
         return jac
 
     def contact_force(self, y: np.ndarray, sc: np.ndarray, law_id: int = 0, lawp=None) -> float:
         """F_c (N) in the segment's contact mode; in resting contact the multiplier λ
         (positive: the stop pushes, so contact persists)."""
-        return contact_force_kernel(y, *self.kernel_args(sc), law_id, np.zeros(1) if lawp is None else lawp)
+        return contact_force_kernel(y, self.segment(sc, law_id, lawp), self.coupled_terms())

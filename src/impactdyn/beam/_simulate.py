@@ -45,10 +45,11 @@ from impactdyn._errors import SimulationError
 from impactdyn.beam._case import BeamCase, MomentumContact
 from impactdyn.beam._contact import CONTACT_LAWS, ContactLaw
 from impactdyn.beam._integrator import (
-    EVENT, SAMPLES_PER_STEP, STEP_UNDERFLOW, TOO_MANY_STEPS, hermite, process_step, record_outputs,
-    rosenbrock_segment, track_peak)
+    EVENT, SAMPLES_PER_STEP, STEP_UNDERFLOW, TOO_MANY_STEPS, Outputs, Step, event_scan, hermite, process_step,
+    record_outputs, rosenbrock_segment, track_peak)
 from impactdyn.beam._model import IN_CONTACT, BeamModel, event_kernel, rhs_kernel
 from impactdyn.beam._modes import modal_integrals, shapes
+from impactdyn.beam._step_control import StepControl
 
 _SOLVERS = {"Radau": Radau, "BDF": BDF, "LSODA": LSODA}
 FREE, CONTACT, RESTING = "free", "contact", "resting"
@@ -198,19 +199,14 @@ class _Run:
 
     model: BeamModel
     law: ContactLaw
-    out_t: np.ndarray
-    out_y: np.ndarray = field(init=False)
-    out_f: np.ndarray = field(init=False)
+    control: StepControl
+    out: Outputs
     k_out: int = 0
     impacts: list = field(default_factory=list)
     resting: list = field(default_factory=list)
     counts: np.ndarray = field(default_factory=lambda: np.zeros(4))  # steps, rejected, rhs, Jacobian evaluations
     n_restarts: int = 0
     h_next: float = 1e-4
-
-    def __post_init__(self):
-        self.out_y = np.full((len(self.out_t), self.model.n_state), np.nan)
-        self.out_f = np.zeros(len(self.out_t))
 
 
 @dataclass
@@ -262,28 +258,24 @@ class _Segment:
     """One smooth segment's parameters, bound for the kernels."""
 
     def __init__(self, run: "_Run", mode: _Mode, sc: np.ndarray):
-        self.run, self.mode, self.sc = run, mode, sc
-        law = run.law
-        self.law_id = law.kernel_id
-        self.lawp = law.params()
-        self.args = (*run.model.kernel_args(sc), self.law_id, self.lawp)
-        self.dirs = _event_directions(mode)
-        self.armed = np.zeros(2, dtype=np.bool_)
-        self.scan = (np.empty((SAMPLES_PER_STEP + 1, 2)), np.empty(run.model.n_state))  # process_step scratch
+        self.run, self.mode = run, mode
+        self.model = run.model.segment(sc, run.law.kernel_id, run.law.params())
+        self.coupled = run.model.coupled_terms()
+        self.events = event_scan(_event_directions(mode), run.model.n_state)
 
     def rhs(self, t, y):
-        return rhs_kernel(t, y, *self.args)
+        return rhs_kernel(t, y, self.model, self.coupled)
 
     def event_values(self, y):
-        return event_kernel(y, *self.args)
+        return event_kernel(y, self.model, self.coupled)
 
-    def locate(self, step, j, e) -> tuple[float, np.ndarray]:
+    def locate(self, step: Step, j, e) -> tuple[float, np.ndarray]:
         """Root of event e inside sample bracket j of the step (Brent on the interpolant)."""
-        ta, ya, fa, tb, yb, fb = step
+        ta, tb = step.ta, step.tb
         k = SAMPLES_PER_STEP
         a, b = ta + (tb - ta) * (j - 1) / k, ta + (tb - ta) * j / k
-        d = self.dirs[e]
-        g = lambda t: self.event_values(hermite(ta, ya, fa, tb, yb, fb, t))[e]
+        d = self.events.dirs[e]
+        g = lambda t: self.event_values(hermite(step, t))[e]
         ga = g(a)
         if (ga > 0) if d < 0 else (ga < 0):
             t_ev = b if g(b) == 0.0 else brentq(g, a, b, xtol=1e-15, rtol=4 * np.finfo(float).eps)
@@ -292,13 +284,13 @@ class _Segment:
                 t_ev = np.nextafter(t_ev, b)  # the first instant on the far side
         else:
             t_ev = a
-        return t_ev, hermite(ta, ya, fa, tb, yb, fb, t_ev)
+        return t_ev, hermite(step, t_ev)
 
-    def finish_partial_step(self, step, t_ev, peak):
+    def finish_partial_step(self, step: Step, t_ev, peak):
         run = self.run
-        run.k_out = record_outputs(*step, t_ev, *self.args, run.out_t, run.out_y, run.out_f, run.k_out)
+        run.k_out = record_outputs(step, t_ev, self.model, self.coupled, run.out, run.k_out)
         if self.mode.kind == CONTACT:
-            track_peak(*step, t_ev, *self.args, peak)
+            track_peak(step, t_ev, self.model, self.coupled, peak)
 
 
 def _integrate_segment(run: "_Run", case: BeamCase, mode: _Mode, sc, t, t_seg, y):
@@ -308,15 +300,12 @@ def _integrate_segment(run: "_Run", case: BeamCase, mode: _Mode, sc, t, t_seg, y
     f0 = seg.rhs(t, y)
     h0 = min(_first_step(run.model, y, f0, run.h_next), t_seg - t)
     if case.solver.method == "rosenbrock":
-        out = rosenbrock_segment(t, y, t_seg, h0, case.solver.rtol, case.solver.atol, 2 * run.model.n + 2,
-                                 case.solver.max_steps, *seg.args, seg.dirs, seg.armed,
-                                 run.out_t, run.out_y, run.out_f, run.k_out, peak, run.counts)
-        status, run.k_out, run.h_next, j, e = out[:5]
-        step = out[5:]
+        status, run.k_out, run.h_next, j, e, step = rosenbrock_segment(
+            t, y, t_seg, h0, run.control, seg.model, seg.coupled, seg.events, run.out, run.k_out, peak, run.counts)
         if status == STEP_UNDERFLOW:
-            raise SimulationError(f"step size underflow at t = {step[3]:.9g} s")
+            raise SimulationError(f"step size underflow at t = {step.tb:.9g} s")
         if status == TOO_MANY_STEPS:
-            raise SimulationError(f"more than solver.max_steps = {case.solver.max_steps} steps by t = {step[3]:.9g} s")
+            raise SimulationError(f"more than solver.max_steps = {case.solver.max_steps} steps by t = {step.tb:.9g} s")
         event = status == EVENT
     else:
         solver = _SOLVERS[case.solver.method](seg.rhs, t, y, t_seg, rtol=case.solver.rtol,
@@ -327,19 +316,18 @@ def _integrate_segment(run: "_Run", case: BeamCase, mode: _Mode, sc, t, t_seg, y
             if solver.status == "failed":
                 raise SimulationError(f"integrator failed at t = {solver.t:.9g} s: {msg}")
             f1 = seg.rhs(solver.t, solver.y)
-            step = (solver.t_old, y, f0, solver.t, solver.y.copy(), f1)
-            j, e, run.k_out = process_step(*step, *seg.args, seg.dirs, seg.armed, *seg.scan,
-                                           run.out_t, run.out_y, run.out_f, run.k_out, peak)
+            step = Step(solver.t_old, y, f0, solver.t, solver.y.copy(), f1)
+            j, e, run.k_out = process_step(step, seg.model, seg.coupled, seg.events, run.out, run.k_out, peak)
             run.counts[0] += 1
             event = j >= 0
-            y, f0 = step[4], f1
+            y, f0 = step.yb, f1
         run.counts[2] += solver.nfev
         run.counts[3] += solver.njev
         run.h_next = solver.h_abs if hasattr(solver, "h_abs") else run.h_next
     if mode.contact is not None:
         mode.contact["peak"] = max(mode.contact["peak"], peak[0])
     if not event:
-        return None, step[3], step[4].copy()
+        return None, step.tb, step.yb.copy()
     t_ev, y_ev = seg.locate(step, j, e)
     seg.finish_partial_step(step, t_ev, peak)
     if mode.contact is not None:
@@ -401,13 +389,15 @@ def simulate(case: BeamCase) -> Result:
     law = contact_law(case)
     t0, t_end, dt = case.time.start_s, case.time.end_s, case.time.output_step_s
     n_out = int(np.floor((t_end - t0) / dt + 1e-9)) + 1
-    run = _Run(model, law, t0 + dt * np.arange(n_out))
+    out = Outputs(t=t0 + dt * np.arange(n_out), y=np.full((n_out, model.n_state), np.nan), force=np.zeros(n_out))
+    control = StepControl(rtol=case.solver.rtol, atol=case.solver.atol, max_steps=case.solver.max_steps)
+    run = _Run(model, law, control, out)
     corners, torques = torque_schedule(case)
 
     y = initial_state(case, model)  # clear of the stop: BeamCase checks it (initial_gap)
     t = t0
     mode = _Mode()
-    run.out_y[0] = y
+    run.out.y[0] = y
     run.k_out = 1
     while t < t_end:
         k = int(np.searchsorted(corners, t, side="right"))
@@ -445,6 +435,6 @@ def simulate(case: BeamCase) -> Result:
              "steps": int(run.counts[0]), "rejected_steps": int(run.counts[1]),
              "rhs_evaluations": int(run.counts[2]), "jacobian_evaluations": int(run.counts[3]),
              "restarts": run.n_restarts}
-    return Result(case=case, model=model, t=run.out_t, y=run.out_y, contact_force=run.out_f,
+    return Result(case=case, model=model, t=run.out.t, y=run.out.y, contact_force=run.out.force,
                   impacts=run.impacts, resting=np.array(run.resting, dtype=float).reshape(-1, 2),
                   stats=stats, wall_time_s=wall)
