@@ -65,30 +65,31 @@ def k_eq14(wall: str, case) -> float:
     return areal_density(wall) * case.wall.spacing_cm ** 2 / (41.7 * mass * vn)
 
 
-def fine_deposition(run: Path, wall: WallGrid) -> tuple[WallGrid, WallDeposition]:
-    """The arrival points of ``debris.h5`` deposited on the face grid refined ``FINE`` times in plane."""
+def arrivals(run: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The arrived particles of ``debris.h5`` (integration code 0): their deposition points (A, 5, 3), momenta
+    (A, 3), masses (A,) and arrival times (A,), as the debris stage deposited them."""
     with open_hdf5(run / "debris" / "debris.h5") as f:
         index, code = f["arrival/index"][()], f["arrival/code"][()]
         points, states = f["arrival/points"][()], f["arrival/states"][()]
-        t_arrival = f["particles/t_arrival"][()]
+        t_arrival, mass = f["particles/t_arrival"][()], f["particles/mass"][()]
+    ok = code == 0
+    return points[ok], states[ok][:, P_SLICE], mass[index][ok], t_arrival[index][ok]
+
+
+def fine_deposition(run: Path, wall: WallGrid) -> tuple[WallGrid, WallDeposition]:
+    """The arrival points of ``debris.h5`` deposited on the face grid refined ``FINE`` times in plane."""
+    points, momentum, _, time_us = arrivals(run)
     fine = WallGrid(x=np.linspace(wall.x[0], wall.x[-1], FINE * (wall.x.size - 1) + 1), y=wall.y,
                     z=np.linspace(wall.z[0], wall.z[-1], FINE * (wall.z.size - 1) + 1))
-    ok = code == 0
-    dep, _ = deposit(points[ok], states[ok][:, P_SLICE], t_arrival[index][ok], fine)
-    return fine, dep
+    return fine, deposit(points, momentum, time_us, fine)[0]
 
 
 def cratering_deposition(run: Path, wall: WallGrid) -> WallDeposition:
     """The arrival points of ``debris.h5`` deposited on the case grid with each particle's normal momentum times
     the cratering β(V_n) (:func:`impactdyn.debris.cratering_momentum`), as ``wall.momentum_transfer =
     "cratering"`` deposits it."""
-    with open_hdf5(run / "debris" / "debris.h5") as f:
-        index, code = f["arrival/index"][()], f["arrival/code"][()]
-        points, states = f["arrival/points"][()], f["arrival/states"][()]
-        t_arrival, mass = f["particles/t_arrival"][()], f["particles/mass"][()]
-    ok = code == 0
-    momentum = cratering_momentum(states[ok][:, P_SLICE], mass[index][ok])
-    return deposit(points[ok], momentum, t_arrival[index][ok], wall)[0]
+    points, momentum, mass, time_us = arrivals(run)
+    return deposit(points, cratering_momentum(momentum, mass), time_us, wall)[0]
 
 
 def one_run(run: Path, case, wall_name: str, k: float, variant: str) -> dict:
