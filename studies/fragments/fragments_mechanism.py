@@ -11,10 +11,14 @@ and the melted share of the projectile.
     python studies/fragments/fragments_mechanism.py --speeds 2 3 4 6 --ratios 0.2
     python studies/fragments/fragments_mechanism.py --spacings 0.0318 0.0159 --model threshold
     python studies/fragments/fragments_mechanism.py --failed grady      # with the fragments of failed material
+    python studies/fragments/fragments_mechanism.py --failed grady --speeds 4 6 7 --spacings 0.015875 0.0079375 \
+        --json gate.jsonl                                                 # the set-4 gate (validation/set-4-decision.md)
 
-``--failed grady`` adds the fragments of the failed solid material (:func:`impactdyn.shield.grady_fragments`)
-to the intact ones; the table then also gives the debris fragments the wall resolves (diameter ≥ 0.06 cm)
-and their mass.
+``--failed grady`` adds the fragments of the failed solid material (:func:`impactdyn.shield.grady_fragments`,
+sized at the rate ``--rate``: read across each fragment's own size, the default, or the kernel's at
+failure) to the intact ones; the table then also gives the debris fragments the wall resolves
+(diameter ≥ 0.06 cm), their mass, and the projectile's mass in them.  ``--json FILE`` appends each row
+to FILE (JSON lines) as it finishes; a row already there is read back, not run again.
 
 What the checks ask: the largest surviving fragment grows as the bumper thins; fragmentation
 begins near the published onset speeds for Al on Al; the statistics converge with the spacing.
@@ -23,8 +27,10 @@ begins near the published onset speeds for Al on Al; the statistics converge wit
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -45,7 +51,8 @@ def largest_of(fragments, debris, projectile) -> float:
     return 0.0
 
 
-def survey(speed_km_s: float, ratio: float, spacing_cm: float, model: str, time_us: float, failed: str) -> dict:
+def survey(speed_km_s: float, ratio: float, spacing_cm: float, model: str, time_us: float, failed: str,
+           rate: str) -> dict:
     problem = shield.sphere_on_plate(MATERIAL, MATERIAL, DIAMETER_CM, speed_km_s, 0.0, ratio * DIAMETER_CM,
                                      spacing_cm)
     projectile = problem.particles.velocity[:, 1] > 0
@@ -54,21 +61,41 @@ def survey(speed_km_s: float, ratio: float, spacing_cm: float, model: str, time_
     seconds = time.perf_counter() - start
     fragments = shield.fragments_of(state, link_length_cm=1.5 * spacing_cm)
     if failed == "grady":
-        fragments = shield.join_fragments(fragments, shield.grady_fragments(state, link_length_cm=1.5 * spacing_cm))
+        initial = problem.particles if rate == "own_size" else None
+        fragments = shield.join_fragments(fragments, shield.grady_fragments(state, link_length_cm=1.5 * spacing_cm,
+                                                                            initial=initial))
     debris = fragments.velocity[:, 1] > 0.05 * speed_km_s * 0.1        # cm/µs
     mat = get_material(MATERIAL)
     m_proj = mat.rho0 * math.pi * DIAMETER_CM ** 3 / 6
     intact = (state.damage < 1.0) & (state.temperature < mat.johnson_cook.t_melt)
-    return {"speed": speed_km_s, "ratio": ratio, "spacing": spacing_cm, "model": model,
-            "largest": fragments.mass[debris][:3] / m_proj, "count": fragments.count[debris][:3],
+    both = np.concatenate([projectile, projectile])          # the fragments' members: particles, then images
+    mass = np.concatenate([state.mass, state.mass])
+    resolved = np.flatnonzero(debris & (fragments.diameter_cm >= RESOLVED_CM))
+    projectile_resolved = sum(float(mass[m] @ both[m]) for m in (fragments.indices(f) for f in resolved))
+    return {"speed": speed_km_s, "ratio": ratio, "spacing": spacing_cm, "model": model, "failed": failed,
+            "rate": rate if failed == "grady" else None,
+            "largest": (fragments.mass[debris][:3] / m_proj).tolist(), "count": fragments.count[debris][:3].tolist(),
             "n_debris_fragments": int(np.sum(debris & (fragments.count >= 4))),
-            "resolved": int(np.sum(debris & (fragments.diameter_cm >= RESOLVED_CM))),
-            "resolved_mass": float(fragments.mass[debris & (fragments.diameter_cm >= RESOLVED_CM)].sum() / m_proj),
+            "resolved": int(resolved.size),
+            "resolved_mass": float(fragments.mass[resolved].sum() / m_proj),
+            "projectile_resolved_mass": projectile_resolved / m_proj,
             "largest_cm": float(fragments.diameter_cm[debris][0]) if np.any(debris) else 0.0,
-            "largest_projectile": largest_of(fragments, debris, np.concatenate([projectile, projectile])) / m_proj,
+            "largest_projectile": largest_of(fragments, debris, both) / m_proj,
             "intact_projectile": float(np.mean(intact[projectile])),
             "melted_projectile": float(np.mean(state.temperature[projectile] >= mat.johnson_cook.t_melt)),
             "particles": len(state.mass), "seconds": seconds}
+
+
+def _ledger(path: Path | None) -> dict:
+    """The rows already in ``path``, by (model, failed, rate, speed, ratio, spacing)."""
+    if path is None or not path.is_file():
+        return {}
+    rows = [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
+    return {_key(r): r for r in rows}
+
+
+def _key(row: dict) -> tuple:
+    return row["model"], row["failed"], row["rate"], row["speed"], row["ratio"], row["spacing"]
 
 
 def main() -> None:
@@ -80,18 +107,28 @@ def main() -> None:
     parser.add_argument("--time", type=float, default=3.0, help="µs after first contact (default 3)")
     parser.add_argument("--failed", default="spray", choices=("spray", "grady"),
                         help="the failed solid material: spray (default) or Grady fragments")
+    parser.add_argument("--rate", default="own_size", choices=("own_size", "at_failure"),
+                        help="the rate that sizes Grady's fragments (with --failed grady)")
+    parser.add_argument("--json", type=Path, help="append each row to this JSON-lines file; rows there are reused")
     args = parser.parse_args()
+    done = _ledger(args.json)
     print("| model | V km/s | t/D | Δ cm | particles | largest debris fragments / m_proj (particles) | largest cm "
-          "| largest of projectile / m_proj | fragments ≥ 4 particles | ≥ 0.06 cm (mass / m_proj) | projectile intact | projectile melted | SPH s |")
+          "| largest of projectile / m_proj | fragments ≥ 4 particles | ≥ 0.06 cm (mass / m_proj; of projectile) | projectile intact | projectile melted | SPH s |")
     print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for spacing in args.spacings:
         for speed in args.speeds:
             for ratio in args.ratios:
-                r = survey(speed, ratio, spacing, args.model, args.time, args.failed)
+                key = (args.model, args.failed, args.rate if args.failed == "grady" else None, speed, ratio, spacing)
+                r = done.get(key)
+                if r is None:
+                    r = survey(speed, ratio, spacing, args.model, args.time, args.failed, args.rate)
+                    if args.json is not None:
+                        with args.json.open("a") as ledger:
+                            ledger.write(json.dumps(r) + "\n")
                 largest = ", ".join(f"{f:.4f} ({c})" for f, c in zip(r["largest"], r["count"])) or "none"
                 print(f"| {r['model']}{' + grady' if args.failed == 'grady' else ''} | {speed:g} | {ratio:g} "
                       f"| {spacing:g} | {r['particles']} | {largest} | {r['largest_cm']:.3f} | {r['largest_projectile']:.4f} "
-                      f"| {r['n_debris_fragments']} | {r['resolved']} ({r['resolved_mass']:.3f}) "
+                      f"| {r['n_debris_fragments']} | {r['resolved']} ({r['resolved_mass']:.3f}; projectile {r['projectile_resolved_mass']:.3f}) "
                       f"| {r['intact_projectile']:.2f} | {r['melted_projectile']:.2f} "
                       f"| {r['seconds']:.0f} |", flush=True)
 

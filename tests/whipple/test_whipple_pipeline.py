@@ -20,7 +20,7 @@ from impactdyn._config import parse_assignment
 from impactdyn._errors import InputError
 from impactdyn.whipple import ble_verdict, load_whipple_case, rerun_wall, wall_ending
 from impactdyn.wall import ENDINGS, LSDYNA_HOURGLASS_TYPE
-from impactdyn.whipple._case import ble_shield, projectile_mass
+from impactdyn.whipple._case import ble_shield, projectile_mass, shield_problem
 from impactdyn.whipple._cloud import debris_fragments
 from impactdyn.whipple._pipeline import deck_options, run_whipple
 
@@ -331,6 +331,7 @@ def test_restart_needs_a_run_folder(tmp_path, capsys, make_case):
      "no Weibull flaw constants for cu-ofhc"),
     (dict(wall_solver__max_time_us=1.0), "wall_solver.max_time_us = 1 us is before the last arrival on the wall"),
     (dict(shield__failed_fragments="dust"), "shield.failed_fragments: "),
+    (dict(shield__fragment_rate="kernel"), "shield.fragment_rate: "),
     (dict(shield__failed_fragments="grady"), "failed_fragments = \"grady\" needs failure_model = \"fragmentation\""),
     (dict(shield__failed_fragments="grady", shield__failure_model="fragmentation", projectile__material="cu-ofhc"),
      "no fracture toughness for projectile.material = 'cu-ofhc'"),
@@ -525,7 +526,8 @@ def test_a_fragmenting_shot_reports_its_solid_fragments(tmp_path, make_case, fai
     assert "Solid fragments of the debris" in (out / "report.html").read_text()
     # found once by the shield stage, read back exactly by the later ones
     kept = read_fragments(out / "shield" / "fragments.h5")
-    found = debris_fragments(read_particles(out / "shield" / "particles.h5")[0], load_whipple_case(case))
+    initial = shield_problem(load_whipple_case(case))[0].particles
+    found = debris_fragments(read_particles(out / "shield" / "particles.h5")[0], initial, load_whipple_case(case))
     for name in ("mass", "position", "velocity", "spin", "diameter_cm", "axes_cm", "count", "ptr", "members",
                  "from_failed"):
         np.testing.assert_array_equal(getattr(kept, name), getattr(found, name))
@@ -542,7 +544,7 @@ def test_a_fragmenting_shot_reports_its_solid_fragments(tmp_path, make_case, fai
     particles, _ = read_particles(out / "shield" / "particles.h5")
     loaded = load_whipple_case(case)
     from impactdyn.whipple._cloud import compact_fragments, compact_particles
-    fragments = compact_fragments(debris_fragments(particles, loaded), loaded)
+    fragments = compact_fragments(debris_fragments(particles, initial, loaded), loaded)
     taken = compact_particles(fragments, len(particles))
     behind = particles.position[:, 1] >= loaded.bumper.thickness_cm
     grid = read_grid(out / "binning" / "handoff_grid.h5")

@@ -4,7 +4,7 @@ Updated-Lagrangian SPH with a Mie–Grüneisen EOS, elastic–plastic deviatoric
 stress (Jaumann rate, von Mises radial return, Johnson–Cook optional), Monaghan
 artificial viscosity and artificial stress, failure (a spall / plastic-strain threshold, or damage
 that leaves fragments: :mod:`._damage`, found by :func:`fragments_of`; the fragments of failed
-material sized by Grady's energy balance, :func:`grady_fragments`),
+material sized by Grady's energy balance at the rate read across their own size, :func:`grady_fragments`),
 variable smoothing length and a cell-list neighbour search in compiled parallel
 kernels (:mod:`._equations` states the equations). Units cm, g, µs, Mbar.
 
@@ -18,6 +18,7 @@ Typical use::
 """
 
 from impactdyn.shield._binning import BinningMethod, bin_to_hydrogrid
+from impactdyn.shield._fragment_rate import own_size_strain_rates
 from impactdyn.shield._fragments import (Fragments, cumulative_number, find_fragments, fragment_rows, fragments_of,
                                          join_fragments, plot_fragment_masses)
 from impactdyn.shield._grady import grady_fragment_size, grady_fragments
@@ -34,6 +35,6 @@ __all__ = [
     "BinningMethod", "DEFAULT_PLATE_RADIUS_D", "Domain", "FAILURE_MODELS", "FLOW_STRESS_MODELS", "FailureModel", "FlowStress", "Fragments",
     "History", "MELTED_SHARE", "Particles", "ReleasedPhase", "Problem", "RunResult", "SPHError", "SPHOptions", "TENSOR_COMPONENTS", "bin_to_hydrogrid",
     "cumulative_number", "find_fragments", "fragment_rows", "fragments_of", "grady_fragment_size", "grady_fragments",
-    "join_fragments", "neighbour_pairs", "planar_impact",
+    "join_fragments", "neighbour_pairs", "own_size_strain_rates", "planar_impact",
     "plot_fragment_masses", "read_fragments", "read_particles", "released_phase", "run", "solid_particles", "spacing_too_coarse", "sphere_on_plate", "write_fragments", "write_particles",
 ]

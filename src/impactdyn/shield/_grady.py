@@ -50,6 +50,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from impactdyn._errors import InputError
+from impactdyn.shield._fragment_rate import own_size_strain_rates
 from impactdyn.shield._fragments import Fragments, fragments_of_groups, linked_groups
 from impactdyn.shield._melt import solid_particles
 
@@ -66,12 +67,16 @@ def grady_fragment_size(toughness, density, young_modulus, strain_rate):
 
 
 def grady_fragments(particles, *, link_length_cm: float, damage_threshold: float = 1.0, seed: int = 1,
-                    mirror_x0: bool = True) -> Fragments:
+                    mirror_x0: bool = True, initial=None) -> Fragments:
     """The fragments of the failed solid particles of an SPH state (module docstring).
 
     Failed: damage ≥ ``damage_threshold`` with a recorded stretching rate at failure
     (``Particles.failure_strain_rate`` > 0), less than half melted on release.
-    ``mirror_x0`` as :func:`impactdyn.shield.fragments_of`.  Returns fragments marked ``from_failed``.
+    ``mirror_x0`` as :func:`impactdyn.shield.fragments_of`.  ``initial``: the run's state at t = 0
+    (:class:`Particles`, the same particles in the same order); given, the rate that sizes a fragment is
+    read across its own size (:func:`impactdyn.shield.own_size_strain_rates`, each body apart: the
+    projectile, moving at t = 0, and the bumper); None, it is the kernel-scale rate recorded at failure.
+    Returns fragments marked ``from_failed``.
     Raises :class:`InputError` naming a material of a failed particle without a fracture toughness
     (:data:`impactdyn.materials.FRACTURE_TOUGHNESS`).
     """
@@ -94,7 +99,19 @@ def grady_fragments(particles, *, link_length_cm: float, damage_threshold: float
     volume = particles.mass / rho0
     n = len(particles)
     size = np.full(n, np.inf)
-    size[failed] = grady_fragment_size(toughness[failed], rho0[failed], young[failed], rate[failed])
+    if initial is None:
+        size[failed] = grady_fragment_size(toughness[failed], rho0[failed], young[failed], rate[failed])
+    else:
+        body = 2 * kind + np.any(initial.velocity != 0.0, axis=1)
+        for b in np.unique(body[failed]):
+            idx = np.flatnonzero(failed & (body == b))
+            j = idx[0]  # one material a body
+
+            def size_of_rate(r, j=j):
+                return grady_fragment_size(toughness[j], rho0[j], young[j], r)
+
+            size[idx] = own_size_strain_rates(initial.position[idx], particles.velocity[idx], np.cbrt(volume[idx]),
+                                              size_of_rate)[1]
     broken = failed & (volume < size ** 3)
     seeded = broken & (np.random.default_rng(seed).random(n) < volume / size ** 3)
 

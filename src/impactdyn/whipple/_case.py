@@ -136,9 +136,13 @@ class _ShieldBase(Section):
         is intact, part of a fragment (1: every particle that has not failed).
     failed_fragments : what the failed solid material of the debris becomes: ``"spray"``, the binned
         cloud; ``"grady"``, fragments of the size Grady's energy balance gives at the stretching rate
-        at failure (:func:`impactdyn.shield.grady_fragments`, seeded by ``fragment_seed``), those the wall
+        ``fragment_rate`` (:func:`impactdyn.shield.grady_fragments`, seeded by ``fragment_seed``), those the wall
         resolves flying to it as compact bodies.  Needs ``failure_model = "fragmentation"``.
     fragment_seed : the seed of the random partition of the failed material into Grady's fragments.
+    fragment_rate : the stretching rate that sizes Grady's fragments: ``"own_size"``, the velocity gradient
+        of the failed material across each fragment's own size, against the particles' initial positions
+        (:func:`impactdyn.shield.own_size_strain_rates`); ``"at_failure"``, the kernel-scale rate each
+        particle recorded on failing, which grows as the spacing shrinks (kept to compare with).
     spacing_cm : the SPH particles' pitch (cm; a cubic lattice; 0.0254 cm = 0.01 in).  It must
         put at least 4 particles across the projectile and one layer through the bumper; the
         particle count grows as its inverse cube.  (Not ``wall.spacing_cm``, the stand-off.)
@@ -153,6 +157,7 @@ class _ShieldBase(Section):
     fragment_damage_threshold: Annotated[float, Field(gt=0, le=1)] = 1.0
     failed_fragments: Literal["spray", "grady"] = "spray"
     fragment_seed: Annotated[int, Field(ge=0)] = 1
+    fragment_rate: Literal["own_size", "at_failure"] = "own_size"
 
     @model_validator(mode="after")
     def _grady_needs_fragmentation(self) -> "_ShieldBase":
@@ -166,7 +171,7 @@ class _ShieldBase(Section):
         """The :class:`impactdyn.shield.SPHOptions` of this table."""
         return SPHOptions(**self.model_dump(exclude={"spacing_cm", "handoff_us", "fragment_link_spacings",
                                                      "fragment_damage_threshold", "failed_fragments",
-                                                     "fragment_seed"}))
+                                                     "fragment_seed", "fragment_rate"}))
 
 
 ShieldSection = section_of("ShieldSection", _ShieldBase, SPHOptions,

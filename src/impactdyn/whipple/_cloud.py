@@ -79,11 +79,12 @@ def cloud_figures(particles, bumper_back_y: float) -> dict:
 DEBRIS_FRAGMENT_SPEED_FRACTION = 0.05
 
 
-def debris_fragments(particles, case):
+def debris_fragments(particles, initial, case):
     """The solid fragments of the debris (:func:`impactdyn.shield.fragments_of` with the case's
     ``[shield]`` link length and damage threshold, images of the half model included so that masses
     are the full model's; with ``failed_fragments = "grady"`` also those of the failed solid material,
-    :func:`impactdyn.shield.grady_fragments`): those moving toward the wall (v_y > 5 % of the
+    :func:`impactdyn.shield.grady_fragments`, sized at the case's ``fragment_rate``; ``initial`` is the
+    shield stage's state at t = 0): those moving toward the wall (v_y > 5 % of the
     projectile's speed, :data:`DEBRIS_FRAGMENT_SPEED_FRACTION`), which leaves out the bumper's
     remnant; a fragment still crossing the bumper's plane counts."""
     from impactdyn.shield import fragments_of, grady_fragments, join_fragments
@@ -95,7 +96,9 @@ def debris_fragments(particles, case):
     if s.failed_fragments == "grady":
         fragments = join_fragments(fragments, grady_fragments(particles, link_length_cm=link,
                                                               damage_threshold=s.fragment_damage_threshold,
-                                                              seed=s.fragment_seed))
+                                                              seed=s.fragment_seed,
+                                                              initial=initial if s.fragment_rate == "own_size"
+                                                              else None))
     speed = km_s_to_cm_us(case.projectile.velocity_km_s)
     return fragments.select(fragments.velocity[:, 1] > DEBRIS_FRAGMENT_SPEED_FRACTION * speed)
 
