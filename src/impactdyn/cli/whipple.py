@@ -120,7 +120,8 @@ def _echo_summary(s: dict, out: Path) -> None:
         ejecta = (f" (the crater ejecta's {share['added_at_wall']:.1f} % included, wall.momentum_transfer)"
                   if ledger["added_at_wall"][1] else "")
         typer.echo(f"the debris's normal momentum: {share['deposited']:.1f} % on the wall{ejecta}, "
-                   f"{share['outside_window']:.1f} % outside the arrival window ([filter] t_min_us, t_cut_us)")
+                   f"{share['outside_window']:.1f} % outside the arrival window ([filter] t_min_us, t_cut_us; "
+                   "compact fragments: the wall run)")
     w = s["wall"]
     typer.echo(f"wall response: {w['verdict']} ({w['criterion']}); crater depth {w.get('crater_depth_ratio', 0):.2f} "
                f"of the thickness, rear bulge {w.get('rear_bulge_cm', 0):.3g} cm; report in {Path(out) / 'report.html'}")

@@ -177,14 +177,23 @@ def _debris(s: StageContext) -> dict:
 
 def _landing_fragments(case: WhippleCase, folder: Path):
     """The compact fragments of the shield stage's debris (:func:`impactdyn.whipple._cloud.compact_fragments`)
-    and which of them reach the wall inside the case's arrival window (``[filter]`` t_min_us, t_cut_us, as the
-    cloud's particles): (fragments, inside (F,) bool)."""
+    and which of them reach the wall during the wall run: (fragments, inside (F,) bool).
+
+    A compact fragment lands whenever it arrives from ``[filter] t_min_us`` and has passed into the wall
+    (its rear at the face, d/v_y after its front: its records' last) by the wall run's end
+    (``wall_solver.end_time_us``, else its ceiling ``max_time_us``), not only inside the cloud's arrival
+    window (``t_cut_us``, the 1994 code's budget for its many particles): a slow solid fragment still
+    craters the wall it reaches.  One arriving after the run is stated by the debris summary, in mass and
+    momentum (``compact_fragments``), not silently dropped."""
     from impactdyn.debris import compact_arrival_us
     from impactdyn.whipple._cloud import compact_fragments, stage_fragments
 
     fragments = compact_fragments(stage_fragments(folder), case)
     arrival = compact_arrival_us(case.wall_front_y, fragments.diameter_cm, fragments.position, fragments.velocity)
-    return fragments, (arrival >= case.filter.t_min_us) & (arrival <= case.filter.t_cut_us)
+    options = case.wall_options
+    end = options.max_time_us if options.end_time_us is None else min(options.end_time_us, options.max_time_us)
+    passed = arrival + fragments.diameter_cm / fragments.velocity[:, 1]
+    return fragments, (arrival >= case.filter.t_min_us) & (passed <= end)
 
 
 def _compact_records(case: WhippleCase, face, fragments, inside):
@@ -215,13 +224,13 @@ def _mesh_scale_peak(case: WhippleCase, result, fragments, inside) -> dict:
 
 
 def _with_compact_fragments(case: WhippleCase, result, fragments, inside):
-    """The debris result with the records of the compact fragments that land inside the window
-    (:func:`impactdyn.debris.compact_deposition`) added to the cloud's: the wall and the decks read one
-    deposition, the two populations in it.  A fragment whose front reaches the wall outside the window
-    lays down nothing, as a cloud particle outside it does.  Returns the result and the fragments'
+    """The debris result with the records of the compact fragments that land during the wall run
+    (:func:`impactdyn.debris.compact_deposition`, :func:`_landing_fragments`) added to the cloud's: the wall
+    and the decks read one deposition, the two populations in it.  A fragment whose front reaches the wall
+    before ``t_min_us`` or after the wall run lays down nothing.  Returns the result and the fragments'
     record (how many, their mass and momentum in the half model, how many, how much mass and momentum
-    arrive outside the window, the momentum their records deposit; ``momentum_deposited`` of the summary
-    holds both populations)."""
+    arrive outside the wall run (``*_outside_window``: the compact fragments' window is the wall run), the
+    momentum their records deposit; ``momentum_deposited`` of the summary holds both populations)."""
     from impactdyn.debris import areal_density, element_impulse, half_model_share
     from impactdyn.wallgrid import WallDeposition
 

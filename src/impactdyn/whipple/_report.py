@@ -434,8 +434,9 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
     loading_rows = _rows([
         ("peak areal momentum on the wall: on the case grid's cells (the load); on the wall mesh's face cells",
          _fmt(dep["peak_areal_momentum_N_s_cm2"], "N·s/cm²") + "; " + _mesh_peak(dep)),
-        ("the debris's normal momentum (full model): on the wall, outside the arrival window, off the face grid, "
-         "never reaching the wall, failed flights", _ledger(dep["momentum_ledger_g_cm_us"])),
+        ("the debris's normal momentum (full model): on the wall, outside the arrival window (compact fragments: "
+         "the wall run), off the face grid, never reaching the wall, failed flights",
+         _ledger(dep["momentum_ledger_g_cm_us"])),
         ("impulse on the wall, normal (full model)", _fmt(dep["impulse_on_wall_normal_N_s_full_model"], "N·s")),
         ("arrival times (first, median, last)", "–" if not dep["arrival_time_us"] else
          ", ".join(_fmt(dep["arrival_time_us"][k]) for k in ("first", "median", "last")) + " µs after hand-off"),
