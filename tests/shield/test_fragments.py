@@ -6,8 +6,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from impactdyn._errors import InputError
-from impactdyn.shield._fragments import (FRAGMENT_COLUMNS, Fragments, cumulative_number, find_fragments,
-                                         fragment_rows, join_fragments, plot_fragment_masses)
+from impactdyn.shield._fragments import (FRAGMENT_COLUMNS, Fragments, cumulative_mass, cumulative_number, find_fragments,
+                                         fragment_rows, join_fragments, origin_masses, plot_fragment_masses)
 
 D = 0.1  # lattice spacing, cm
 B = 1.5 * D  # link length
@@ -183,7 +183,8 @@ def test_joined_fragments_keep_their_members_and_origin_sorted_by_mass():
         members = joined.indices(f)
         assert mass[members].sum() == pytest.approx(joined.mass[f], rel=1e-13)
         assert np.all(intact[members] != joined.from_failed[f])
-    assert fragment_rows(joined)[1][0][-1] == ("failed" if joined.from_failed[0] else "intact")
+    header, rows = fragment_rows(joined)
+    assert rows[0][header.index("origin")] == ("failed" if joined.from_failed[0] else "intact")
 
 
 def test_linked_means_closer_than_the_link_length():
@@ -269,3 +270,27 @@ def test_the_record_is_read_only():
     assert isinstance(f, Fragments)
     with pytest.raises(ValueError):
         f.mass[0] = 1.0
+
+
+def test_cumulative_mass_and_the_projectiles_part_of_each_fragment():
+    """M(≥ m): the mass in fragments at least m heavy (equal masses share a sum), all or a part of each;
+    the part of each fragment that was projectile material, its mirror images sharing their particle's."""
+    position = np.concatenate([lattice(4, 4, 4), lattice(3, 3, 3, origin=(6, 0, 0)), lattice(3, 3, 3, origin=(10, 0, 0)),
+                               [[14.0, 0, 0]]])
+    f = fragments(position)
+    mass, total = cumulative_mass(f)
+    np.testing.assert_array_equal(mass, [64, 27, 27, 1])
+    np.testing.assert_array_equal(total, [64, 118, 118, 119])
+    projectile = position[:, 0] < 8                    # the 4-cube and the first 3-cube
+    from_projectile = origin_masses(f, np.ones(len(position)), projectile)
+    np.testing.assert_array_equal(from_projectile, [64, 27, 0, 0])
+    np.testing.assert_array_equal(cumulative_mass(f, from_projectile)[1], [64, 91, 91, 91])
+    # a half model's images (members N ... 2N - 1) count as their particles
+    mirrored = Fragments(**{name: getattr(f, name) for name in ("mass", "position", "velocity", "spin",
+                                                                 "diameter_cm", "axes_cm", "count", "ptr",
+                                                                 "from_failed")},
+                         members=f.members + len(position) * (np.arange(len(f.members)) % 2))
+    np.testing.assert_array_equal(origin_masses(mirrored, np.ones(len(position)), projectile), from_projectile)
+    header, rows = fragment_rows(f, from_projectile_g=from_projectile)
+    assert [r[header.index("projectile_share")] for r in rows] == [1.0, 1.0, 0.0, 0.0]
+    assert fragment_rows(f)[1][0][header.index("projectile_share")] == ""

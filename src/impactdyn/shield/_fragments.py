@@ -98,7 +98,7 @@ class Fragments:
     ptr : (F + 1,) int, members : (M,) int
         The particle indices of fragment f are ``members[ptr[f]:ptr[f + 1]]`` (ascending), M = Σ count.
     from_failed : (F,) bool, optional
-        True: a fragment of failed material, sized by the strain rate at failure
+        True: a fragment of failed material, sized by Grady's energy balance
         (:func:`impactdyn.shield.grady_fragments`); False (the default): an intact region.
     """
 
@@ -315,28 +315,68 @@ def cumulative_number(fragments: Fragments) -> tuple[np.ndarray, np.ndarray]:
     return m, np.searchsorted(-m, -m, side="right")
 
 
+def cumulative_mass(fragments: Fragments, part: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The cumulative mass M(≥ m) in fragments of mass at least m, at each fragment's mass.
+
+    ``part`` (F,): the share of each fragment's mass to count (g; e.g. its projectile material,
+    :func:`origin_masses`); None: all of it.  Returns ``(mass, M_at_least)``, mass descending (g);
+    fragments of equal mass all get the sum that includes every one of them.
+    """
+    mass = np.asarray(fragments.mass)
+    order = np.argsort(-mass, kind="stable")
+    m = mass[order]
+    counted = np.cumsum((mass if part is None else np.asarray(part, float))[order])
+    return m, counted[np.searchsorted(-m, -m, side="right") - 1] if m.size else counted
+
+
+def origin_masses(fragments: Fragments, particle_mass: np.ndarray, projectile: np.ndarray) -> np.ndarray:
+    """(F,) the mass of each fragment that was projectile material, g (the rest is the bumper's).
+
+    particle_mass, projectile : (N,) the SPH particles' masses and which were the projectile's
+    (``impactdyn.whipple``: those moving at t = 0).  A fragment's members are particles and, for a
+    half model's fragments, their mirror images (indices N … 2N − 1), which share their particle's
+    origin and mass.
+    """
+    n = len(particle_mass)
+    if len(fragments) == 0:
+        return np.zeros(0)
+    member = np.asarray(fragments.members) % n
+    weights = np.asarray(particle_mass, float)[member] * np.asarray(projectile, bool)[member]
+    return np.add.reduceat(weights, np.asarray(fragments.ptr[:-1]))
+
+
 FRAGMENT_COLUMNS = ("rank", "mass_g", "diameter_cm", "count", "x_cm", "y_cm", "z_cm",
                     "vx_cm_per_us", "vy_cm_per_us", "vz_cm_per_us", "spin_rad_per_us", "b_over_a", "c_over_a",
-                    "origin")
+                    "origin", "projectile_share")
 """The columns of :func:`fragment_rows`: rank 1 the most massive; spin |ω|; b/a, c/a the ratios of ``axes_cm``;
-origin "intact" (a region the cracks did not reach) or "failed" (failed material, :func:`grady_fragments`)."""
+origin "intact" (a region the cracks did not reach) or "failed" (failed material, :func:`grady_fragments`);
+projectile_share the share of its mass that was projectile material (:func:`origin_masses`), blank where
+not known."""
 
 
-def fragment_rows(fragments: Fragments, n: int | None = None) -> tuple[tuple[str, ...], list[list]]:
-    """``(header, rows)`` of the ``n`` most massive fragments (all if None) for ``FolderWriter.write_csv``."""
+def fragment_rows(fragments: Fragments, n: int | None = None, from_projectile_g: np.ndarray | None = None
+                  ) -> tuple[tuple[str, ...], list[list]]:
+    """``(header, rows)`` of the ``n`` most massive fragments (all if None) for ``FolderWriter.write_csv``;
+    ``from_projectile_g`` (F,) each fragment's projectile mass (:func:`origin_masses`), if known."""
     f = fragments if n is None else fragments.largest(n)
     spin = np.linalg.norm(f.spin, axis=1)
     ratio = f.axes_cm[:, 1:] / f.axes_cm[:, :1]
+    share = [""] * len(f) if from_projectile_g is None else \
+        [float(x) for x in np.asarray(from_projectile_g)[:len(f)] / f.mass]
     rows = [[i + 1, float(f.mass[i]), float(f.diameter_cm[i]), int(f.count[i]),
              *map(float, f.position[i]), *map(float, f.velocity[i]), float(spin[i]), *map(float, ratio[i]),
-             "failed" if f.from_failed[i] else "intact"]
+             "failed" if f.from_failed[i] else "intact", share[i]]
             for i in range(len(f))]
     return FRAGMENT_COLUMNS, rows
 
 
 def plot_fragment_masses(path: str | os.PathLike, fragments: Fragments, *, projectile_mass_g: float | None = None,
+                         from_projectile_g: np.ndarray | None = None,
                          title: str = "Fragments of the debris cloud") -> Path:
-    """Cumulative number N(≥ m) against fragment mass m on log–log axes; the five largest listed.
+    """Two panels against fragment mass m (log): the cumulative number N(≥ m) (log), the five largest
+    listed; and the cumulative mass M(≥ m) in fragments at least that heavy (:func:`cumulative_mass`),
+    split by origin where ``from_projectile_g`` (F,) gives each fragment's projectile mass
+    (:func:`origin_masses`; the rest is the bumper's).
 
     With ``projectile_mass_g`` a second mass axis (top) gives m as a fraction of the projectile.
     Written atomically to ``path`` (format from the suffix); returns the path.
@@ -346,30 +386,43 @@ def plot_fragment_masses(path: str | os.PathLike, fragments: Fragments, *, proje
     if projectile_mass_g is not None and not (np.isfinite(projectile_mass_g) and projectile_mass_g > 0):
         raise InputError(f"plot_fragment_masses: projectile_mass_g = {projectile_mass_g!r}: must be finite and > 0")
     plt = pyplot()
-    fig, ax = plt.subplots(figsize=(6.5, 4.8), constrained_layout=True)
+    fig, (ax, ax_mass) = plt.subplots(1, 2, figsize=(11, 4.8), constrained_layout=True)
     m, count = cumulative_number(fragments)
     if len(m):
         ax.step(m, count, where="post", color="C0", label=f"{len(m)} fragment{'s' if len(m) != 1 else ''}, {m.sum():.4g} g")
         ax.plot(m, count, "o", ms=3, color="C0")
-        ax.set_xscale("log")
-        ax.set_yscale("log")
         top = fragments.largest(5)
-        lines = ["largest (g, diameter cm, c/a):"] + [
+        shares = (None if from_projectile_g is None else np.asarray(from_projectile_g)[:len(top)] / top.mass)
+        lines = [f"largest (g, diameter cm, c/a{', projectile' if shares is not None else ''}):"] + [
             f"{i + 1}. {top.mass[i]:.3g}, {top.diameter_cm[i]:.3g}, {top.axes_cm[i, 2] / top.axes_cm[i, 0]:.2f}"
-            for i in range(len(top))]
+            + ("" if shares is None else f", {shares[i]:.0%}") for i in range(len(top))]
         ax.text(0.97, 0.97, "\n".join(lines), transform=ax.transAxes, ha="right", va="top", fontsize=8,
                 family="monospace", bbox=dict(boxstyle="round", facecolor="white", alpha=0.85))
         ax.legend(loc="lower left", fontsize=8)
-        if projectile_mass_g is not None:
-            mp = float(projectile_mass_g)
-            top_axis = ax.secondary_xaxis("top", functions=(lambda x: x / mp, lambda x: x * mp))
-            top_axis.set_xlabel("m / projectile mass")
+        parts = {"all": None}
+        if from_projectile_g is not None:
+            projectile = np.asarray(from_projectile_g, float)
+            parts |= {"projectile": projectile, "bumper": np.asarray(fragments.mass) - projectile}
+        for (label, part), colour in zip(parts.items(), ("C0", "C1", "C2")):
+            mass, total = cumulative_mass(fragments, part)
+            ax_mass.step(mass, total, where="post", color=colour, label=f"{label}: {total[-1]:.4g} g")
+        ax_mass.legend(loc="lower left", fontsize=8)
+        ax.set_yscale("log")
+        ax_mass.set_ylim(bottom=0.0)         # M(≥ m) on a linear axis: a part that is 0 at large m shows as 0
+        for axis in (ax, ax_mass):
+            axis.set_xscale("log")
+            if projectile_mass_g is not None:
+                mp = float(projectile_mass_g)
+                axis.secondary_xaxis("top", functions=(lambda x: x / mp, lambda x: x * mp)).set_xlabel(
+                    "m / projectile mass")
     else:
-        ax.text(0.5, 0.5, "no fragments", transform=ax.transAxes, ha="center")
-    ax.set_xlabel("fragment mass m (g)")
-    ax.set_ylabel("N(≥ m)")
-    ax.set_title(title)
-    ax.grid(True, which="both", alpha=0.3)
+        for axis in (ax, ax_mass):
+            axis.text(0.5, 0.5, "no fragments", transform=axis.transAxes, ha="center")
+    for axis, label in ((ax, "N(≥ m)"), (ax_mass, "mass in fragments of ≥ m, M(≥ m) (g)")):
+        axis.set_xlabel("fragment mass m (g)")
+        axis.set_ylabel(label)
+        axis.grid(True, which="both", alpha=0.3)
+    fig.suptitle(title)
     return save_figure(fig, path, dpi=110)
 
 

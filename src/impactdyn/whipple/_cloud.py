@@ -116,10 +116,12 @@ def stage_fragments(folder: Path):
     return read_fragments(path)
 
 
-def fragment_figures(fragments, projectile_mass_g: float) -> dict:
-    """Numbers of the debris fragments (full model): how many, their mass, the largest (mass, share of
-    the projectile's mass, equivalent diameter, particles, speed)."""
-    figures = {"n_fragments": len(fragments), "mass_g": fragments.total_mass()}
+def fragment_figures(fragments, from_projectile_g, projectile_mass_g: float) -> dict:
+    """Numbers of the debris fragments (full model): how many, their mass and the part of it that was
+    projectile material (``from_projectile_g``, each fragment's: :func:`impactdyn.shield.origin_masses`),
+    the largest (mass, share of the projectile's mass, equivalent diameter, particles, speed)."""
+    figures = {"n_fragments": len(fragments), "mass_g": fragments.total_mass(),
+               "mass_from_projectile_g": float(np.sum(from_projectile_g))}
     if len(fragments):
         figures |= {"largest_g": float(fragments.mass[0]),
                     "largest_over_projectile": float(fragments.mass[0] / projectile_mass_g),

@@ -60,7 +60,7 @@ from impactdyn.whipple._case import WhippleCase
 from impactdyn.whipple._stages import DEPENDS, KEEP, STAGES, Progress, StageContext, read_stage, settings
 
 def _shield(s: StageContext) -> dict:
-    from impactdyn.shield import fragment_rows, run, write_fragments, write_particles
+    from impactdyn.shield import fragment_rows, origin_masses, run, write_fragments, write_particles
     from impactdyn.whipple._case import projectile_mass, shield_problem
     from impactdyn.whipple._cloud import debris_fragments, debris_state, fragment_figures, projectile_particles
 
@@ -73,7 +73,8 @@ def _shield(s: StageContext) -> dict:
         _write_points_vtk(out.file("particles.vtu"), result.state)
     fragments = debris_fragments(result.state, problem.particles, s.case)
     write_fragments(out.file("fragments.h5"), fragments)
-    out.write_csv("fragments.csv", *fragment_rows(fragments))
+    from_projectile = origin_masses(fragments, result.state.mass, projectile_particles(problem))
+    out.write_csv("fragments.csv", *fragment_rows(fragments, from_projectile_g=from_projectile))
     h = result.history
     p0 = h.momentum[0]
     e0 = h.total_energy[0]
@@ -92,7 +93,7 @@ def _shield(s: StageContext) -> dict:
         "kinetic_final": float(h.kinetic[-1]),
         "internal_final": float(h.internal[-1]),
         "n_failed": int(result.state.failed.sum()),
-        "fragments": fragment_figures(fragments, projectile_mass(s.case)),
+        "fragments": fragment_figures(fragments, from_projectile, projectile_mass(s.case)),
         "debris_state": debris_state(result.state, projectile_particles(problem), fragments,
                                      s.case.bumper.thickness_cm, projectile_mass(s.case)),
     }

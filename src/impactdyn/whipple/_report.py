@@ -134,7 +134,9 @@ def _fragments(figures: dict | None) -> str:
         return "–"
     if not figures["n_fragments"]:
         return "none: every particle of the debris failed or melted"
-    return (f"{figures['n_fragments']}, {figures['mass_g']:.4g} g; the largest {figures['largest_g']:.3g} g "
+    origin = ("" if "mass_from_projectile_g" not in figures else   # a shield stage written before origins
+              f" ({figures['mass_from_projectile_g']:.4g} g of it projectile material)")
+    return (f"{figures['n_fragments']}, {figures['mass_g']:.4g} g{origin}; the largest {figures['largest_g']:.3g} g "
             f"({100 * figures['largest_over_projectile']:.2g} % of the projectile, "
             f"{figures['largest_diameter_cm']:.3g} cm, {figures['largest_particles']} particles, "
             f"{figures['largest_speed_km_s']:.3g} km/s)")
@@ -183,9 +185,9 @@ _KEPT = {"all": "The run kept every file (<code>--keep all</code>).",
 def write_report(folder: FolderWriter, case: WhippleCase, keep: str = "all") -> dict:
     """Write ``summary.json``, ``plots/`` and ``report.html`` into the run folder; returns the record.
     ``keep``: how much of the output the run keeps (``--keep``, lean or all), recorded in the summary."""
-    from impactdyn.shield import plot_fragment_masses, read_particles
-    from impactdyn.whipple._case import projectile_mass
-    from impactdyn.whipple._cloud import cloud_figures, stage_fragments
+    from impactdyn.shield import origin_masses, plot_fragment_masses, read_particles
+    from impactdyn.whipple._case import projectile_mass, shield_problem
+    from impactdyn.whipple._cloud import cloud_figures, projectile_particles, stage_fragments
 
     records = _records(folder)
     particles, history = read_particles(folder.path / "shield" / "particles.h5")
@@ -198,7 +200,9 @@ def write_report(folder: FolderWriter, case: WhippleCase, keep: str = "all") -> 
     _plot_conservation(plots.file("conservation.png"), history)
     fragments = stage_fragments(folder.path)
     if len(fragments):  # with none, the report says so in words: empty axes would read as a failed plot
+        projectile = projectile_particles(shield_problem(case)[0])   # the stage's particles, in its order
         plot_fragment_masses(plots.file("fragments.png"), fragments, projectile_mass_g=projectile_mass(case),
+                             from_projectile_g=origin_masses(fragments, particles.mass, projectile),
                              title=f"Solid fragments of the debris at {case.shield.handoff_us:g} µs "
                                    f"(failure model: {case.shield.failure_model})")
     summary = {
