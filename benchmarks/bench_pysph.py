@@ -232,7 +232,7 @@ def impactdyn_problem(geometry: dict, library: bool):
     particles = _particles(pos, vel, mass, mat, materials)  # h = 1.3 (m/ρ₀)^(1/3) = 1.3 Δ
     h_pysph = np.concatenate([g["h"] for g in parts]) * M_TO_CM
     assert np.allclose(particles.smoothing_length, h_pysph, rtol=1e-9), "h differs from PySPH's"
-    return Problem(particles=particles, materials=materials, domain=Domain(),
+    return Problem(particles=particles, materials=materials, spacing_cm=DX * M_TO_CM, domain=Domain(),
                    name="PySPH impact3d: steel sphere on aluminium plate, 3.1 km/s")
 
 
@@ -276,7 +276,7 @@ class ImpactdynRun:
 
     def finish(self) -> dict:
         s = self.solver
-        finite = bool(np.isfinite(s.x).all() and np.isfinite(s.v).all() and np.isfinite(s.rho).all())
+        finite = all(bool(np.isfinite(a).all()) for a in (s.state.x, s.state.v, s.state.rho))
         searches = getattr(s.neighbours, "builds", None)  # the reused neighbour list's searches, set-up included
         searched = "" if searches is None else f"; neighbour searches {searches} in {s.steps} steps + set-up"
         return dict(finite=finite, note=f"its own stable dt >= {self.dt_stable:.3g} us over the run "

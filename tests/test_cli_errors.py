@@ -329,7 +329,7 @@ def test_sph_breakdown_exits_1_and_leaves_no_run_folder(tmp_path, capsys, monkey
     from impactdyn.shield import _integrate
 
     def broken_step(self, dt):
-        self.v[0] = np.nan  # one particle's velocity goes non-finite, and with it the next time step
+        self.state.v[0] = np.nan  # one particle's velocity goes non-finite, and with it the next time step
         self.dt = float("nan")
         self.steps += 1
         return self.totals()

@@ -130,5 +130,7 @@ def test_particles_and_problem_validation():
     with pytest.raises(InputError, match="not finite"):
         p.replace(specific_energy=np.full(len(p), np.nan))
     with pytest.raises(InputError, match="Problem"):
-        shield.Problem(particles=p, materials=(AL_2024_T4,))
+        shield.Problem(particles=p, materials=(AL_2024_T4,), spacing_cm=problem.spacing_cm)
+    with pytest.raises(InputError, match="Problem.spacing_cm"):
+        shield.Problem(particles=p, materials=problem.materials, spacing_cm=0.0)
     assert p.position.flags.writeable is False

@@ -17,7 +17,7 @@ def expanding_cube(k: float, n: int = 10, dx: float = 0.02) -> Problem:
     g = dx * (np.arange(n) - (n - 1) / 2)
     x = np.stack(np.meshgrid(g, g, g, indexing="ij"), axis=-1).reshape(-1, 3)
     p = _particles(x, k * x, np.full(len(x), AL.rho0 * dx**3), np.zeros(len(x), dtype=np.int64), (AL,))
-    return Problem(particles=p.replace(failed=np.ones(len(x), dtype=bool)), materials=(AL,))
+    return Problem(particles=p.replace(failed=np.ones(len(x), dtype=bool)), materials=(AL,), spacing_cm=dx)
 
 
 def test_density_follows_a_homologous_expansion():

@@ -58,7 +58,8 @@ def test_reuse_and_search_every_step_give_the_same_state():
         for _ in range(40):
             solver.step(solver.dt)
         back = np.argsort(solver.ids)
-        states[skin] = (solver.x[back], solver.v[back], solver.rho[back], solver.e[back], solver.neighbours.builds)
+        state = solver.state
+        states[skin] = (state.x[back], state.v[back], state.rho[back], state.e[back], solver.neighbours.builds)
     assert states[0.0][4] == 41  # searched at every force evaluation
     for skin in (0.15, 0.3):
         assert states[skin][4] < 30  # the list was reused

@@ -18,9 +18,9 @@ from impactdyn.shield import read_fragments
 from impactdyn.shield._io import read_particles
 from impactdyn._config import parse_assignment
 from impactdyn._errors import InputError
-from impactdyn.whipple import ble_verdict, load_whipple_case, rerun_wall, wall_ending
+from impactdyn.whipple import ble_verdict, load_whipple_case, rerun_wall, shield_problem, wall_ending
 from impactdyn.wall import ENDINGS, LSDYNA_HOURGLASS_TYPE
-from impactdyn.whipple._case import ble_shield, projectile_mass, shield_problem
+from impactdyn.whipple._case import ble_shield, projectile_mass
 from impactdyn.whipple._cloud import debris_fragments
 from impactdyn.whipple._pipeline import deck_options, run_whipple
 
@@ -526,8 +526,8 @@ def test_a_fragmenting_shot_reports_its_solid_fragments(tmp_path, make_case, fai
     assert "Solid fragments of the debris" in (out / "report.html").read_text()
     # found once by the shield stage, read back exactly by the later ones
     kept = read_fragments(out / "shield" / "fragments.h5")
-    initial = shield_problem(load_whipple_case(case))[0].particles
-    found = debris_fragments(read_particles(out / "shield" / "particles.h5")[0], initial, load_whipple_case(case))
+    loaded = load_whipple_case(case)
+    found = debris_fragments(read_particles(out / "shield" / "particles.h5")[0], shield_problem(loaded)[0], loaded)
     for name in ("mass", "position", "velocity", "spin", "diameter_cm", "axes_cm", "count", "ptr", "members",
                  "from_failed"):
         np.testing.assert_array_equal(getattr(kept, name), getattr(found, name))
@@ -542,9 +542,8 @@ def test_a_fragmenting_shot_reports_its_solid_fragments(tmp_path, make_case, fai
     compact = stages["debris"]["compact_fragments"]
     assert compact["n_fragments"] >= 1 and stages["binning"]["n_particles_in_compact_fragments"] > 0
     particles, _ = read_particles(out / "shield" / "particles.h5")
-    loaded = load_whipple_case(case)
     from impactdyn.whipple._cloud import compact_fragments, compact_particles
-    fragments = compact_fragments(debris_fragments(particles, initial, loaded), loaded)
+    fragments = compact_fragments(debris_fragments(particles, shield_problem(loaded)[0], loaded), loaded)
     taken = compact_particles(fragments, len(particles))
     behind = particles.position[:, 1] >= loaded.bumper.thickness_cm
     grid = read_grid(out / "binning" / "handoff_grid.h5")

@@ -83,53 +83,197 @@ Time step (Monaghan 1992, eq. 4.12)::
 the relative velocity of approaching neighbours entering through μᵢⱼ
 (defaults C_cfl = 0.3, C_f = 0.25); the last term bounds the density change of
 a step (it binds only in fast expansion, where the first two do not see the flow).
+
+The kernels take their data as records (NamedTuples, which numba passes like their fields), made
+once by the solver (:class:`._integrate._Solver`): the particles' :class:`ParticleState`; the
+:class:`Rates` of a force pass, the step's and the next step's; the :class:`Predicted` state; what
+a state gives each particle, :class:`Derived` (p, c, h, R); the pair loop's :class:`PairRows`; the
+:class:`Materials` with the constitutive models; and the run's :class:`Coefficients`. Two
+properties of numba's parallel loops (numba 0.68) decide how a ``prange`` loop reaches them. Its
+dead-code removal drops the loop's writes to an array reached through a record's field inside the
+loop, or taken out of a record by a tuple unpacking (``a, b, c, d = r.a, r.b, r.c, r.d``; Python
+assigns up to three targets without a tuple): it does not see that such an array is the caller's
+(numba's report "Miscompiled parallel access to namedtuple"). And where it finds no aliasing in
+the loop, it compiles the loop's body with every array taken to overlap no other, so one array
+reached under two names, one of them written, may be read stale. So a parallel kernel takes each
+array its loop writes out of its record by attribute before the loop, at most three to a
+statement, and the loop and the helpers it calls reach that array by that name alone; a record
+reaches into the loop only if the loop writes none of its arrays (:class:`PairRows` where the loop
+only reads the rows, :class:`Materials`, :class:`Coefficients`).
 """
 
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import get_thread_id, njit, prange
 
-from impactdyn.constitutive import (C0, DM_GROWTH, DM_K, DM_M, DM_YOUNG, EPS_FAIL, GAMMA0, HAS_JC, JC_RATE0, JC_TMELT, JC_TROOM, P_SPALL,
-                                   RHO0, SHEAR, SLOPE, artificial_stress, ductile_damage_increment, flow_stress,
-                                   grady_kipp_damage, jaumann_rate, largest_principal_stress, pressure, radial_return,
-                                   sound_speed, temperature, von_mises)
+from impactdyn.constitutive import (C0, DM_GROWTH, DM_K, DM_M, DM_YOUNG, EPS_FAIL, GAMMA0, HAS_JC, JC_RATE0, JC_TMELT,
+                                   JC_TROOM, P_SPALL, RHO0, SHEAR, SLOPE, artificial_stress, ductile_damage_increment,
+                                   flow_stress, grady_kipp_damage, jaumann_rate, largest_principal_stress, pressure,
+                                   radial_return, sound_speed, temperature, von_mises)
 from impactdyn.shield._kernel import SIGMA_3D, g_shape, w_shape
 
 #: Failure models of the kernels (:class:`._options.SPHOptions` ``failure`` and ``failure_model``).
 NO_FAILURE, THRESHOLD, FRAGMENTATION = 0, 1, 2
 
 
+class ParticleState(NamedTuple):
+    """The particles' state, a row per particle in the solver's order (:class:`._integrate._Solver`).
+
+    x, v (N, 3): position, cm, and velocity, cm/µs; m: mass, g; rho: density ρ, g/cm³; e: specific
+    internal energy, cm²/µs²; S (N, 6): deviatoric stress, Mbar; eps_p: equivalent plastic strain εₚ;
+    damage: D; ductile: the Johnson–Cook ductile damage sum; flaws (N, N_FLAW): the fragmentation
+    model's flaw records (:mod:`._damage`); failure_rate: the stretching rate at failure, µs⁻¹
+    (:func:`finish_step`); switch: the viscosity switch fᵢ of the next force pass; mat: the material
+    index (int64).
+    """
+
+    x: np.ndarray
+    v: np.ndarray
+    m: np.ndarray
+    rho: np.ndarray
+    e: np.ndarray
+    S: np.ndarray
+    eps_p: np.ndarray
+    damage: np.ndarray
+    ductile: np.ndarray
+    flaws: np.ndarray
+    failure_rate: np.ndarray
+    switch: np.ndarray
+    mat: np.ndarray
+
+
+class Rates(NamedTuple):
+    """What a force pass gives for one state (:func:`_particle_rates`): the rates the leapfrog integrates,
+    acc (N, 3), cm/µs², dlnrho = ρ̇/ρ, de = ė and dS (N, 6) = Ṡ (Jaumann); the velocity gradient
+    grad_v (N, 3, 3) = L and the equivalent strain rate strain_rate = ε̇_eq, µs⁻¹, that they come from;
+    and each particle's stable step dt, µs (module docstring)."""
+
+    acc: np.ndarray
+    dlnrho: np.ndarray
+    de: np.ndarray
+    dS: np.ndarray
+    grad_v: np.ndarray
+    strain_rate: np.ndarray
+    dt: np.ndarray
+
+    @classmethod
+    def zeros(cls, n: int) -> "Rates":
+        return cls(acc=np.zeros((n, 3)), dlnrho=np.zeros(n), de=np.zeros(n), dS=np.zeros((n, 6)),
+                   grad_v=np.zeros((n, 3, 3)), strain_rate=np.zeros(n), dt=np.zeros(n))
+
+
+class Predicted(NamedTuple):
+    """The predicted state at the step's end, where the force pass is evaluated (module docstring):
+    v (N, 3), rho, e (N,), S (N, 6)."""
+
+    v: np.ndarray
+    rho: np.ndarray
+    e: np.ndarray
+    S: np.ndarray
+
+    @classmethod
+    def zeros(cls, n: int) -> "Predicted":
+        return cls(v=np.zeros((n, 3)), rho=np.zeros(n), e=np.zeros(n), S=np.zeros((n, 6)))
+
+
+class Derived(NamedTuple):
+    """What a particle's density, energy and deviatoric stress give it (:func:`_particle_eos`):
+    pressure p, Mbar, sound speed c, cm/µs, smoothing length h, cm (N,); the artificial stress R (N, 6)
+    and tension (N,) bool, whether R ≠ 0; and work_a, work_v (N, 3, 3), the scratch in which
+    :func:`~impactdyn.constitutive.artificial_stress` finds σ's principal values and axes."""
+
+    p: np.ndarray
+    c: np.ndarray
+    h: np.ndarray
+    R: np.ndarray
+    tension: np.ndarray
+    work_a: np.ndarray
+    work_v: np.ndarray
+
+    @classmethod
+    def zeros(cls, n: int) -> "Derived":
+        return cls(p=np.zeros(n), c=np.zeros(n), h=np.zeros(n), R=np.zeros((n, 6)),
+                   tension=np.zeros(n, dtype=np.bool_), work_a=np.zeros((n, 3, 3)), work_v=np.zeros((n, 3, 3)))
+
+
+class PairRows(NamedTuple):
+    """The pair loop's particle rows (:func:`_pair_row`): pos (N, 4) and st (N, ST_WIDTH)."""
+
+    pos: np.ndarray
+    st: np.ndarray
+
+    @classmethod
+    def zeros(cls, n: int) -> "PairRows":
+        return cls(pos=np.zeros((n, 4)), st=np.zeros((n, ST_WIDTH)))
+
+
+class Materials(NamedTuple):
+    """The run's material tables and constitutive models: params, the materials' constants
+    (:func:`~impactdyn.constitutive.pack_materials`); damage_table, the fragmentation model's
+    (:func:`~impactdyn.constitutive.pack_damage`); johnson_cook: the Johnson–Cook flow stress
+    (else Y₀); failure: NO_FAILURE, THRESHOLD or FRAGMENTATION."""
+
+    params: np.ndarray
+    damage_table: np.ndarray
+    johnson_cook: bool
+    failure: int
+
+
+class Coefficients(NamedTuple):
+    """The run's coefficients (:class:`._options.SPHOptions`) as the kernels use them: h_factor κ;
+    rho_floor = 1/h_max_factor³, the density floor ρ₀/h_max_factor³ over ρ₀ (module docstring);
+    the artificial stress's ε (artificial_stress, 0: none), n (artificial_stress_power) and
+    1/W(Δp, h) (artificial_stress_norm, the norm of fᵢⱼ); the viscosity's α, β and balsara (the
+    switch :func:`viscosity_switch` on); the step factors cfl = C_cfl and force_cfl = C_f."""
+
+    h_factor: float
+    rho_floor: float
+    artificial_stress: float
+    artificial_stress_power: int
+    artificial_stress_norm: float
+    alpha: float
+    beta: float
+    balsara: bool
+    cfl: float
+    force_cfl: float
+
+
 # inline: a call passing this many arrays per particle costs more than the work (:mod:`._strength`)
 @njit(cache=True, inline="always")
-def _particle_eos(i, m, rho, e, S, damage, mat, params, h_factor, rho_floor, eps_as, p, c, h, R, tension, work_a,
-                  work_v):
-    """Pressure p, sound speed c, smoothing length h and artificial stress R of particle i.
+def _particle_eos(i, m, rho, e, S, damage, mat, materials, coefficients, R, work_a, work_v):
+    """Pressure p, sound speed c and smoothing length h of particle i, and its artificial stress R[i];
+    returns (p, c, h, whether R[i] ≠ 0).
 
     Damage D scales the tension a particle carries: p < 0 becomes (1 − D) p (compression is kept whole).
     """
+    params = materials.params
     k = mat[i]
     rho0 = params[k, RHO0]
-    pi = pressure(rho[i], e[i], rho0, params[k, C0], params[k, SLOPE], params[k, GAMMA0])
-    if pi < 0.0:
-        pi *= 1.0 - damage[i]
-    p[i] = pi
-    c[i] = sound_speed(rho[i], pi, rho0, params[k, C0], params[k, SLOPE], params[k, GAMMA0])
-    h[i] = h_factor * (m[i] / max(rho[i], rho0 * rho_floor)) ** (1.0 / 3.0)
-    tension[i] = False
-    if eps_as > 0.0:
-        tension[i] = artificial_stress(S, pi, rho[i], eps_as, i, R, work_a, work_v)
+    p = pressure(rho[i], e[i], rho0, params[k, C0], params[k, SLOPE], params[k, GAMMA0])
+    if p < 0.0:
+        p *= 1.0 - damage[i]
+    c = sound_speed(rho[i], p, rho0, params[k, C0], params[k, SLOPE], params[k, GAMMA0])
+    h = coefficients.h_factor * (m[i] / max(rho[i], rho0 * coefficients.rho_floor)) ** (1.0 / 3.0)
+    tension = False
+    if coefficients.artificial_stress > 0.0:
+        tension = artificial_stress(S, p, rho[i], coefficients.artificial_stress, i, R, work_a, work_v)
+    return p, c, h, tension
 
 
 @njit(parallel=True, cache=True)
-def update_particles(m, rho, e, S, damage, mat, params, h_factor, rho_floor, eps_as, p, c, h, R, tension, work_a,
-                     work_v):
-    """p, c, h and R of every particle (:func:`_particle_eos`)."""
+def update_particles(state, derived, materials, coefficients):
+    """The :class:`Derived` p, c, h and R of every particle of the state (:func:`_particle_eos`)."""
+    p, c, h = derived.p, derived.c, derived.h
+    R, tension = derived.R, derived.tension
+    work_a, work_v = derived.work_a, derived.work_v
+    m, rho, e, S, damage, mat = state.m, state.rho, state.e, state.S, state.damage, state.mat
     for i in prange(m.size):
-        _particle_eos(i, m, rho, e, S, damage, mat, params, h_factor, rho_floor, eps_as, p, c, h, R, tension,
-                      work_a, work_v)
+        p[i], c[i], h[i], tension[i] = _particle_eos(i, m, rho, e, S, damage, mat, materials, coefficients, R,
+                                                     work_a, work_v)
 
 
 #: Columns of the pair-loop rows ``st`` (:func:`pair_rows`).
@@ -163,8 +307,12 @@ def _pair_row(i, x, h, v, c, rho, m, S, p, damage, switch, pos, st):
 
 
 @njit(parallel=True, cache=True)
-def pair_rows(x, h, v, c, rho, m, S, p, damage, switch, pos, st):
-    """The pair loop's rows (pos, st) of every particle (:func:`_pair_row`)."""
+def pair_rows(state, v, rho, S, derived, rows):
+    """The pair loop's rows of every particle (:func:`_pair_row`), with the velocity v, density rho and
+    deviatoric stress S given: the state's own, or the predicted ones."""
+    pos, st = rows.pos, rows.st
+    x, m, damage, switch = state.x, state.m, state.damage, state.switch
+    p, c, h = derived.p, derived.c, derived.h
     for i in prange(m.size):
         _pair_row(i, x, h, v, c, rho, m, S, p, damage, switch, pos, st)
 
@@ -176,13 +324,14 @@ PS_A, PS_RHO, PS_E, PS_L, PS_MU, PS_WIDTH = 0, 3, 4, 5, 14, 16
 
 # fastmath "contract" only: a·b + c may be fused into one rounding (FMA), nothing reordered (results move by round-off)
 @njit(parallel=True, cache=True, fastmath={"contract"})
-def pair_sums(pos, st, R, tension, nbr, img, count, signs, offsets, alpha, beta, as_power, as_norm, sums):
+def pair_sums(rows, derived, nbr, img, count, signs, offsets, coefficients, sums):
     """The neighbour sums of the rates (module docstring), each pair of real particles evaluated once.
 
-    pos (N, 4), st (N, 16): the rows of :func:`pair_rows`; R (N, 6), tension (N,):
-    artificial stress; nbr, img (N, cap), count (N,): the half neighbour list
+    rows: the :class:`PairRows` of :func:`pair_rows`; the artificial stress R (N, 6) and tension (N,)
+    of ``derived``; nbr, img (N, cap), count (N,): the half neighbour list
     (:class:`NeighbourList` with ``half``), whose pairs beyond the support 2hᵢⱼ
-    (its skin) are skipped. A pair of real particles (image 0) is listed once;
+    (its skin) are skipped; α, β and the artificial stress's n and norm of ``coefficients``.
+    A pair of real particles (image 0) is listed once;
     its terms for j follow from those for i, since ∇ⱼWⱼᵢ = −∇ᵢWᵢⱼ, vⱼᵢ = −vᵢⱼ,
     Tⱼᵢ = Tᵢⱼ and μⱼᵢ = μᵢⱼ::
 
@@ -196,6 +345,10 @@ def pair_sums(pos, st, R, tension, nbr, img, count, signs, offsets, alpha, beta,
     the scattered additions to j need no locks; prange gives each thread one
     contiguous range of i, so the result is the same for the same thread count.
     """
+    pos, st = rows.pos, rows.st
+    R, tension = derived.R, derived.tension
+    alpha, beta = coefficients.alpha, coefficients.beta
+    as_power, as_norm = coefficients.artificial_stress_power, coefficients.artificial_stress_norm
     for i in prange(pos.shape[0]):
         tid = get_thread_id()
         xi0, xi1, xi2, hi = pos[i, 0], pos[i, 1], pos[i, 2], pos[i, 3]
@@ -314,13 +467,12 @@ def pair_sums(pos, st, R, tension, nbr, img, count, signs, offsets, alpha, beta,
 
 
 @njit(cache=True, inline="always")
-def _particle_rates(i, pos, st, S, damage, mat, params, rho_floor, alpha, beta, cfl, force_cfl, balsara, sums,
-                    grad_v, acc, dlnrho, de, dS, rate, switch, dt_i):
+def _particle_rates(i, rows, S, damage, mat, materials, coefficients, sums, grad_v, acc, dS, switch):
     """The rates of particle i from the pair sums (T, N, 16) of :func:`pair_sums`, whose rows of i it zeroes.
 
-    Writes acc[i] (3), dlnrho[i] = ρ̇/ρ, de[i], grad_v[i] = L (3, 3), dS[i] = Ṡ (6, Jaumann),
-    rate[i] = ε̇_eq, the stable step dt_i[i] (module docstring) and, with ``balsara``, the viscosity
-    switch switch[i] of the next force pass (:func:`viscosity_switch`).
+    Writes acc[i] (3), grad_v[i] = L (3, 3), dS[i] = Ṡ (6, Jaumann) and, with ``balsara``, the viscosity
+    switch switch[i] of the next force pass (:func:`viscosity_switch`); returns (ρ̇/ρ, ė, ε̇_eq, the stable
+    step Δtᵢ (module docstring)), the :class:`Rates` its caller writes.
     """
     for t in range(1, sums.shape[0]):  # the other threads' partial sums into sums[0, i]
         for c in range(PS_MU):
@@ -328,49 +480,65 @@ def _particle_rates(i, pos, st, S, damage, mat, params, rho_floor, alpha, beta, 
             sums[t, i, c] = 0.0
         sums[0, i, PS_MU] = max(sums[0, i, PS_MU], sums[t, i, PS_MU])
         sums[t, i, PS_MU] = 0.0
-    hi, ci, rhoi = pos[i, 3], st[i, ST_C], st[i, ST_RHO]
+    params = materials.params
+    hi, ci, rhoi = rows.pos[i, 3], rows.st[i, ST_C], rows.st[i, ST_RHO]
     a0, a1, a2 = sums[0, i, PS_A], sums[0, i, PS_A + 1], sums[0, i, PS_A + 2]
     acc[i, 0], acc[i, 1], acc[i, 2] = a0, a1, a2
-    dlnrho[i] = sums[0, i, PS_RHO] / max(rhoi, params[mat[i], RHO0] * rho_floor)
-    de[i] = sums[0, i, PS_E]
+    dlnrho = sums[0, i, PS_RHO] / max(rhoi, params[mat[i], RHO0] * coefficients.rho_floor)
+    de = sums[0, i, PS_E]
     for r in range(3):
         for c in range(3):
             grad_v[i, r, c] = sums[0, i, PS_L + 3 * r + c]
     mu_max = sums[0, i, PS_MU]
     for c in range(PS_WIDTH):
         sums[0, i, c] = 0.0
-    if balsara:
+    if coefficients.balsara:
         switch[i] = viscosity_switch(grad_v, i, ci, hi)
-    ds, rate[i] = jaumann_rate(S[i, 0], S[i, 1], S[i, 2], S[i, 3], S[i, 4], S[i, 5], grad_v, i,
-                               params[mat[i], SHEAR])
+    ds, strain_rate = jaumann_rate(S[i, 0], S[i, 1], S[i, 2], S[i, 3], S[i, 4], S[i, 5], grad_v, i,
+                                   params[mat[i], SHEAR])
     for k in range(6):
         dS[i, k] = 0.0 if damage[i] >= 1.0 else ds[k]
     amag = math.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
-    dt_i[i] = cfl * hi / (ci + 1.2 * (alpha * ci + beta * mu_max))
+    cfl = coefficients.cfl
+    dt_i = cfl * hi / (ci + 1.2 * (coefficients.alpha * ci + coefficients.beta * mu_max))
     if amag > 0.0:
-        dt_i[i] = min(dt_i[i], force_cfl * math.sqrt(hi / amag))
-    if dlnrho[i] != 0.0:
-        dt_i[i] = min(dt_i[i], cfl / abs(dlnrho[i]))
+        dt_i = min(dt_i, coefficients.force_cfl * math.sqrt(hi / amag))
+    if dlnrho != 0.0:
+        dt_i = min(dt_i, cfl / abs(dlnrho))
+    return dlnrho, de, strain_rate, dt_i
 
 
 @njit(parallel=True, cache=True)
-def particle_rates(pos, st, S, damage, mat, params, rho_floor, alpha, beta, cfl, force_cfl, balsara, sums, grad_v,
-                   acc, dlnrho, de, dS, rate, switch, dt_i):
-    """The rates of every particle from the pair sums (:func:`_particle_rates`)."""
-    for i in prange(pos.shape[0]):
-        _particle_rates(i, pos, st, S, damage, mat, params, rho_floor, alpha, beta, cfl, force_cfl, balsara, sums,
-                        grad_v, acc, dlnrho, de, dS, rate, switch, dt_i)
+def particle_rates(state, rows, materials, coefficients, sums, rates):
+    """The :class:`Rates` of every particle of the state from the pair sums (:func:`_particle_rates`)."""
+    acc, dlnrho, de = rates.acc, rates.dlnrho, rates.de
+    dS, grad_v = rates.dS, rates.grad_v
+    strain_rate, dt = rates.strain_rate, rates.dt
+    switch = state.switch
+    S, damage, mat = state.S, state.damage, state.mat
+    for i in prange(mat.size):
+        dlnrho[i], de[i], strain_rate[i], dt[i] = _particle_rates(i, rows, S, damage, mat, materials, coefficients,
+                                                                  sums, grad_v, acc, dS, switch)
 
 
 @njit(parallel=True, cache=True)
-def kick_drift_predict(x, v, acc, rho, dlnrho, e, de, S, dS, eps_p, rate, damage, switch, m, mat, params,
-                       johnson_cook, h_factor, rho_floor, eps_as, dt, v_p, rho_p, e_p, S_p, p, c, h, R, tension, work_a,
-                       work_v, pos, st):
+def kick_drift_predict(state, rates, predicted, derived, rows, materials, coefficients, dt):
     """Half kick v ← v + ½Δt a, drift x ← x + Δt v, and the predicted state at the step's end.
 
     Predicted: v_p = v + ½Δt a, (e, S)_p = (e, S) + Δt (ė, Ṡ), ρ_p = ρ exp(Δt ρ̇/ρ), S_p returned to the
     yield surface; then its p, c, h and R (:func:`_particle_eos`) and its pair-loop rows (:func:`_pair_row`).
     """
+    x, v = state.x, state.v
+    v_p, rho_p, e_p = predicted.v, predicted.rho, predicted.e
+    S_p = predicted.S
+    p, c, h = derived.p, derived.c, derived.h
+    R, tension = derived.R, derived.tension
+    work_a, work_v = derived.work_a, derived.work_v
+    pos, st = rows.pos, rows.st
+    m, rho, e, S, eps_p, damage, switch, mat = (state.m, state.rho, state.e, state.S, state.eps_p, state.damage,
+                                                state.switch, state.mat)
+    acc, dlnrho, de, dS, rate = rates.acc, rates.dlnrho, rates.de, rates.dS, rates.strain_rate
+    params, johnson_cook = materials.params, materials.johnson_cook
     for i in prange(m.size):
         k = mat[i]
         for d in range(3):
@@ -383,27 +551,37 @@ def kick_drift_predict(x, v, acc, rho, dlnrho, e, de, S, dS, eps_p, rate, damage
             S_p[i, d] = S[i, d] + dt * dS[i, d]
         Y = flow_stress(params, k, johnson_cook, eps_p[i], rate[i], temperature(rho_p[i], e_p[i], params, k))
         radial_return(S_p, i, Y, params[k, SHEAR])
-        _particle_eos(i, m, rho_p, e_p, S_p, damage, mat, params, h_factor, rho_floor, eps_as, p, c, h, R,
-                      tension, work_a, work_v)
+        p[i], c[i], h[i], tension[i] = _particle_eos(i, m, rho_p, e_p, S_p, damage, mat, materials, coefficients, R,
+                                                     work_a, work_v)
         _pair_row(i, x, h, v_p, c, rho_p, m, S_p, p, damage, switch, pos, st)
 
 
 @njit(parallel=True, cache=True)
-def finish_step(pos, st, S_p, damage, mat, params, rho_floor, alpha, beta, cfl, force_cfl, sums, grad_v, acc_new,
-                dlnrho_new, de_new, dS_new, rate, dt_i, v, m, rho, dlnrho, e, de, S, dS, eps_p, johnson_cook, failure,
-                dtable, flaws, ductile, failure_rate, balsara, switch, dt):
-    """The rates at the step's end (:func:`_particle_rates` of the predicted state S_p), then the corrector.
+def finish_step(state, rates, new_rates, predicted, rows, sums, materials, coefficients, dt):
+    """The :class:`Rates` at the step's end (:func:`_particle_rates` of the predicted state) into
+    ``new_rates``, then the corrector.
 
-    Corrector: second half kick with acc_new, trapezoidal ln ρ, e, S of the old and new rates, radial return
-    (εₚ), damage (:func:`_damage_update`); a failed particle records its largest stretching rate
+    Corrector: second half kick with the new acceleration, trapezoidal ln ρ, e, S of the old and new rates,
+    radial return (εₚ), failure (the criteria judge the corrected stress undamaged: ``THRESHOLD`` fails a
+    particle, D = 1, once p < −p_spall or εₚ > εₚ,f, the material's elongation at break;
+    ``FRAGMENTATION``: :func:`_fragmentation_damage`); a failed particle records its largest stretching rate
     (:func:`largest_stretching_rate`) in failure_rate on the first step it is failed and expanded beyond its
     reference density (at failure for one that failed in tension; when it expands for one that failed
-    compressed). Returns the totals of the corrected state (:func:`totals`).
+    compressed).
     """
-    mass = px = py = pz = kin = internal = 0.0
+    v, rho, e = state.v, state.rho, state.e
+    S, eps_p, damage = state.S, state.eps_p, state.damage
+    ductile, flaws, failure_rate = state.ductile, state.flaws, state.failure_rate
+    switch = state.switch
+    acc_new, dlnrho_new, de_new = new_rates.acc, new_rates.dlnrho, new_rates.de
+    dS_new, grad_v = new_rates.dS, new_rates.grad_v
+    rate, dt_i = new_rates.strain_rate, new_rates.dt
+    m, mat, S_p, dlnrho, de, dS = state.m, state.mat, predicted.S, rates.dlnrho, rates.de, rates.dS
+    params, johnson_cook, failure = materials.params, materials.johnson_cook, materials.failure
     for i in prange(m.size):
-        _particle_rates(i, pos, st, S_p, damage, mat, params, rho_floor, alpha, beta, cfl, force_cfl, balsara, sums,
-                        grad_v, acc_new, dlnrho_new, de_new, dS_new, rate, switch, dt_i)
+        dlnrho_new[i], de_new[i], rate[i], dt_i[i] = _particle_rates(i, rows, S_p, damage, mat, materials,
+                                                                     coefficients, sums, grad_v, acc_new, dS_new,
+                                                                     switch)
         k = mat[i]
         for d in range(3):
             v[i, d] += 0.5 * dt * acc_new[i, d]
@@ -416,20 +594,17 @@ def finish_step(pos, st, S_p, damage, mat, params, rho_floor, alpha, beta, cfl, 
         plastic = radial_return(S, i, Y, params[k, SHEAR])
         eps_p[i] += plastic
         if failure != NO_FAILURE and damage[i] < 1.0:
-            _damage_update(i, k, failure, plastic, T, rho, e, S, eps_p, rate, params, dtable, flaws, ductile, damage,
-                           dt)
+            pi = pressure(rho[i], e[i], params[k, RHO0], params[k, C0], params[k, SLOPE], params[k, GAMMA0])
+            if failure == THRESHOLD:
+                if pi < -params[k, P_SPALL] or eps_p[i] > params[k, EPS_FAIL]:
+                    damage[i] = 1.0
+            else:
+                _fragmentation_damage(i, k, pi, plastic, T, S, rate, materials, flaws, ductile, damage, dt)
         if damage[i] >= 1.0 and failure_rate[i] == 0.0 and rho[i] < params[k, RHO0]:
             failure_rate[i] = largest_stretching_rate(grad_v, i)
         if damage[i] >= 1.0:
             for d in range(6):
                 S[i, d] = 0.0
-        mass += m[i]
-        px += m[i] * v[i, 0]
-        py += m[i] * v[i, 1]
-        pz += m[i] * v[i, 2]
-        kin += 0.5 * m[i] * (v[i, 0] ** 2 + v[i, 1] ** 2 + v[i, 2] ** 2)
-        internal += m[i] * e[i]
-    return mass, px, py, pz, kin, internal
 
 
 @njit(cache=True, inline="always")
@@ -461,21 +636,17 @@ def largest_stretching_rate(L, i):
 
 
 @njit(cache=True, inline="always")
-def _damage_update(i, k, failure, plastic, T, rho, e, S, eps_p, rate, params, dtable, flaws, ductile, damage, dt):
-    """The damage D of particle i at the step's end, from its corrected (undamaged) stress.
+def _fragmentation_damage(i, k, p, plastic, T, S, rate, materials, flaws, ductile, damage, dt):
+    """``FRAGMENTATION`` (:mod:`._damage`): the damage D of particle i (material k) at the step's end, from
+    its corrected (undamaged) stress — pressure p and deviator S[i] — its plastic strain increment, temperature
+    T and equivalent strain rate rate[i].
 
-    ``THRESHOLD``: D = 1 once p < −p_spall or εₚ > εₚ,f (the material's elongation at break).
-    ``FRAGMENTATION`` (:mod:`._damage`): tensile damage (:func:`~impactdyn.constitutive.grady_kipp_damage`)
-    under the strain ε = σ₁/E of the largest principal stress σ₁, and ductile damage
-    (:func:`~impactdyn.constitutive.ductile_damage_increment`, none below σ* = −1/3) whose sum
-    reaching 1 sets D = 1.
+    Tensile damage (:func:`~impactdyn.constitutive.grady_kipp_damage`) under the strain ε = σ₁/E of the
+    largest principal stress σ₁, and ductile damage (:func:`~impactdyn.constitutive.ductile_damage_increment`,
+    none below σ* = −1/3) whose sum reaching 1 sets D = 1.
     """
-    pi = pressure(rho[i], e[i], params[k, RHO0], params[k, C0], params[k, SLOPE], params[k, GAMMA0])
-    if failure == THRESHOLD:
-        if pi < -params[k, P_SPALL] or eps_p[i] > params[k, EPS_FAIL]:
-            damage[i] = 1.0
-        return
-    sigma1 = largest_principal_stress(pi, S[i, 0], S[i, 1], S[i, 2], S[i, 3], S[i, 4], S[i, 5])
+    params, dtable = materials.params, materials.damage_table
+    sigma1 = largest_principal_stress(p, S[i, 0], S[i, 1], S[i, 2], S[i, 3], S[i, 4], S[i, 5])
     tensile = grady_kipp_damage(flaws, i, sigma1 / dtable[k, DM_YOUNG], dtable[k, DM_K], dtable[k, DM_M],
                                 dtable[k, DM_GROWTH], dt)
     damage[i] = max(damage[i], tensile)
@@ -485,7 +656,7 @@ def _damage_update(i, k, failure, plastic, T, rho, e, S, eps_p, rate, params, dt
         if params[k, HAS_JC] != 0.0:
             rate_ratio = rate[i] / params[k, JC_RATE0]
             tstar = min(max((T - params[k, JC_TROOM]) / (params[k, JC_TMELT] - params[k, JC_TROOM]), 0.0), 1.0)
-        ductile[i] += ductile_damage_increment(dtable, k, plastic, -pi / sigma_eq, rate_ratio, tstar)
+        ductile[i] += ductile_damage_increment(dtable, k, plastic, -p / sigma_eq, rate_ratio, tstar)
         if ductile[i] >= 1.0:
             damage[i] = 1.0
 
@@ -500,8 +671,9 @@ def temperatures(rho, e, mat, params):
 
 
 @njit(parallel=True, cache=True)
-def totals(m, v, e):
-    """(Σm, Σm vₓ, Σm v_y, Σm v_z, Σ ½m|v|², Σ m e)."""
+def totals(state):
+    """(Σm, Σm vₓ, Σm v_y, Σm v_z, Σ ½m|v|², Σ m e) of the state."""
+    m, v, e = state.m, state.v, state.e
     mass = px = py = pz = kin = internal = 0.0
     for i in prange(m.size):
         mass += m[i]

@@ -1,4 +1,4 @@
-"""Time integration of the SPH equations (:mod:`._equations`): the solver's arrays and step sequence, and :func:`run`.
+"""Time integration of the SPH equations (:mod:`._equations`): the solver's records and step sequence, and :func:`run`.
 
 One step is the kick–drift–kick leapfrog with a predicted state of
 :mod:`._equations` (one neighbour-list update and one force pass); the step size is
@@ -17,7 +17,8 @@ from numba import get_num_threads
 from impactdyn._errors import InputError, SimulationError
 from impactdyn.constitutive import N_FLAW, pack_damage, pack_materials
 from impactdyn.shield._damage import new_flaws
-from impactdyn.shield._equations import (FRAGMENTATION, NO_FAILURE, PS_WIDTH, ST_WIDTH, THRESHOLD, finish_step,
+from impactdyn.shield._equations import (FRAGMENTATION, NO_FAILURE, PS_WIDTH, THRESHOLD, Coefficients, Derived,
+                                         Materials, PairRows, ParticleState, Predicted, Rates, finish_step,
                                          kick_drift_predict, pair_rows, pair_sums, particle_rates, temperatures,
                                          totals, update_particles)
 from impactdyn.shield._kernel import w_shape
@@ -30,9 +31,20 @@ class SPHError(SimulationError):
     """The SPH run broke down (non-finite state or a collapsing time step)."""
 
 
+def coefficients_of(options: SPHOptions) -> Coefficients:
+    """The kernels' :class:`~._equations.Coefficients` of ``options``, each field of one type whatever the
+    options hold (an int α would compile the kernels again)."""
+    return Coefficients(h_factor=float(options.h_factor), rho_floor=float(options.h_max_factor ** -3.0),
+                        artificial_stress=float(options.artificial_stress),
+                        artificial_stress_power=int(options.artificial_stress_power),
+                        artificial_stress_norm=1.0 / float(w_shape(1.0 / options.h_factor)),
+                        alpha=float(options.alpha), beta=float(options.beta),
+                        balsara=options.viscosity_switch == "balsara", cfl=float(options.cfl),
+                        force_cfl=float(options.force_cfl))
+
 
 class _Solver:
-    """The arrays of one run and the step sequence (:mod:`._equations`), allocated once.
+    """The records of one run (:mod:`._equations`), made once, and the step sequence.
 
     Particles are kept in spatial (cell-key) order for cache locality: every
     ``REORDER_EVERY`` steps the state, its rates and the neighbour list are
@@ -41,112 +53,91 @@ class _Solver:
     """
 
     REORDER_EVERY = 10
-    STATE = ("x", "v", "m", "rho", "e", "S", "eps_p", "damage", "ductile", "flaws", "failure_rate", "switch", "mat",
-             "ids", "acc", "dlnrho", "de", "dS", "rate")
 
     def __init__(self, problem, options: SPHOptions):
         init = problem.particles
         n = len(init)
         self.options, self.domain, self.names = options, problem.domain, init.materials
-        self.params = pack_materials(problem.materials)
-        self.x, self.v = init.position.copy(), init.velocity.copy()
-        self.m, self.rho, self.e = init.mass.copy(), init.density.copy(), init.specific_energy.copy()
-        self.S, self.eps_p, self.damage = init.deviatoric_stress.copy(), init.plastic_strain.copy(), init.damage.copy()
-        self.mat, self.ids = init.material.copy(), np.arange(n)
-        self.failure = (NO_FAILURE if not options.failure else
-                        FRAGMENTATION if options.failure_model == "fragmentation" else THRESHOLD)
-        self.damage_table = pack_damage(problem.materials)
-        self.ductile = np.zeros(n)
-        self.failure_rate = init.failure_strain_rate.copy()
-        self.flaws = (new_flaws(self.mat, self.names, self.damage_table) if self.failure == FRAGMENTATION
-                      else np.zeros((n, N_FLAW)))
-        self.balsara = options.viscosity_switch == "balsara"
-        self.switch = np.ones(n)  # the viscosity switch fᵢ: 1 until a velocity gradient is known
-        z1, z3, z6 = (lambda: np.zeros(n)), (lambda: np.zeros((n, 3))), (lambda: np.zeros((n, 6)))
-        self.p, self.c, self.h, self.rate, self.dt_i = z1(), z1(), z1(), z1(), z1()
-        self.R, self.tension = z6(), np.zeros(n, dtype=np.bool_)
-        self.pos, self.st = np.zeros((n, 4)), np.zeros((n, ST_WIDTH))
+        failure = (NO_FAILURE if not options.failure else
+                   FRAGMENTATION if options.failure_model == "fragmentation" else THRESHOLD)
+        self.materials = Materials(params=pack_materials(problem.materials),
+                                   damage_table=pack_damage(problem.materials),
+                                   johnson_cook=options.flow_stress == "johnson_cook", failure=failure)
+        self.coefficients = coefficients_of(options)
+        mat = init.material.copy()
+        self.state = ParticleState(
+            x=init.position.copy(), v=init.velocity.copy(), m=init.mass.copy(), rho=init.density.copy(),
+            e=init.specific_energy.copy(), S=init.deviatoric_stress.copy(), eps_p=init.plastic_strain.copy(),
+            damage=init.damage.copy(), ductile=np.zeros(n),
+            flaws=(new_flaws(mat, self.names, self.materials.damage_table) if failure == FRAGMENTATION
+                   else np.zeros((n, N_FLAW))),
+            failure_rate=init.failure_strain_rate.copy(),
+            switch=np.ones(n),  # the viscosity switch fᵢ: 1 until a velocity gradient is known
+            mat=mat)
+        self.ids = np.arange(n)
+        self.rates, self.new_rates = Rates.zeros(n), Rates.zeros(n)
+        self.predicted, self.derived, self.rows = Predicted.zeros(n), Derived.zeros(n), PairRows.zeros(n)
         self.sums = np.zeros((0, n, PS_WIDTH))  # per-thread pair sums, sized at the first force pass
-        self.work_a, self.work_v, self.grad_v = np.zeros((n, 3, 3)), np.zeros((n, 3, 3)), np.zeros((n, 3, 3))
-        self.acc, self.dlnrho, self.de, self.dS = z3(), z1(), z1(), z6()
-        self.acc_new, self.dlnrho_new, self.de_new, self.dS_new = z3(), z1(), z1(), z6()
-        self.v_p, self.rho_p, self.e_p, self.S_p = z3(), z1(), z1(), z6()
         self.neighbours = NeighbourList(n, problem.domain, skin=options.neighbour_skin, half=True)
-        self.jc = options.flow_stress == "johnson_cook"
-        self.rho_floor = options.h_max_factor ** -3.0
-        self.as_norm = 1.0 / float(w_shape(1.0 / options.h_factor))
         self.steps = 0
-        self._eos(self.rho, self.e, self.S)
-        pair_rows(self.x, self.h, self.v, self.c, self.rho, self.m, self.S, self.p, self.damage, self.switch, self.pos,
-                  self.st)
+        self._eos()
+        s = self.state
+        pair_rows(s, s.v, s.rho, s.S, self.derived, self.rows)
         self._pair_sums()
-        particle_rates(self.pos, self.st, self.S, self.damage, self.mat, self.params, self.rho_floor, options.alpha,
-                       options.beta, options.cfl, options.force_cfl, self.balsara, self.sums, self.grad_v, self.acc,
-                       self.dlnrho, self.de, self.dS, self.rate, self.switch, self.dt_i)
-        self.dt = float(self.dt_i.min())
+        particle_rates(s, self.rows, self.materials, self.coefficients, self.sums, self.rates)
+        self.dt = float(self.rates.dt.min())
 
-    def _eos(self, rho, e, S) -> None:
-        o = self.options
-        update_particles(self.m, rho, e, S, self.damage, self.mat, self.params, o.h_factor, self.rho_floor,
-                         o.artificial_stress, self.p, self.c, self.h, self.R, self.tension, self.work_a, self.work_v)
+    def _eos(self) -> None:
+        update_particles(self.state, self.derived, self.materials, self.coefficients)
 
     def _pair_sums(self) -> None:
-        """Neighbour list at the current positions and the pair sums of the pair-loop rows (pos, st)."""
-        o, nl = self.options, self.neighbours
-        if 2.0 * self.h.max() > self.domain.min_period():
-            raise SPHError(f"kernel support 2h = {2 * self.h.max():.4g} cm exceeds the periodic length "
+        """Neighbour list at the current positions and the pair sums of the pair-loop rows."""
+        nl, h = self.neighbours, self.derived.h
+        if 2.0 * h.max() > self.domain.min_period():
+            raise SPHError(f"kernel support 2h = {2 * h.max():.4g} cm exceeds the periodic length "
                            f"{self.domain.min_period():.4g} cm")
-        nl.update(self.x, self.h)
+        nl.update(self.state.x, h)
         if self.sums.shape[0] != get_num_threads():
-            self.sums = np.zeros((get_num_threads(), self.m.size, PS_WIDTH))
-        pair_sums(self.pos, self.st, self.R, self.tension, nl.neighbours, nl.image, nl.count, nl.signs, nl.offsets,
-                  o.alpha, o.beta, o.artificial_stress_power, self.as_norm, self.sums)
+            self.sums = np.zeros((get_num_threads(), h.size, PS_WIDTH))
+        pair_sums(self.rows, self.derived, nl.neighbours, nl.image, nl.count, nl.signs, nl.offsets,
+                  self.coefficients, self.sums)
 
     def totals(self) -> tuple[float, ...]:
-        return totals(self.m, self.v, self.e)
+        return totals(self.state)
 
     def step(self, dt: float) -> tuple[float, ...]:
         """Advance by dt (:mod:`._equations`); returns the totals of the new state."""
         if self.steps % self.REORDER_EVERY == 0:
-            order = spatial_order(self.x, self.h)
-            for name in self.STATE:
-                setattr(self, name, getattr(self, name)[order])
+            order = spatial_order(self.state.x, self.derived.h)
+            self.state = ParticleState._make(a[order] for a in self.state)
+            self.rates = Rates._make(a[order] for a in self.rates)
+            self.ids = self.ids[order]
             self.neighbours.permute(order)
-        o = self.options
-        kick_drift_predict(self.x, self.v, self.acc, self.rho, self.dlnrho, self.e, self.de, self.S, self.dS,
-                           self.eps_p, self.rate, self.damage, self.switch, self.m, self.mat, self.params, self.jc,
-                           o.h_factor, self.rho_floor, o.artificial_stress, dt, self.v_p, self.rho_p, self.e_p,
-                           self.S_p, self.p, self.c, self.h, self.R, self.tension, self.work_a, self.work_v, self.pos,
-                           self.st)
-        if self.domain.wrap(self.x):
+        state, predicted = self.state, self.predicted
+        kick_drift_predict(state, self.rates, predicted, self.derived, self.rows, self.materials, self.coefficients,
+                           dt)
+        if self.domain.wrap(state.x):
             self.neighbours.invalidate()
-            pair_rows(self.x, self.h, self.v_p, self.c, self.rho_p, self.m, self.S_p, self.p, self.damage, self.switch,
-                      self.pos, self.st)
+            pair_rows(state, predicted.v, predicted.rho, predicted.S, self.derived, self.rows)
         self._pair_sums()
-        new_totals = finish_step(self.pos, self.st, self.S_p, self.damage, self.mat, self.params, self.rho_floor,
-                                 o.alpha, o.beta, o.cfl, o.force_cfl, self.sums, self.grad_v, self.acc_new,
-                                 self.dlnrho_new, self.de_new, self.dS_new, self.rate, self.dt_i, self.v, self.m,
-                                 self.rho, self.dlnrho, self.e, self.de, self.S, self.dS, self.eps_p, self.jc,
-                                 self.failure, self.damage_table, self.flaws, self.ductile, self.failure_rate,
-                                 self.balsara, self.switch, dt)
-        self.dt = float(self.dt_i.min())
-        self.acc, self.acc_new = self.acc_new, self.acc
-        self.dlnrho, self.dlnrho_new = self.dlnrho_new, self.dlnrho
-        self.de, self.de_new = self.de_new, self.de
-        self.dS, self.dS_new = self.dS_new, self.dS
+        finish_step(state, self.rates, self.new_rates, predicted, self.rows, self.sums, self.materials,
+                    self.coefficients, dt)
+        self.rates, self.new_rates = self.new_rates, self.rates
+        self.dt = float(self.rates.dt.min())
         self.steps += 1
-        return new_totals
+        return self.totals()
 
     def particles(self, time: float) -> Particles:
         """The current state as :class:`Particles`, in the problem's particle order."""
-        self._eos(self.rho, self.e, self.S)
+        self._eos()
+        s, d = self.state, self.derived
         back = np.argsort(self.ids)
-        T = temperatures(self.rho, self.e, self.mat, self.params)
-        return Particles(position=self.x[back], velocity=self.v[back], mass=self.m[back], density=self.rho[back],
-                         pressure=self.p[back], specific_energy=self.e[back], deviatoric_stress=self.S[back],
-                         plastic_strain=self.eps_p[back], failed=self.damage[back] >= 1.0, damage=self.damage[back],
-                         failure_strain_rate=self.failure_rate[back], smoothing_length=self.h[back],
-                         sound_speed=self.c[back], temperature=T[back], material=self.mat[back],
+        T = temperatures(s.rho, s.e, s.mat, self.materials.params)
+        return Particles(position=s.x[back], velocity=s.v[back], mass=s.m[back], density=s.rho[back],
+                         pressure=d.p[back], specific_energy=s.e[back], deviatoric_stress=s.S[back],
+                         plastic_strain=s.eps_p[back], failed=s.damage[back] >= 1.0, damage=s.damage[back],
+                         failure_strain_rate=s.failure_rate[back], smoothing_length=d.h[back],
+                         sound_speed=d.c[back], temperature=T[back], material=s.mat[back],
                          materials=self.names, time=time)
 
 

@@ -37,17 +37,21 @@ class Problem:
 
     particles : the state at t = 0; ``particles.materials`` names ``materials`` in order.
     materials : the :class:`Material` of each material id.
+    spacing_cm : the particle spacing Δ the particles were laid out with, cm: the resolution that
+        lengths measured in particles (a fragment's link length) scale with.
     domain : mirror planes and periodic axes (:class:`Domain`).
     name : a label.
     """
 
     particles: Particles
     materials: tuple[Material, ...]
+    spacing_cm: float
     domain: Domain = Domain()
     name: str = ""
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "materials", tuple(self.materials))
+        object.__setattr__(self, "spacing_cm", _positive("Problem.spacing_cm", self.spacing_cm))
         names = tuple(m.name for m in self.materials)
         if names != self.particles.materials:
             raise InputError(f"Problem: particles name materials {self.particles.materials}, given {names}")
@@ -161,7 +165,7 @@ def sphere_on_plate(projectile: str | Material, plate: str | Material, diameter_
     mass = np.concatenate([np.full(n_p, proj_mass), np.full(len(plate_pos), targ.rho0 * dx * dx * dy)])
     material = np.concatenate([np.zeros(n_p, dtype=np.int64), np.full(len(plate_pos), plate_id, dtype=np.int64)])
     return Problem(particles=_particles(position, velocity, mass, material, materials), materials=materials,
-                   domain=Domain(mirror=((0, 0.0),)),
+                   spacing_cm=dx, domain=Domain(mirror=((0, 0.0),)),
                    name=f"sphere {d} cm {proj.name} on {t} cm {targ.name} at {velocity_km_s} km/s, {theta_deg} deg")
 
 
@@ -193,5 +197,5 @@ def planar_impact(flyer: str | Material, target: str | Material, velocity_km_s: 
     material = np.where(is_flyer, 0, len(materials) - 1).astype(np.int64)
     period = w * dx
     return Problem(particles=_particles(position, velocity, rho0 * dx**3, material, materials), materials=materials,
-                   domain=Domain(periodic=((0, 0.0, period), (2, 0.0, period))),
+                   spacing_cm=dx, domain=Domain(periodic=((0, 0.0, period), (2, 0.0, period))),
                    name=f"planar {fly.name} on {targ.name} at {velocity_km_s} km/s")

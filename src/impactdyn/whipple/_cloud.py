@@ -79,25 +79,26 @@ def cloud_figures(particles, bumper_back_y: float) -> dict:
 DEBRIS_FRAGMENT_SPEED_FRACTION = 0.05
 
 
-def debris_fragments(particles, initial, case):
-    """The solid fragments of the debris (:func:`impactdyn.shield.fragments_of` with the case's
-    ``[shield]`` link length and damage threshold, images of the half model included so that masses
+def debris_fragments(particles, problem, case):
+    """The solid fragments of the debris in ``particles``, the shield stage's state of ``problem``
+    (:func:`impactdyn.shield.fragments_of` with the case's ``[shield]`` link length, in the problem's
+    particle spacings, and damage threshold, images of the half model included so that masses
     are the full model's; with ``failed_fragments = "grady"`` also those of the failed solid material,
-    :func:`impactdyn.shield.grady_fragments`, sized at the case's ``fragment_rate``; ``initial`` is the
-    shield stage's state at t = 0): those moving toward the wall (v_y > 5 % of the
+    :func:`impactdyn.shield.grady_fragments`, sized at the case's ``fragment_rate``, against the
+    problem's state at t = 0): those moving toward the wall (v_y > 5 % of the
     projectile's speed, :data:`DEBRIS_FRAGMENT_SPEED_FRACTION`), which leaves out the bumper's
     remnant; a fragment still crossing the bumper's plane counts."""
     from impactdyn.shield import fragments_of, grady_fragments, join_fragments
     from impactdyn.units import km_s_to_cm_us
 
     s = case.shield
-    link = s.fragment_link_spacings * s.spacing_cm
+    link = s.fragment_link_spacings * problem.spacing_cm
     fragments = fragments_of(particles, link_length_cm=link, damage_threshold=s.fragment_damage_threshold)
     if s.failed_fragments == "grady":
         fragments = join_fragments(fragments, grady_fragments(particles, link_length_cm=link,
                                                               damage_threshold=s.fragment_damage_threshold,
                                                               seed=s.fragment_seed,
-                                                              initial=initial if s.fragment_rate == "own_size"
+                                                              initial=problem.particles if s.fragment_rate == "own_size"
                                                               else None))
     speed = km_s_to_cm_us(case.projectile.velocity_km_s)
     return fragments.select(fragments.velocity[:, 1] > DEBRIS_FRAGMENT_SPEED_FRACTION * speed)

@@ -71,7 +71,7 @@ def _shield(s: StageContext) -> dict:
     write_particles(out.file("particles.h5"), result.state, result.history)
     if s.case.output.vtk:
         _write_points_vtk(out.file("particles.vtu"), result.state)
-    fragments = debris_fragments(result.state, problem.particles, s.case)
+    fragments = debris_fragments(result.state, problem, s.case)
     write_fragments(out.file("fragments.h5"), fragments)
     from_projectile = origin_masses(fragments, result.state.mass, projectile_particles(problem))
     out.write_csv("fragments.csv", *fragment_rows(fragments, from_projectile_g=from_projectile))
