@@ -12,15 +12,18 @@ stretches): material stretching at the rate ε̇ when it breaks forms fragments 
 
 the size at which the kinetic energy of the fragment's motion relative to its centre pays for the
 new surfaces (Γ the fracture energy, K_Ic the fracture toughness, E Young's modulus: the form Zhou,
-Molinari & Ramesh 2005 compare with resolved cohesive fragmentation).  ε̇ is the largest principal
-stretching rate of the particle when it breaks apart: on the first step it is failed and expanded
-beyond ρ₀ (``Particles.failure_strain_rate``).
+Molinari & Ramesh 2005 compare with resolved cohesive fragmentation).  ε̇ is the rate at which the
+failed material was pulled apart, read across each fragment's own size against the initial positions
+(``initial``: :func:`impactdyn.shield.own_size_strain_rates`), or, without ``initial``, the particle's
+kernel-scale stretching rate on the first step it is failed and expanded beyond ρ₀
+(``Particles.failure_strain_rate``), which grows as the particles shrink (median 0.85 → 1.27 ×10⁶ s⁻¹
+from Δ = d/10 to d/20 at 6 km/s, about Δ^{-0.6}).
 
-**Not converged (measured, docs/vv/convergence.md):** the SPH's rate at failure is a kernel-scale rate, and it
-grows as the particles shrink (median 0.85 → 1.27 ×10⁶ s⁻¹ from Δ = d/10 to d/20 at 6 km/s, about
-Δ^{-0.6}); the sizes follow (s ∝ ε̇^{-2/3}).  Until the rate is measured on a scale of the
-material's own, the fragments' sizes depend on the particle spacing, which is why this is an
-option (``[shield] failed_fragments = "grady"``), not the default.
+**Not converged yet (measured, docs/vv/convergence.md):** with the own-size rate the projectile's mass
+in fragments of ≥ 0.06 cm agrees within 3 % between d/20 and d/40 at 4 km/s on a t/D 0.1 bumper, but
+the largest projectile fragment does not (0.21 and 0.12 of the projectile), and at 6 km/s the pieces of
+≥ 0.06 cm found at d/20 are gone at d/40: the set-4 gate fails (validation/set-4-decision.md), and the
+fragments stay an option (``[shield] failed_fragments = "grady"``), not the default.
 
 **Partition.**  The fragments' centres are a Poisson process of intensity 1/s³ in the failed solid
 material, so the mean fragment volume is s³ (the cells of a Poisson–Voronoi tessellation; Grady &
