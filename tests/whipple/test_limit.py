@@ -49,6 +49,17 @@ def test_bisection_brackets_the_change_of_verdict(tmp_path, make_case, monkeypat
     assert (out / "limit.png").stat().st_size > 10_000
 
 
+def test_a_bracket_bisected_down_to_the_tolerance_is_converged(tmp_path, make_case, monkeypatch):
+    """0.62–0.78 cm halved three times is 0.02 cm wide, the tolerance, only to round-off (0.72 − 0.70 =
+    0.02000000000000002): the search stops there (5 shots), not a round later."""
+    taken = _fake_shots(monkeypatch, lambda v: 0.705)
+    raw = load_toml(make_case(tmp_path))
+    rows = _limit.run_limit(raw, [7.0], tmp_path / "limit", tolerance_cm=0.02, brackets={7.0: (0.62, 0.78)},
+                            scheduler="serial")
+    assert rows[0]["status"] == "converged" and len(taken) == 5
+    assert (rows[0]["largest_safe_cm"], rows[0]["smallest_failed_cm"]) == pytest.approx((0.70, 0.72))
+
+
 def test_the_limit_plot_draws_the_shots_the_limit_and_the_nearby_test_shots(tmp_path, make_case, monkeypatch):
     import impactdyn.ble
     from impactdyn.ble import ShotDatabase

@@ -94,7 +94,7 @@ class _Search:
         if self.safe is not None and self.failed is not None:
             if self.failed < self.safe:
                 self.status = "non-monotone"
-            elif self.failed - self.safe <= tolerance:
+            elif self.failed - self.safe <= tolerance * (1.0 + 1e-9):   # a bisected bracket lands on it in round-off
                 self.status = "converged"
         elif len(self.shots) > 2:
             self.expansions += 1
