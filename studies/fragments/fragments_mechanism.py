@@ -69,9 +69,8 @@ def survey(speed_km_s: float, ratio: float, spacing_cm: float, model: str, time_
     m_proj = mat.rho0 * math.pi * DIAMETER_CM ** 3 / 6
     intact = (state.damage < 1.0) & (state.temperature < mat.johnson_cook.t_melt)
     both = np.concatenate([projectile, projectile])          # the fragments' members: particles, then images
-    mass = np.concatenate([state.mass, state.mass])
     resolved = np.flatnonzero(debris & (fragments.diameter_cm >= RESOLVED_CM))
-    projectile_resolved = sum(float(mass[m] @ both[m]) for m in (fragments.indices(f) for f in resolved))
+    projectile_resolved = float(shield.origin_masses(fragments, state.mass, projectile)[resolved].sum())
     return {"speed": speed_km_s, "ratio": ratio, "spacing": spacing_cm, "model": model, "failed": failed,
             "rate": rate if failed == "grady" else None,
             "largest": (fragments.mass[debris][:3] / m_proj).tolist(), "count": fragments.count[debris][:3].tolist(),

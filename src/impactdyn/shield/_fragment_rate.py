@@ -33,6 +33,7 @@ radius (fewer below 3.2 Δ), the same number at every spacing, and a pass costs 
 
 from __future__ import annotations
 
+from itertools import chain
 from typing import Callable
 
 import numpy as np
@@ -102,7 +103,8 @@ def own_size_strain_rates(reference: np.ndarray, velocity: np.ndarray, spacing: 
     for passes in range(1, MAX_PASSES + 1):
         level = levels.level_of(radius)
         for lv in np.unique(level):
-            for chunk in np.array_split(np.flatnonzero(level == lv), max(1, int(np.sum(level == lv)) // BATCH)):
+            members = np.flatnonzero(level == lv)
+            for chunk in np.array_split(members, max(1, members.size // BATCH)):
                 rates[chunk] = levels.fit(int(lv), chunk, radius[chunk], velocity)
         stretching = np.isfinite(rates) & (rates > 0.0)
         sizes = np.full(n, np.inf)
@@ -142,7 +144,7 @@ class _Levels:
         start = np.zeros(points.size + 1, dtype=np.int64)
         start[1:] = np.cumsum([len(near) for near in lists])
         kept = self.kept[lv]
-        flat = kept[np.fromiter((q for near in lists for q in near), dtype=np.int64, count=int(start[-1]))]
+        flat = kept[np.fromiter(chain.from_iterable(lists), dtype=np.int64, count=int(start[-1]))]
         out = np.empty(points.size)
         _fitted_rates(points, self.reference, velocity, start, flat, out)
         return out

@@ -49,6 +49,8 @@ the fragments the wall resolves (≥ 0.06 cm) are 3–30 particles at the Whippl
 
 from __future__ import annotations
 
+from functools import partial
+
 import numpy as np
 from scipy.spatial import cKDTree
 
@@ -109,10 +111,7 @@ def grady_fragments(particles, *, link_length_cm: float, damage_threshold: float
         for b in np.unique(body[failed]):
             idx = np.flatnonzero(failed & (body == b))
             j = idx[0]  # one material a body
-
-            def size_of_rate(r, j=j):
-                return grady_fragment_size(toughness[j], rho0[j], young[j], r)
-
+            size_of_rate = partial(grady_fragment_size, toughness[j], rho0[j], young[j])
             size[idx] = own_size_strain_rates(initial.position[idx], particles.velocity[idx], np.cbrt(volume[idx]),
                                               size_of_rate)[1]
     broken = failed & (volume < size ** 3)
