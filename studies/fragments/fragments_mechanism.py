@@ -51,19 +51,32 @@ def largest_of(fragments, debris, projectile) -> float:
     return 0.0
 
 
-def survey(speed_km_s: float, ratio: float, spacing_cm: float, model: str, time_us: float, failed: str,
-           rate: str) -> dict:
+def sph_state(speed_km_s: float, ratio: float, spacing_cm: float, model: str, time_us: float,
+              keep: Path | None) -> tuple:
+    """The SPH states at t = 0 and at ``time_us`` and the seconds the run took (None when read back from
+    ``keep``, where a run's states are written for later partitions: they do not depend on it)."""
     problem = shield.sphere_on_plate(MATERIAL, MATERIAL, DIAMETER_CM, speed_km_s, 0.0, ratio * DIAMETER_CM,
                                      spacing_cm)
-    projectile = problem.particles.velocity[:, 1] > 0
+    stem = None if keep is None else keep / f"{model}_{speed_km_s:g}_{ratio:g}_{spacing_cm:g}_t{time_us:g}"
+    if stem is not None and Path(f"{stem}_end.h5").is_file():
+        return shield.read_particles(f"{stem}_init.h5")[0], shield.read_particles(f"{stem}_end.h5")[0], None
     start = time.perf_counter()
     state = shield.run(problem, time_us, options=shield.SPHOptions(failure_model=model)).state
     seconds = time.perf_counter() - start
+    if stem is not None:
+        shield.write_particles(f"{stem}_init.h5", problem.particles)
+        shield.write_particles(f"{stem}_end.h5", state)
+    return problem.particles, state, seconds
+
+
+def survey(speed_km_s: float, ratio: float, spacing_cm: float, model: str, time_us: float, failed: str,
+           rate: str, keep: Path | None = None) -> dict:
+    initial, state, seconds = sph_state(speed_km_s, ratio, spacing_cm, model, time_us, keep)
+    projectile = initial.velocity[:, 1] > 0
     fragments = shield.fragments_of(state, link_length_cm=1.5 * spacing_cm)
     if failed == "grady":
-        initial = problem.particles if rate == "own_size" else None
-        fragments = shield.join_fragments(fragments, shield.grady_fragments(state, link_length_cm=1.5 * spacing_cm,
-                                                                            initial=initial))
+        fragments = shield.join_fragments(fragments, shield.grady_fragments(
+            state, link_length_cm=1.5 * spacing_cm, initial=initial if rate == "own_size" else None))
     debris = fragments.velocity[:, 1] > 0.05 * speed_km_s * 0.1        # cm/µs
     mat = get_material(MATERIAL)
     m_proj = mat.rho0 * math.pi * DIAMETER_CM ** 3 / 6
@@ -83,6 +96,10 @@ def survey(speed_km_s: float, ratio: float, spacing_cm: float, model: str, time_
             "intact_projectile": float(np.mean(intact[projectile])),
             "melted_projectile": float(np.mean(state.temperature[projectile] >= mat.johnson_cook.t_melt)),
             "particles": len(state.mass), "seconds": seconds}
+
+
+def _seconds(seconds: float | None) -> str:
+    return "read back" if seconds is None else f"{seconds:.0f}"
 
 
 def _ledger(path: Path | None) -> dict:
@@ -109,6 +126,8 @@ def main() -> None:
     parser.add_argument("--rate", default="own_size", choices=("own_size", "at_failure"),
                         help="the rate that sizes Grady's fragments (with --failed grady)")
     parser.add_argument("--json", type=Path, help="append each row to this JSON-lines file; rows there are reused")
+    parser.add_argument("--keep-states", type=Path, help="write each SPH run's states (t = 0 and --time) to this "
+                        "folder, and read back those there")
     args = parser.parse_args()
     done = _ledger(args.json)
     print("| model | V km/s | t/D | Δ cm | particles | largest debris fragments / m_proj (particles) | largest cm "
@@ -120,7 +139,7 @@ def main() -> None:
                 key = (args.model, args.failed, args.rate if args.failed == "grady" else None, speed, ratio, spacing)
                 r = done.get(key)
                 if r is None:
-                    r = survey(speed, ratio, spacing, args.model, args.time, args.failed, args.rate)
+                    r = survey(speed, ratio, spacing, args.model, args.time, args.failed, args.rate, args.keep_states)
                     if args.json is not None:
                         with args.json.open("a") as ledger:
                             ledger.write(json.dumps(r) + "\n")
@@ -129,7 +148,7 @@ def main() -> None:
                       f"| {spacing:g} | {r['particles']} | {largest} | {r['largest_cm']:.3f} | {r['largest_projectile']:.4f} "
                       f"| {r['n_debris_fragments']} | {r['resolved']} ({r['resolved_mass']:.3f}; projectile {r['projectile_resolved_mass']:.3f}) "
                       f"| {r['intact_projectile']:.2f} | {r['melted_projectile']:.2f} "
-                      f"| {r['seconds']:.0f} |", flush=True)
+                      f"| {_seconds(r['seconds'])} |", flush=True)
 
 
 if __name__ == "__main__":

@@ -1,5 +1,5 @@
 """Fragments of failed material (:func:`impactdyn.shield.grady_fragments`): Grady's size, the Poisson
-partition of the failed particles, its conservation, its seed and its mirror; and the SPH's record of
+partition of the failed particles, its conservation, its seed, its mirror, its convergence and its spray; and the SPH's record of
 the stretching rate at failure that feeds it."""
 
 import math
@@ -53,7 +53,7 @@ def _rate_for_size(size_cm):
 
 
 def test_the_partition_has_the_mean_fragment_volume_of_the_model_and_conserves_mass_and_momentum():
-    """4096 failed particles at a rate for s = 3Δ: each holds a centre with probability 1/27, so
+    """4096 failed particles at a rate for s = 3Δ: the block holds 4096/27 centres on average, so
     ~152 ± 12 fragments of mean volume s³; every particle is in one, and the fragments carry the
     particles' mass and momentum exactly."""
     spacing = 0.01
@@ -94,17 +94,44 @@ def test_only_failed_solid_material_that_breaks_coarser_than_a_particle_forms_fr
         assert fragments.count.sum() == n // 2
 
 
-def test_the_half_models_fragments_are_mirror_images():
-    """A block against the symmetry plane: with its image every fragment is found whole, either its
-    own mirror image (on the plane) or one of a pair at ±x; the whole model holds twice the half."""
+def test_the_half_model_is_partitioned_whole_with_its_image():
+    """A block against the symmetry plane: its image is added and the whole is partitioned, so fragments
+    cross the plane whole; the whole model holds twice the half's mass and no momentum across the plane."""
     state = _block(rate_us=_rate_for_size(0.03))
     fragments = shield.grady_fragments(state, link_length_cm=0.015)
+    n = len(state)
     assert fragments.total_mass() == pytest.approx(2 * state.total_mass(), rel=1e-12)
-    on_plane = np.abs(fragments.position[:, 0]) < 1e-9
-    assert on_plane.any()
-    off = fragments.position[~on_plane]
-    twins = {(round(x, 9), round(y, 9), round(z, 9)) for x, y, z in off}
-    assert all((round(-x, 9), round(y, 9), round(z, 9)) in twins for x, y, z in off)
+    assert np.array_equal(np.sort(fragments.members), np.arange(2 * n))
+    assert fragments.momentum()[0] == pytest.approx(0.0, abs=1e-12 * state.total_mass())
+    across = [f for f in range(len(fragments))
+              if np.any(fragments.indices(f) < n) and np.any(fragments.indices(f) >= n)]
+    assert len(across) > 0
+
+
+def test_the_partition_converges_with_the_spacing():
+    """The centres are drawn in fixed tiles, not on particles: a block broken at s = 0.05 cm at Δ = 0.01 and
+    0.005 cm gives the same fragments, each mass within a tenth of a mean fragment's (the particles along a
+    cell's faces fall to one side or the other: measured 5 %); a partition drawn on particles, or on
+    another seed, differs by whole cells."""
+    coarse, fine = (shield.grady_fragments(_block(n=n, spacing=spacing, rate_us=_rate_for_size(0.05)),
+                                           link_length_cm=1.5 * spacing, mirror_x0=False)
+                    for n, spacing in ((16, 0.01), (32, 0.005)))
+    assert len(coarse) == len(fine) > 20
+    np.testing.assert_allclose(fine.mass / fine.total_mass(), coarse.mass / coarse.total_mass(), rtol=0,
+                               atol=0.1 / len(coarse))
+
+
+def test_failed_material_breaking_finer_than_the_wall_resolves_is_spray():
+    """s between the particle and :data:`impactdyn.shield.SPRAY_SIZE_CM` (a third of the wall's resolved
+    fragment) leaves spray at any spacing; above it, fragments."""
+    from impactdyn.wall import FRAGMENT_DIAMETER_CM
+
+    assert shield.SPRAY_SIZE_CM == pytest.approx(FRAGMENT_DIAMETER_CM / 3)
+    spacing = 0.005
+    for size, expected in ((0.8 * shield.SPRAY_SIZE_CM, 0), (1.5 * shield.SPRAY_SIZE_CM, 32 ** 3)):
+        fragments = shield.grady_fragments(_block(n=32, spacing=spacing, rate_us=_rate_for_size(size)),
+                                           link_length_cm=1.5 * spacing, mirror_x0=False)
+        assert fragments.count.sum() == expected
 
 
 def test_a_material_without_a_fracture_toughness_is_refused_by_name():

@@ -25,23 +25,34 @@ the largest projectile fragment does not (0.21 and 0.12 of the projectile), and 
 ≥ 0.06 cm found at d/20 are gone at d/40: the set-4 gate fails (validation/set-4-decision.md), and the
 fragments stay an option (``[shield] failed_fragments = "grady"``), not the default.
 
-**Partition.**  The fragments' centres are a Poisson process of intensity 1/s³ in the failed solid
-material, so the mean fragment volume is s³ (the cells of a Poisson–Voronoi tessellation; Grady &
-Kipp's geometric statistics of fragmentation in three dimensions).  A failed particle of solid
-volume V holds λ = V/s³ centres on average:
+**Partition** (in the reference configuration, where Grady's picture puts the breaking: at the time the
+SPH reads it, failed material has stretched several times over, unevenly and in clumps spaced like the
+particles, so a partition drawn there follows the particles' clumping).  With the initial state given,
+each particle stands at its initial position X; without it, at its position now.
 
-* λ ≥ 1: its fragments are no larger than the particle; they stay in the spray (the binned cloud);
-* λ < 1: it holds a centre with probability λ (``seed``: the same seed, the same draw).
+* A failed particle whose size s is below max(Δ, :data:`SPRAY_SIZE_CM`) (Δ its own spacing) stays in
+  the spray (the binned cloud): its fragments are no larger than the particle, or too small for the
+  wall to resolve (a third of ``impactdyn.wall.FRAGMENT_DIAMETER_CM``: a Poisson–Voronoi cell of 14 mean
+  volumes, which a 0.02-cm size needs to reach 0.06 cm, has a probability below 1e-20; cell volumes are
+  Γ-distributed of shape 5, Ferenc & Néda 2007, Physica A 385:518, or 5.586, Tanemura 2003, Forma
+  18:221).  The rest is *broken*.
+* The fragments' centres are a Poisson process of intensity 1/s³ over each body's broken material
+  (a body: one material moving at t = 0, or at rest), so the mean fragment volume is s³ (the cells of a
+  Poisson–Voronoi tessellation; Grady & Kipp's geometric statistics of fragmentation).  It is drawn by
+  thinning: tiles of side :data:`TILE_CM`, fixed in space and each seeded by (``seed``, body, tile),
+  hold a homogeneous process of intensity 1/s_spray³; a point is kept when the cube (side Δ) of its
+  nearest broken particle holds it, with probability (s_spray/s)³ at that particle's s.  The same seed
+  draws the same centres at every spacing, so two spacings differ only by their size fields.
+* The broken particles of a body are linked by friends-of-friends (link length b,
+  :func:`impactdyn.shield.linked_groups`); each joins the nearest centre of its linked region, and a
+  region without a centre is one fragment.
 
-The particles with λ < 1 are linked into regions by friends-of-friends (link length b, as the intact
-fragments are, :func:`impactdyn.shield.linked_groups`); each particle joins the nearest centre of its
-region, and a region without a centre is one fragment.  Each fragment is a set of particles, so the
-mass and momentum of the fragments and the rest are the particles' exactly.  Melted particles (at least
-half melted on release, :func:`impactdyn.shield.released_phase`) form no solid fragment.  The partition is
-drawn on the half model and mirrored, so a fragment across the symmetry plane x = 0 is found whole and is its
-own image (as :func:`impactdyn.shield.fragments_of` finds the intact ones): a centre closer to the
-plane than s/2 and its image are one centre on the plane (the mirrored pair's two cells, which the
-plane would otherwise cut, joined).
+Each fragment is a set of particles, so the mass and momentum of the fragments and the rest are the
+particles' exactly; its centre of mass and velocity are its particles' now (a failed fragment's axes
+and spin describe its particles now, spread by the flow since it broke).  Melted particles (at least
+half melted on release, :func:`impactdyn.shield.released_phase`) form no solid fragment.  On a half model
+(``mirror_x0``) the images are added first and the partition is drawn on the whole: a fragment across the
+symmetry plane x = 0 is found whole.
 
 Resolution: a fragment is a whole number of particles, so its mass is quantised by the particle's;
 the fragments the wall resolves (≥ 0.06 cm) are 3–30 particles at the Whipple case's spacings.
@@ -71,16 +82,27 @@ def grady_fragment_size(toughness, density, young_modulus, strain_rate):
                                             * strain_rate ** 2))
 
 
+#: Failed material breaking finer than this is spray (module docstring): a third of the wall's resolved
+#: fragment diameter, ``impactdyn.wall.FRAGMENT_DIAMETER_CM`` (0.06 cm), cm.
+SPRAY_SIZE_CM = 0.02
+#: The side of the tiles that hold the centres' homogeneous process (4 s_spray: 64 points a tile), cm.
+TILE_CM = 4 * SPRAY_SIZE_CM
+#: Added to a tile's index to seed it (a seed's words are ≥ 0).
+_TILE_OFFSET = 2 ** 31
+
+
 def grady_fragments(particles, *, link_length_cm: float, damage_threshold: float = 1.0, seed: int = 1,
                     mirror_x0: bool = True, initial=None) -> Fragments:
     """The fragments of the failed solid particles of an SPH state (module docstring).
 
     Failed: damage ≥ ``damage_threshold`` with a recorded stretching rate at failure
     (``Particles.failure_strain_rate`` > 0), less than half melted on release.
+    ``link_length_cm``: b, in the configuration of the partition.  ``seed`` ≥ 0 draws the centres.
     ``mirror_x0`` as :func:`impactdyn.shield.fragments_of`.  ``initial``: the run's state at t = 0
     (:class:`Particles`, the same particles in the same order); given, the rate that sizes a fragment is
     read across its own size (:func:`impactdyn.shield.own_size_strain_rates`, each body apart: the
-    projectile, moving at t = 0, and the bumper); None, it is the kernel-scale rate recorded at failure.
+    projectile, moving at t = 0, and the bumper) and the partition is drawn at the initial positions;
+    None, the rate is the kernel-scale one recorded at failure and the partition is drawn now.
     Returns fragments marked ``from_failed``.
     Raises :class:`InputError` naming a material of a failed particle without a fracture toughness
     (:data:`impactdyn.materials.FRACTURE_TOUGHNESS`).
@@ -102,66 +124,79 @@ def grady_fragments(particles, *, link_length_cm: float, damage_threshold: float
     toughness = np.array([FRACTURE_TOUGHNESS.get(m.name, np.nan) for m in mats])[kind]
     young = np.array([m.young_modulus for m in mats])[kind]
     volume = particles.mass / rho0
+    spacing = np.cbrt(volume)
+    body = 2 * kind + (np.any(initial.velocity != 0.0, axis=1) if initial is not None else 0)
     n = len(particles)
     size = np.full(n, np.inf)
     if initial is None:
         size[failed] = grady_fragment_size(toughness[failed], rho0[failed], young[failed], rate[failed])
     else:
-        body = 2 * kind + np.any(initial.velocity != 0.0, axis=1)
         for b in np.unique(body[failed]):
             idx = np.flatnonzero(failed & (body == b))
             j = idx[0]  # one material a body
             size_of_rate = partial(grady_fragment_size, toughness[j], rho0[j], young[j])
-            size[idx] = own_size_strain_rates(initial.position[idx], particles.velocity[idx], np.cbrt(volume[idx]),
+            size[idx] = own_size_strain_rates(initial.position[idx], particles.velocity[idx], spacing[idx],
                                               size_of_rate)[1]
-    broken = failed & (volume < size ** 3)
-    seeded = broken & (np.random.default_rng(seed).random(n) < volume / size ** 3)
+    broken = failed & (size >= np.maximum(spacing, SPRAY_SIZE_CM))
 
     position, velocity, mass = particles.position, particles.velocity, particles.mass
+    reference = initial.position if initial is not None else position
     if mirror_x0:
         image = np.array([-1.0, 1.0, 1.0])
-        position = np.concatenate([position, position * image])
-        velocity = np.concatenate([velocity, velocity * image])
-        mass, volume, broken, seeded = (np.concatenate([a, a]) for a in (mass, volume, broken, seeded))
+        position, velocity, reference = (np.concatenate([a, a * image]) for a in (position, velocity, reference))
+        mass, volume, spacing, size, broken, body = (np.concatenate([a, a])
+                                                     for a in (mass, volume, spacing, size, broken, body))
     idx = np.flatnonzero(broken)
-    group = _nearest_centre(position[idx], seeded[idx], linked_groups(position[idx], link_length_cm))
-    group = np.where(group >= 0, idx[np.maximum(group, 0)], 2 * len(position) - group)  # centres by particle
-    if mirror_x0:
-        group = _mirrored(group, idx, n, seeded[:n] & (np.abs(particles.position[:, 0]) < 0.5 * size))
+    group = np.empty(idx.size, dtype=np.int64)
+    offset = 0
+    for b in np.unique(body[idx]):
+        of_body = np.flatnonzero(body[idx] == b)
+        members = idx[of_body]
+        x = reference[members]
+        region = linked_groups(x, link_length_cm)
+        centre, owner = _centres(x, spacing[members], size[members], seed, int(b))
+        local = _nearest_centre(x, region, centre, region[owner])
+        group[of_body] = offset + local
+        offset += centre.shape[0] + int(region.max()) + 1
     return fragments_of_groups(position, velocity, mass, volume, idx, group, from_failed=True)
 
 
-def _mirrored(group: np.ndarray, idx: np.ndarray, n: int, on_plane: np.ndarray) -> np.ndarray:
-    """The groups (by centre particle, of the particles ``idx`` of a half model of n particles and its
-    images n … 2n − 1) with each image in the image of its particle's group, so that the partition is
-    mirror-symmetric even where a particle is as near to two centres (a lattice's ties); and the
-    centres ``on_plane`` (n,) joined with their images: the half model cannot hold a centre just off
-    its plane, whose cell the plane would cut."""
-    local = np.full(2 * n, -1)
-    local[idx] = np.arange(idx.size)
-    images = idx[idx >= n]
-    original = group[local[images - n]]
-    by_centre = original < 2 * n
-    group = group.copy()
-    group[local[images[by_centre]]] = (original[by_centre] + n) % (2 * n)
-    joined = np.arange(2 * n)
-    joined[np.flatnonzero(on_plane) + n] = np.flatnonzero(on_plane)
-    return np.where(group < 2 * n, joined[np.minimum(group, 2 * n - 1)], group)
+def _centres(x: np.ndarray, spacing: np.ndarray, size: np.ndarray, seed: int, body: int
+             ) -> tuple[np.ndarray, np.ndarray]:
+    """The fragments' centres over the broken particles x (k, 3) of one body, each the centre of a cube of
+    side ``spacing`` broken at ``size`` (module docstring): (m, 3) points and, for each, the particle
+    whose cube holds it."""
+    # the tiles a particle's cube can reach: its own and the 26 around it (a cube is smaller than a tile)
+    own = np.unique(np.floor(x / TILE_CM).astype(np.int64), axis=0)
+    around = np.stack(np.meshgrid(*[np.arange(-1, 2)] * 3, indexing="ij"), axis=-1).reshape(-1, 3)
+    tiles = np.unique((own[:, None, :] + around).reshape(-1, 3), axis=0)
+    per_tile = (TILE_CM / SPRAY_SIZE_CM) ** 3
+    points, draws = [], []
+    for tile in tiles:
+        rng = np.random.default_rng([seed, body, *(int(t) + _TILE_OFFSET for t in tile)])
+        count = rng.poisson(per_tile)
+        points.append((tile + rng.random((count, 3))) * TILE_CM)
+        draws.append(rng.random(count))
+    points, draws = np.concatenate(points), np.concatenate(draws)
+    _, owner = cKDTree(x).query(points)
+    inside = np.all(np.abs(points - x[owner]) <= 0.5 * spacing[owner, None], axis=1)
+    kept = inside & (draws < (SPRAY_SIZE_CM / size[owner]) ** 3)
+    return points[kept], owner[kept]
 
 
-def _nearest_centre(x: np.ndarray, centre: np.ndarray, region: np.ndarray) -> np.ndarray:
-    """(k,) group of each point of x (k, 3): the index of the nearest centre (``centre`` a mask of x) in
-    its own region, or, in a region without one, −1 − the region's number."""
-    k = x.shape[0]
-    group = -1 - region
-    has_centre = np.zeros(region.max() + 1 if k else 0, dtype=bool)
-    has_centre[region[centre]] = True
+def _nearest_centre(x: np.ndarray, region: np.ndarray, centre: np.ndarray, centre_region: np.ndarray
+                    ) -> np.ndarray:
+    """(k,) group of each point of x (k, 3) in its linked ``region``: the index of the nearest of the
+    ``centre`` points (m, 3) in the same region (``centre_region``), or, in a region without one,
+    m + the region's number."""
+    group = centre.shape[0] + region
+    has_centre = np.zeros(int(region.max()) + 1, dtype=bool)
+    has_centre[centre_region] = True
     inside = has_centre[region]
     if np.any(inside):
         # regions apart along a fourth axis, further than any two points of one region are
         far = 2.0 * float(np.ptp(x, axis=0).max()) + 1.0
-        lifted = np.column_stack([x, far * region])
-        which = np.flatnonzero(centre)
-        _, nearest = cKDTree(lifted[which]).query(lifted[inside])
-        group[inside] = which[nearest]
+        _, nearest = cKDTree(np.column_stack([centre, far * centre_region])).query(
+            np.column_stack([x[inside], far * region[inside]]))
+        group[inside] = nearest
     return group
