@@ -94,18 +94,25 @@ def test_only_failed_solid_material_that_breaks_coarser_than_a_particle_forms_fr
         assert fragments.count.sum() == n // 2
 
 
-def test_the_half_model_is_partitioned_whole_with_its_image():
-    """A block against the symmetry plane: its image is added and the whole is partitioned, so fragments
-    cross the plane whole; the whole model holds twice the half's mass and no momentum across the plane."""
+def test_the_half_models_fragments_are_mirror_images():
+    """A block against the symmetry plane: each particle and its image lie in a fragment and its image (so
+    the half model's binned cloud and the fragments share its particles), the cells reaching the plane
+    are found whole across it, and the whole model holds twice the half."""
     state = _block(rate_us=_rate_for_size(0.03))
     fragments = shield.grady_fragments(state, link_length_cm=0.015)
     n = len(state)
     assert fragments.total_mass() == pytest.approx(2 * state.total_mass(), rel=1e-12)
     assert np.array_equal(np.sort(fragments.members), np.arange(2 * n))
-    assert fragments.momentum()[0] == pytest.approx(0.0, abs=1e-12 * state.total_mass())
-    across = [f for f in range(len(fragments))
-              if np.any(fragments.indices(f) < n) and np.any(fragments.indices(f) >= n)]
-    assert len(across) > 0
+    of = np.empty(2 * n, dtype=np.int64)
+    for f in range(len(fragments)):
+        of[fragments.indices(f)] = f
+    for f in range(len(fragments)):                        # the image of a fragment is a fragment
+        mirror = np.sort((fragments.indices(f) + n) % (2 * n))
+        assert np.array_equal(mirror, np.sort(fragments.indices(of[mirror[0]])))
+    across = np.abs(fragments.position[:, 0]) < 1e-9
+    assert across.any()
+    first_layer = state.position[:, 0] < 0.015 / 2
+    assert np.all(of[np.flatnonzero(first_layer)] == of[np.flatnonzero(first_layer) + n])
 
 
 def test_the_partition_converges_with_the_spacing():

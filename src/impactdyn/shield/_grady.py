@@ -46,13 +46,16 @@ each particle stands at its initial position X; without it, at its position now.
 * The broken particles of a body are linked by friends-of-friends (link length b,
   :func:`impactdyn.shield.linked_groups`); each joins the nearest centre of its linked region, and a
   region without a centre is one fragment.
+* On a half model (``mirror_x0``) the centres are drawn in the half space and mirrored, so the partition
+  is mirror-symmetric (a particle and its image lie in a fragment and its image: the half model's
+  binned cloud and the fragments share its particles exactly).  The plane bisects each centre and its
+  image, so it would cut every cell reaching it: such a cell is joined with its image into one fragment
+  across the plane (where an unbounded process puts about one cell, of about its mean volume).
 
 Each fragment is a set of particles, so the mass and momentum of the fragments and the rest are the
 particles' exactly; its centre of mass and velocity are its particles' now (a failed fragment's axes
 and spin describe its particles now, spread by the flow since it broke).  Melted particles (at least
-half melted on release, :func:`impactdyn.shield.released_phase`) form no solid fragment.  On a half model
-(``mirror_x0``) the images are added first and the partition is drawn on the whole: a fragment across the
-symmetry plane x = 0 is found whole.
+half melted on release, :func:`impactdyn.shield.released_phase`) form no solid fragment.
 
 Resolution: a fragment is a whole number of particles, so its mass is quantised by the particle's;
 the fragments the wall resolves (≥ 0.06 cm) are 3–30 particles at the Whipple case's spacings.
@@ -139,26 +142,56 @@ def grady_fragments(particles, *, link_length_cm: float, damage_threshold: float
                                               size_of_rate)[1]
     broken = failed & (size >= np.maximum(spacing, SPRAY_SIZE_CM))
 
+    reference = initial.position if initial is not None else particles.position
     position, velocity, mass = particles.position, particles.velocity, particles.mass
-    reference = initial.position if initial is not None else position
+    n = len(particles)
+    members, groups, offset = [], [], 0
+    for b in np.unique(body[broken]):
+        of_body = np.flatnonzero(broken & (body == b))
+        x = reference[of_body]
+        centre, owner = _centres(x, spacing[of_body], size[of_body], seed, int(b))
+        if mirror_x0:
+            group, count = _mirrored_partition(x, centre, owner, link_length_cm)
+            of_body = np.concatenate([of_body, of_body + n])
+        else:
+            region = linked_groups(x, link_length_cm)
+            group, count = _nearest_centre(x, region, centre, region[owner]), centre.shape[0] + int(region.max()) + 1
+        members.append(of_body)
+        groups.append(offset + group)
+        offset += count
     if mirror_x0:
         image = np.array([-1.0, 1.0, 1.0])
-        position, velocity, reference = (np.concatenate([a, a * image]) for a in (position, velocity, reference))
-        mass, volume, spacing, size, broken, body = (np.concatenate([a, a])
-                                                     for a in (mass, volume, spacing, size, broken, body))
-    idx = np.flatnonzero(broken)
-    group = np.empty(idx.size, dtype=np.int64)
-    offset = 0
-    for b in np.unique(body[idx]):
-        of_body = np.flatnonzero(body[idx] == b)
-        members = idx[of_body]
-        x = reference[members]
-        region = linked_groups(x, link_length_cm)
-        centre, owner = _centres(x, spacing[members], size[members], seed, int(b))
-        local = _nearest_centre(x, region, centre, region[owner])
-        group[of_body] = offset + local
-        offset += centre.shape[0] + int(region.max()) + 1
+        position, velocity = (np.concatenate([a, a * image]) for a in (position, velocity))
+        mass, volume = (np.concatenate([a, a]) for a in (mass, volume))
+    idx = np.concatenate(members) if members else np.zeros(0, dtype=np.int64)
+    group = np.concatenate(groups) if groups else np.zeros(0, dtype=np.int64)
     return fragments_of_groups(position, velocity, mass, volume, idx, group, from_failed=True)
+
+
+def _mirrored_partition(x: np.ndarray, centre: np.ndarray, owner: np.ndarray, link_length_cm: float
+                        ) -> tuple[np.ndarray, int]:
+    """The partition of one body's broken particles x (k, 3) of a half model x ≥ 0 and their images (2k:
+    the particles, then the images), by the ``centre`` points (m, 3) of the half space (``owner``: the
+    particle whose cube holds each) and their images: (2k,) groups and how many group numbers it used.
+
+    Mirrored centres make a mirror-symmetric partition (the half model's particle and its image lie in a
+    fragment and its image, so the half model's accounting holds), and the symmetry plane bisects each
+    centre and its image, so it would cut every cell that reaches it: a cell that reaches the plane (a
+    member within half a link of it) is joined with its image into one fragment across the plane.
+    """
+    k, m = x.shape[0], centre.shape[0]
+    image = np.array([-1.0, 1.0, 1.0])
+    both = np.concatenate([x, x * image])
+    region = linked_groups(both, link_length_cm)
+    group = _nearest_centre(both, region, np.concatenate([centre, centre * image]),
+                            np.concatenate([region[owner], region[owner + k]]))
+    reaching = np.zeros(m, dtype=bool)
+    at_plane = (x[:, 0] < 0.5 * link_length_cm) & (group[:k] < m)   # the half model's cells reaching the plane
+    reaching[group[:k][at_plane]] = True
+    joined = (group >= m) & (group < 2 * m)
+    joined[joined] = reaching[group[joined] - m]
+    group[joined] -= m
+    return group, 2 * m + int(region.max()) + 1
 
 
 def _centres(x: np.ndarray, spacing: np.ndarray, size: np.ndarray, seed: int, body: int
