@@ -8,10 +8,13 @@ axial momentum (toward the wall) and the peak areal momentum on the wall — wit
 their relative change. The wall peak is also given on coarser elements (the
 deposition remapped conservatively, :func:`impactdyn.debris.remap_impulse`), to show
 how much of its change is element-scale noise. ``--binning`` overrides the case's
-hand-off assignment (kernel or cloud-in-cell).
+hand-off assignment (kernel or cloud-in-cell); ``--shield KEY=VALUE`` sets a key of the case's
+``[shield]`` table (repeatable: the fragments of failed material are ``--shield
+failure_model=fragmentation --shield failed_fragments=grady``).
 
     python benchmarks/bench_whipple.py [--case examples/whipple/table2_7a.toml] [--refine 1.26]
-                                       [--binning kernel|cic] [--out runs/bench_whipple] [--coarse-only]
+                                       [--binning kernel|cic] [--shield KEY=VALUE ...]
+                                       [--out runs/bench_whipple] [--coarse-only]
 """
 
 from __future__ import annotations
@@ -25,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+from impactdyn._config import parse_assignment
 from impactdyn.debris import WallGrid, areal_density, remap_impulse
 from impactdyn.debris import read_deposition
 from impactdyn.whipple import load_whipple_case, run_whipple
@@ -55,9 +59,14 @@ def main() -> None:
     ap.add_argument("--out", default="runs/bench_whipple", help="folder for the run folders (replaced)")
     ap.add_argument("--coarse-only", action="store_true", help="only the case's own resolution (timing)")
     ap.add_argument("--binning", choices=("kernel", "cic"), help="hand-off assignment (default: the case's)")
+    ap.add_argument("--shield", action="append", default=[], metavar="KEY=VALUE",
+                    help="set a key of the case's [shield] table (repeatable)")
     args = ap.parse_args()
 
     case = load_whipple_case(args.case)
+    if args.shield:
+        keys = dict(parse_assignment(a) for a in args.shield)
+        case = case.model_copy(update={"shield": type(case.shield).model_validate(case.shield.model_dump() | keys)})
     if args.binning:
         case = case.model_copy(update={"binning": case.binning.model_copy(update={"method": args.binning})})
     print(f"machine: {platform.platform()}, {os.cpu_count()} cores, Python {platform.python_version()}")

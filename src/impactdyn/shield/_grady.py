@@ -143,22 +143,16 @@ def grady_fragments(particles, *, link_length_cm: float, damage_threshold: float
     broken = failed & (size >= np.maximum(spacing, SPRAY_SIZE_CM))
 
     reference = initial.position if initial is not None else particles.position
-    position, velocity, mass = particles.position, particles.velocity, particles.mass
-    n = len(particles)
     members, groups, offset = [], [], 0
     for b in np.unique(body[broken]):
         of_body = np.flatnonzero(broken & (body == b))
         x = reference[of_body]
-        centre, owner = _centres(x, spacing[of_body], size[of_body], seed, int(b))
-        if mirror_x0:
-            group, count = _mirrored_partition(x, centre, owner, link_length_cm)
-            of_body = np.concatenate([of_body, of_body + n])
-        else:
-            region = linked_groups(x, link_length_cm)
-            group, count = _nearest_centre(x, region, centre, region[owner]), centre.shape[0] + int(region.max()) + 1
-        members.append(of_body)
+        group, count = _partition(x, *_centres(x, spacing[of_body], size[of_body], seed, int(b)), link_length_cm,
+                                  mirror_x0)
+        members.append(np.concatenate([of_body, of_body + n]) if mirror_x0 else of_body)
         groups.append(offset + group)
         offset += count
+    position, velocity, mass = particles.position, particles.velocity, particles.mass
     if mirror_x0:
         image = np.array([-1.0, 1.0, 1.0])
         position, velocity = (np.concatenate([a, a * image]) for a in (position, velocity))
@@ -168,30 +162,32 @@ def grady_fragments(particles, *, link_length_cm: float, damage_threshold: float
     return fragments_of_groups(position, velocity, mass, volume, idx, group, from_failed=True)
 
 
-def _mirrored_partition(x: np.ndarray, centre: np.ndarray, owner: np.ndarray, link_length_cm: float
-                        ) -> tuple[np.ndarray, int]:
-    """The partition of one body's broken particles x (k, 3) of a half model x ≥ 0 and their images (2k:
-    the particles, then the images), by the ``centre`` points (m, 3) of the half space (``owner``: the
-    particle whose cube holds each) and their images: (2k,) groups and how many group numbers it used.
+def _partition(x: np.ndarray, centre: np.ndarray, owner: np.ndarray, link_length_cm: float, mirror_x0: bool
+               ) -> tuple[np.ndarray, int]:
+    """One body's broken particles x (k, 3) by the ``centre`` points (m, 3) (``owner``: the particle whose
+    cube holds each): each particle's group, and how many group numbers were used (module docstring).
 
-    Mirrored centres make a mirror-symmetric partition (the half model's particle and its image lie in a
-    fragment and its image, so the half model's accounting holds), and the symmetry plane bisects each
+    ``mirror_x0``: x is a half model x ≥ 0; its images are added (the groups are the particles', then the
+    images') and the centres mirrored, which makes the partition mirror-symmetric (a particle and its image
+    lie in a fragment and its image, so the half model's accounting holds).  The symmetry plane bisects a
     centre and its image, so it would cut every cell that reaches it: a cell that reaches the plane (a
     member within half a link of it) is joined with its image into one fragment across the plane.
     """
     k, m = x.shape[0], centre.shape[0]
-    image = np.array([-1.0, 1.0, 1.0])
-    both = np.concatenate([x, x * image])
-    region = linked_groups(both, link_length_cm)
-    group = _nearest_centre(both, region, np.concatenate([centre, centre * image]),
-                            np.concatenate([region[owner], region[owner + k]]))
-    reaching = np.zeros(m, dtype=bool)
-    at_plane = (x[:, 0] < 0.5 * link_length_cm) & (group[:k] < m)   # the half model's cells reaching the plane
-    reaching[group[:k][at_plane]] = True
-    joined = (group >= m) & (group < 2 * m)
-    joined[joined] = reaching[group[joined] - m]
-    group[joined] -= m
-    return group, 2 * m + int(region.max()) + 1
+    if mirror_x0:
+        image = np.array([-1.0, 1.0, 1.0])
+        x, centre, owner = np.concatenate([x, x * image]), np.concatenate([centre, centre * image]), \
+            np.concatenate([owner, owner + k])
+    region = linked_groups(x, link_length_cm)
+    group = _nearest_centre(x, region, centre, region[owner])
+    if mirror_x0:
+        reaching = np.zeros(m, dtype=bool)
+        at_plane = (x[:k, 0] < 0.5 * link_length_cm) & (group[:k] < m)   # the half model's cells reaching it
+        reaching[group[:k][at_plane]] = True
+        joined = (group >= m) & (group < 2 * m)
+        joined[joined] = reaching[group[joined] - m]
+        group[joined] -= m
+    return group, centre.shape[0] + int(region.max()) + 1
 
 
 def _centres(x: np.ndarray, spacing: np.ndarray, size: np.ndarray, seed: int, body: int
