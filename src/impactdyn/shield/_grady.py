@@ -47,10 +47,11 @@ each particle stands at its initial position X; without it, at its position now.
   :func:`impactdyn.shield.linked_groups`); each joins the nearest centre of its linked region, and a
   region without a centre is one fragment.
 * On a half model (``mirror_x0``) the centres are drawn in the half space and mirrored, so the partition
-  is mirror-symmetric (a particle and its image lie in a fragment and its image: the half model's
-  binned cloud and the fragments share its particles exactly).  The plane bisects each centre and its
-  image, so it would cut every cell reaching it: such a cell is joined with its image into one fragment
-  across the plane (where an unbounded process puts about one cell, of about its mean volume).
+  is mirror-symmetric: a particle and its image lie in a fragment and its image, and the half model's
+  binned cloud and its fragments share its particles exactly.  The plane bisects each centre and its
+  image, so no fragment of failed material crosses it; the fragments that reach it have the mean volume
+  of those an unbounded process cuts the plane with (1.07 and 1.11 s³ on a stationary block of 40³, tested),
+  where joining each with its image, so that it crosses, doubles it (2.1 s³).
 
 Each fragment is a set of particles, so the mass and momentum of the fragments and the rest are the
 particles' exactly; its centre of mass and velocity are its particles' now (a failed fragment's axes
@@ -168,26 +169,14 @@ def _partition(x: np.ndarray, centre: np.ndarray, owner: np.ndarray, link_length
     cube holds each): each particle's group, and how many group numbers were used (module docstring).
 
     ``mirror_x0``: x is a half model x ≥ 0; its images are added (the groups are the particles', then the
-    images') and the centres mirrored, which makes the partition mirror-symmetric (a particle and its image
-    lie in a fragment and its image, so the half model's accounting holds).  The symmetry plane bisects a
-    centre and its image, so it would cut every cell that reaches it: a cell that reaches the plane (a
-    member within half a link of it) is joined with its image into one fragment across the plane.
+    images') and the centres mirrored (module docstring).
     """
-    k, m = x.shape[0], centre.shape[0]
     if mirror_x0:
         image = np.array([-1.0, 1.0, 1.0])
-        x, centre, owner = np.concatenate([x, x * image]), np.concatenate([centre, centre * image]), \
-            np.concatenate([owner, owner + k])
+        x, centre, owner = (np.concatenate([x, x * image]), np.concatenate([centre, centre * image]),
+                            np.concatenate([owner, owner + x.shape[0]]))
     region = linked_groups(x, link_length_cm)
-    group = _nearest_centre(x, region, centre, region[owner])
-    if mirror_x0:
-        reaching = np.zeros(m, dtype=bool)
-        at_plane = (x[:k, 0] < 0.5 * link_length_cm) & (group[:k] < m)   # the half model's cells reaching it
-        reaching[group[:k][at_plane]] = True
-        joined = (group >= m) & (group < 2 * m)
-        joined[joined] = reaching[group[joined] - m]
-        group[joined] -= m
-    return group, centre.shape[0] + int(region.max()) + 1
+    return _nearest_centre(x, region, centre, region[owner]), centre.shape[0] + int(region.max()) + 1
 
 
 def _centres(x: np.ndarray, spacing: np.ndarray, size: np.ndarray, seed: int, body: int
