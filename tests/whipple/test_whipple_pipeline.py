@@ -387,6 +387,19 @@ def test_table2_examples_load_and_get_the_jsc_verdicts(name, verdict):
     assert ble_verdict(case)["verdict"] == verdict
 
 
+def test_the_fragments_example_is_shot_7a_with_the_fragments_on():
+    """The example of the fragments option differs from table2_7a.toml only by its title and the two
+    [shield] keys that turn the fragments on (so it cannot drift from the shot it shows)."""
+    plain, fragments = (load_whipple_case(EXAMPLES / f"table2_7a{tail}.toml") for tail in ("", "_fragments"))
+    assert fragments.shield.failure_model == "fragmentation" and fragments.shield.failed_fragments == "grady"
+    a, b = plain.model_dump(), fragments.model_dump()
+    for case in (a, b):
+        case.pop("title")
+        case["shield"].pop("failure_model")
+        case["shield"].pop("failed_fragments")
+    assert a == b
+
+
 def test_wall_stage_takes_the_deposited_impulse_and_gives_a_verdict(run):
     _, out, s = run
     wall = json.loads((out / "wall" / "stage.json").read_text())
