@@ -70,13 +70,13 @@ def sph_state(speed_km_s: float, ratio: float, spacing_cm: float, model: str, ti
 
 
 def survey(speed_km_s: float, ratio: float, spacing_cm: float, model: str, time_us: float, failed: str,
-           rate: str, keep: Path | None = None) -> dict:
+           rate: str, keep: Path | None = None, seed: int = 1) -> dict:
     initial, state, seconds = sph_state(speed_km_s, ratio, spacing_cm, model, time_us, keep)
     projectile = initial.velocity[:, 1] > 0
     fragments = shield.fragments_of(state, link_length_cm=1.5 * spacing_cm)
     if failed == "grady":
         fragments = shield.join_fragments(fragments, shield.grady_fragments(
-            state, link_length_cm=1.5 * spacing_cm, initial=initial if rate == "own_size" else None))
+            state, link_length_cm=1.5 * spacing_cm, seed=seed, initial=initial if rate == "own_size" else None))
     debris = fragments.velocity[:, 1] > 0.05 * speed_km_s * 0.1        # cm/µs
     mat = get_material(MATERIAL)
     m_proj = mat.rho0 * math.pi * DIAMETER_CM ** 3 / 6
@@ -85,7 +85,7 @@ def survey(speed_km_s: float, ratio: float, spacing_cm: float, model: str, time_
     resolved = np.flatnonzero(debris & (fragments.diameter_cm >= RESOLVED_CM))
     projectile_resolved = float(shield.origin_masses(fragments, state.mass, projectile)[resolved].sum())
     return {"speed": speed_km_s, "ratio": ratio, "spacing": spacing_cm, "model": model, "failed": failed,
-            "rate": rate if failed == "grady" else None,
+            "rate": rate if failed == "grady" else None, "seed": seed if failed == "grady" else None,
             "largest": (fragments.mass[debris][:3] / m_proj).tolist(), "count": fragments.count[debris][:3].tolist(),
             "n_debris_fragments": int(np.sum(debris & (fragments.count >= 4))),
             "resolved": int(resolved.size),
@@ -111,7 +111,8 @@ def _ledger(path: Path | None) -> dict:
 
 
 def _key(row: dict) -> tuple:
-    return row["model"], row["failed"], row["rate"], row["speed"], row["ratio"], row["spacing"]
+    seed = 1 if row.get("seed") is None else row["seed"]        # rows before the seed was recorded: 1
+    return row["model"], row["failed"], row["rate"], seed, row["speed"], row["ratio"], row["spacing"]
 
 
 def main() -> None:
@@ -126,6 +127,7 @@ def main() -> None:
     parser.add_argument("--rate", default="own_size", choices=("own_size", "at_failure"),
                         help="the rate that sizes Grady's fragments (with --failed grady)")
     parser.add_argument("--json", type=Path, help="append each row to this JSON-lines file; rows there are reused")
+    parser.add_argument("--seed", type=int, default=1, help="the seed of Grady's partition (with --failed grady)")
     parser.add_argument("--keep-states", type=Path, help="write each SPH run's states (t = 0 and --time) to this "
                         "folder, and read back those there")
     args = parser.parse_args()
@@ -136,10 +138,12 @@ def main() -> None:
     for spacing in args.spacings:
         for speed in args.speeds:
             for ratio in args.ratios:
-                key = (args.model, args.failed, args.rate if args.failed == "grady" else None, speed, ratio, spacing)
+                grady = args.failed == "grady"
+                key = (args.model, args.failed, args.rate if grady else None, args.seed if grady else 1, speed, ratio,
+                       spacing)
                 r = done.get(key)
                 if r is None:
-                    r = survey(speed, ratio, spacing, args.model, args.time, args.failed, args.rate, args.keep_states)
+                    r = survey(speed, ratio, spacing, args.model, args.time, args.failed, args.rate, args.keep_states, args.seed)
                     if args.json is not None:
                         with args.json.open("a") as ledger:
                             ledger.write(json.dumps(r) + "\n")
