@@ -19,11 +19,13 @@ kernel-scale stretching rate on the first step it is failed and expanded beyond 
 (``Particles.failure_strain_rate``), which grows as the particles shrink (median 0.85 → 1.27 ×10⁶ s⁻¹
 from Δ = d/10 to d/20 at 6 km/s, about Δ^{-0.6}).
 
-**Not converged yet (measured, docs/vv/convergence.md):** with the own-size rate the projectile's mass
-in fragments of ≥ 0.06 cm agrees within 3 % between d/20 and d/40 at 4 km/s on a t/D 0.1 bumper, but
-the largest projectile fragment does not (0.21 and 0.12 of the projectile), and at 6 km/s the pieces of
-≥ 0.06 cm found at d/20 are gone at d/40: the set-4 gate fails (validation/set-4-decision.md), and the
-fragments stay an option (``[shield] failed_fragments = "grady"``), not the default.
+**Not converged yet (measured, docs/vv/test-shots.md):** the partition converges by construction (the
+centres are the same at every spacing), but the size field moves with the spacing at about first order
+(the projectile's median s 0.090 / 0.076 / 0.068 cm at d/10 / d/20 / d/40, 4 km/s), and a fragment's mass
+goes as s³: the largest projectile fragment converges within 20 % between d/20 and d/40 at 6 and 7 km/s
+and not at 4 km/s, the projectile's mass in fragments of ≥ 0.06 cm at 4 km/s and not at 6–7 km/s.  The
+set-4 gate fails (validation/set-4-decision.md), and the fragments stay an option
+(``[shield] failed_fragments = "grady"``), not the default.
 
 **Partition** (in the reference configuration, where Grady's picture puts the breaking: at the time the
 SPH reads it, failed material has stretched several times over, unevenly and in clumps spaced like the
