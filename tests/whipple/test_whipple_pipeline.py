@@ -445,6 +445,11 @@ def test_wall_caution_names_what_the_validation_shots_say_and_what_lies_outside_
     caution = wall_caution(diameter, velocity)
     assert caution.startswith(WALL_VALIDATION) and caution.endswith("beside it")
     assert ("outside" in caution) == (outside is not None) and (outside is None or outside in caution)
+    # with the fragments of failed material the wall's load is not the cloud's alone: the caution says
+    # what stands behind that verdict instead
+    with_fragments = wall_caution(diameter, velocity, fragments=True)
+    assert "fragments of failed material" in with_fragments and WALL_VALIDATION not in with_fragments
+    assert with_fragments.endswith("beside it") and ("outside" in with_fragments) == (outside is not None)
 
 
 def test_a_wall_run_cut_off_at_the_ceiling_is_said_to_be_not_at_rest():

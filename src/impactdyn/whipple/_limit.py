@@ -169,7 +169,7 @@ def run_limit(raw: dict, velocities: list[float], outdir: str | Path, *, source:
 def _write_tables(folder: FamilyFolder, searches: list[_Search], tolerance_cm: float, bracket_ratio: float
                   ) -> list[dict]:
     """``limit.csv``, ``limit.json`` and ``shots.csv`` as the searches stand; returns the rows."""
-    rows = [_limit_row(s) for s in searches]
+    rows = [_limit_row(s, base.shield.failed_fragments == "grady") for s in searches]
     folder.write_csv("limit.csv", LIMIT_HEADER, [[r[k] for k in LIMIT_HEADER] for r in rows])
     folder.write_json("limit.json", {"tolerance_cm": tolerance_cm, "bracket_ratio": bracket_ratio,
                                      "start_brackets_cm": {f"{s.velocity:g}": list(s.start) for s in searches},
@@ -193,14 +193,14 @@ def _check_brackets(brackets: dict, velocities: list[float]) -> dict[float, tupl
     return checked
 
 
-def _limit_row(s: _Search) -> dict:
+def _limit_row(s: _Search, fragments: bool) -> dict:
     both = s.safe is not None and s.failed is not None
     return {"velocity_km_s": s.velocity,
             "limit_diameter_cm": 0.5 * (s.safe + s.failed) if both else None,
             "half_width_cm": 0.5 * abs(s.failed - s.safe) if both else None,
             "largest_safe_cm": s.safe, "smallest_failed_cm": s.failed,
             "jsc_critical_diameter_cm": s.jsc, "n_shots": len(s.shots), "status": s.status,
-            "caution": wall_caution(0.5 * (s.safe + s.failed), s.velocity) if both else None}
+            "caution": wall_caution(0.5 * (s.safe + s.failed), s.velocity, fragments=fragments) if both else None}
 
 
 def tested_limits(case: WhippleCase) -> list:
