@@ -128,6 +128,7 @@ def run_limit(raw: dict, velocities: list[float], outdir: str | Path, *, source:
         raise InputError(f"--bracket-ratio {bracket_ratio}: must be > 1")
     brackets = _check_brackets(brackets or {}, velocities)
     base = validate(WhippleCase, raw, source)
+    fragments = base.shield.failed_fragments == "grady"
     bases = limit_velocities(raw, velocities, source)
     searches = []
     for v, case in zip(velocities, bases):
@@ -146,11 +147,11 @@ def run_limit(raw: dict, velocities: list[float], outdir: str | Path, *, source:
                                  f"runs/{shot_name(search.velocity, d)}"))
             search.record(d, failed)
             family.finished += 1
-            _write_tables(family, searches, tolerance_cm, bracket_ratio)
+            _write_tables(family, searches, tolerance_cm, bracket_ratio, fragments)
             if progress:
                 progress(family.finished)
 
-        _write_tables(family, searches, tolerance_cm, bracket_ratio)
+        _write_tables(family, searches, tolerance_cm, bracket_ratio, fragments)
         while batch := [(s, d) for s in searches for d in s.pending()]:
             cases = case_variants(WhippleCase, raw, [shot_variant(base, s.velocity, d) for s, d in batch], source)
             summaries = [family.path / "runs" / shot_name(s.velocity, d) / "summary.json" for s, d in batch]
@@ -161,15 +162,16 @@ def run_limit(raw: dict, velocities: list[float], outdir: str | Path, *, source:
                         scheduler=scheduler, workers=shot_workers(scheduler, workers, len(batch)), address=address)
             for s in searches:
                 s.settle(tolerance_cm, max_expansions)
-            rows = _write_tables(family, searches, tolerance_cm, bracket_ratio)
+            rows = _write_tables(family, searches, tolerance_cm, bracket_ratio, fragments)
         _plot(family.path / "limit.png", bases[0], searches, rows, tolerance_cm)
     return rows
 
 
-def _write_tables(folder: FamilyFolder, searches: list[_Search], tolerance_cm: float, bracket_ratio: float
-                  ) -> list[dict]:
-    """``limit.csv``, ``limit.json`` and ``shots.csv`` as the searches stand; returns the rows."""
-    rows = [_limit_row(s, base.shield.failed_fragments == "grady") for s in searches]
+def _write_tables(folder: FamilyFolder, searches: list[_Search], tolerance_cm: float, bracket_ratio: float,
+                  fragments: bool) -> list[dict]:
+    """``limit.csv``, ``limit.json`` and ``shots.csv`` as the searches stand (``fragments``: the case loads
+    the wall with the fragments of failed material, which the cautions say); returns the rows."""
+    rows = [_limit_row(s, fragments) for s in searches]
     folder.write_csv("limit.csv", LIMIT_HEADER, [[r[k] for k in LIMIT_HEADER] for r in rows])
     folder.write_json("limit.json", {"tolerance_cm": tolerance_cm, "bracket_ratio": bracket_ratio,
                                      "start_brackets_cm": {f"{s.velocity:g}": list(s.start) for s in searches},
