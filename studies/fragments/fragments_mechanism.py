@@ -55,11 +55,11 @@ def sph_state(speed_km_s: float, ratio: float, spacing_cm: float, model: str, ti
               keep: Path | None) -> tuple:
     """The SPH states at t = 0 and at ``time_us`` and the seconds the run took (None when read back from
     ``keep``, where a run's states are written for later partitions: they do not depend on it)."""
-    problem = shield.sphere_on_plate(MATERIAL, MATERIAL, DIAMETER_CM, speed_km_s, 0.0, ratio * DIAMETER_CM,
-                                     spacing_cm)
     stem = None if keep is None else keep / f"{model}_{speed_km_s:g}_{ratio:g}_{spacing_cm:g}_t{time_us:g}"
     if stem is not None and Path(f"{stem}_end.h5").is_file():
         return shield.read_particles(f"{stem}_init.h5")[0], shield.read_particles(f"{stem}_end.h5")[0], None
+    problem = shield.sphere_on_plate(MATERIAL, MATERIAL, DIAMETER_CM, speed_km_s, 0.0, ratio * DIAMETER_CM,
+                                     spacing_cm)
     start = time.perf_counter()
     state = shield.run(problem, time_us, options=shield.SPHOptions(failure_model=model)).state
     seconds = time.perf_counter() - start
@@ -103,7 +103,7 @@ def _seconds(seconds: float | None) -> str:
 
 
 def _ledger(path: Path | None) -> dict:
-    """The rows already in ``path``, by (model, failed, rate, speed, ratio, spacing)."""
+    """The rows already in ``path``, by (model, failed, rate, seed, speed, ratio, spacing)."""
     if path is None or not path.is_file():
         return {}
     rows = [json.loads(line) for line in path.read_text().splitlines() if line.strip()]

@@ -12,34 +12,31 @@ reference position.  A diagnosis, deciding nothing (validation/set-4-decision.md
 from __future__ import annotations
 
 import argparse
-from functools import partial
 from pathlib import Path
 
 import numpy as np
 from scipy.spatial import cKDTree
 
 from impactdyn import shield
-from impactdyn.materials import FRACTURE_TOUGHNESS, get_material
+from impactdyn.materials import get_material
 
 MATERIAL = "al6061-t6"
 
 
 def size_field(folder: Path, speed: float, ratio: float, spacing: float, time_us: float) -> dict:
-    """{body: (reference positions, sizes, spacings)} of the failed solid particles of a kept state."""
+    """{body: (reference positions, sizes, spacings)} of the failed solid particles of a kept state, sized
+    as the package sizes them (:func:`impactdyn.shield.grady_sizes`)."""
     stem = folder / f"fragmentation_{speed:g}_{ratio:g}_{spacing:g}_t{time_us:g}"
     initial, _ = shield.read_particles(f"{stem}_init.h5")
     state, _ = shield.read_particles(f"{stem}_end.h5")
-    mat = get_material(MATERIAL)
-    size_of_rate = partial(shield.grady_fragment_size, FRACTURE_TOUGHNESS[MATERIAL], mat.rho0, mat.young_modulus)
-    failed = (state.damage >= 1.0) & (state.failure_strain_rate > 0.0) & shield.solid_particles(state)
+    failed, sizes = shield.grady_sizes(state, initial=initial)
+    delta = np.cbrt(state.mass / get_material(MATERIAL).rho0)
     projectile = initial.velocity[:, 1] > 0
-    out = {}
+    field = {}
     for name, body in (("projectile", projectile), ("bumper", ~projectile)):
         idx = np.flatnonzero(failed & body)
-        delta = np.cbrt(state.mass[idx] / mat.rho0)
-        sizes = shield.own_size_strain_rates(initial.position[idx], state.velocity[idx], delta, size_of_rate)[1]
-        out[name] = (initial.position[idx], sizes, delta)
-    return out
+        field[name] = (initial.position[idx], sizes[idx], delta[idx])
+    return field
 
 
 def main() -> None:

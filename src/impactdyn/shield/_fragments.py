@@ -222,6 +222,11 @@ def find_fragments(position, velocity, mass, volume, intact, *, link_length_cm: 
                                linked_groups(position[idx], float(link_length_cm)))
 
 
+def with_images(vectors: np.ndarray) -> np.ndarray:
+    """(2N, 3): the vectors (N, 3) of a half model, then their mirror images across the plane x = 0."""
+    return np.concatenate([vectors, vectors * np.array([-1.0, 1.0, 1.0])])
+
+
 def linked_groups(x: np.ndarray, b: float) -> np.ndarray:
     """(k,) int: the friends-of-friends group of each point of x (k, 3): the connected components of the
     links |x_p − x_q| < b (module docstring), numbered from 0."""
@@ -447,8 +452,6 @@ def fragments_of(particles, *, link_length_cm: float, damage_threshold: float = 
     intact = (particles.damage < damage_threshold) & solid_particles(particles)
     position, velocity, mass = particles.position, particles.velocity, particles.mass
     if mirror_x0:
-        image = np.array([-1.0, 1.0, 1.0])
-        position = np.concatenate([position, position * image])
-        velocity = np.concatenate([velocity, velocity * image])
+        position, velocity = with_images(position), with_images(velocity)
         mass, rho0, intact = (np.concatenate([a, a]) for a in (mass, rho0, intact))
     return find_fragments(position, velocity, mass, mass / rho0, intact, link_length_cm=link_length_cm)

@@ -73,7 +73,7 @@ from scipy.spatial import cKDTree
 
 from impactdyn._errors import InputError
 from impactdyn.shield._fragment_rate import own_size_strain_rates
-from impactdyn.shield._fragments import Fragments, fragments_of_groups, linked_groups
+from impactdyn.shield._fragments import Fragments, fragments_of_groups, linked_groups, with_images
 from impactdyn.shield._melt import solid_particles
 
 
@@ -97,19 +97,15 @@ TILE_CM = 4 * SPRAY_SIZE_CM
 _TILE_OFFSET = 2 ** 31
 
 
-def grady_fragments(particles, *, link_length_cm: float, damage_threshold: float = 1.0, seed: int = 1,
-                    mirror_x0: bool = True, initial=None) -> Fragments:
-    """The fragments of the failed solid particles of an SPH state (module docstring).
+def grady_sizes(particles, *, damage_threshold: float = 1.0, initial=None) -> tuple[np.ndarray, np.ndarray]:
+    """The failed solid particles of an SPH state and the size each breaks at (module docstring).
 
     Failed: damage ≥ ``damage_threshold`` with a recorded stretching rate at failure
-    (``Particles.failure_strain_rate`` > 0), less than half melted on release.
-    ``link_length_cm``: b, in the configuration of the partition.  ``seed`` ≥ 0 draws the centres.
-    ``mirror_x0`` as :func:`impactdyn.shield.fragments_of`.  ``initial``: the run's state at t = 0
-    (:class:`Particles`, the same particles in the same order); given, the rate that sizes a fragment is
-    read across its own size (:func:`impactdyn.shield.own_size_strain_rates`, each body apart: the
-    projectile, moving at t = 0, and the bumper) and the partition is drawn at the initial positions;
-    None, the rate is the kernel-scale one recorded at failure and the partition is drawn now.
-    Returns fragments marked ``from_failed``.
+    (``Particles.failure_strain_rate`` > 0), less than half melted on release.  ``initial``: the run's
+    state at t = 0 (:class:`Particles`, the same particles in the same order); given, the rate is read
+    across each fragment's own size (:func:`impactdyn.shield.own_size_strain_rates`, each body apart: the
+    projectile, moving at t = 0, and the bumper); None, it is the kernel-scale rate recorded at failure.
+    Returns (failed (N,) bool, Grady's size s (N,) cm: inf where not failed, or where compressed or at rest).
     Raises :class:`InputError` naming a material of a failed particle without a fracture toughness
     (:data:`impactdyn.materials.FRACTURE_TOUGHNESS`).
     """
@@ -119,7 +115,6 @@ def grady_fragments(particles, *, link_length_cm: float, damage_threshold: float
         raise InputError(f"damage_threshold = {damage_threshold}: must lie in (0, 1]")
     mats = [get_material(name) for name in particles.materials]
     kind = particles.material
-    rho0 = np.array([m.rho0 for m in mats])[kind]
     rate = particles.failure_strain_rate
     failed = (particles.damage >= damage_threshold) & (rate > 0.0) & solid_particles(particles)
     missing = sorted({particles.materials[k] for k in np.unique(kind[failed])
@@ -127,25 +122,44 @@ def grady_fragments(particles, *, link_length_cm: float, damage_threshold: float
     if missing:
         raise InputError(f"fragments of failed material: no fracture toughness for {', '.join(missing)} "
                          "(impactdyn.materials.FRACTURE_TOUGHNESS)")
+    rho0 = np.array([m.rho0 for m in mats])[kind]
     toughness = np.array([FRACTURE_TOUGHNESS.get(m.name, np.nan) for m in mats])[kind]
     young = np.array([m.young_modulus for m in mats])[kind]
-    volume = particles.mass / rho0
-    spacing = np.cbrt(volume)
-    body = 2 * kind + (np.any(initial.velocity != 0.0, axis=1) if initial is not None else 0)
-    n = len(particles)
-    size = np.full(n, np.inf)
+    size = np.full(len(particles), np.inf)
     if initial is None:
         size[failed] = grady_fragment_size(toughness[failed], rho0[failed], young[failed], rate[failed])
-    else:
-        for b in np.unique(body[failed]):
-            idx = np.flatnonzero(failed & (body == b))
-            j = idx[0]  # one material a body
-            size_of_rate = partial(grady_fragment_size, toughness[j], rho0[j], young[j])
-            size[idx] = own_size_strain_rates(initial.position[idx], particles.velocity[idx], spacing[idx],
-                                              size_of_rate)[1]
-    broken = failed & (size >= np.maximum(spacing, SPRAY_SIZE_CM))
+        return failed, size
+    body = _bodies(particles, initial)
+    spacing = np.cbrt(particles.mass / rho0)
+    for b in np.unique(body[failed]):
+        idx = np.flatnonzero(failed & (body == b))
+        j = idx[0]  # one material a body
+        size_of_rate = partial(grady_fragment_size, toughness[j], rho0[j], young[j])
+        size[idx] = own_size_strain_rates(initial.position[idx], particles.velocity[idx], spacing[idx],
+                                          size_of_rate)[1]
+    return failed, size
 
+
+def grady_fragments(particles, *, link_length_cm: float, damage_threshold: float = 1.0, seed: int = 1,
+                    mirror_x0: bool = True, initial=None) -> Fragments:
+    """The fragments of the failed solid particles of an SPH state (module docstring).
+
+    Failed, and sized, as :func:`grady_sizes` finds them (``damage_threshold``, ``initial``); with
+    ``initial`` the partition is drawn at the initial positions, without it now.
+    ``link_length_cm``: b, in the configuration of the partition.  ``seed`` ≥ 0 draws the centres.
+    ``mirror_x0`` as :func:`impactdyn.shield.fragments_of`.
+    Returns fragments marked ``from_failed``.
+    Raises :class:`InputError` as :func:`grady_sizes`.
+    """
+    from impactdyn.materials import get_material
+
+    failed, size = grady_sizes(particles, damage_threshold=damage_threshold, initial=initial)
+    volume = particles.mass / np.array([get_material(name).rho0 for name in particles.materials])[particles.material]
+    spacing = np.cbrt(volume)
+    broken = failed & (size >= np.maximum(spacing, SPRAY_SIZE_CM))
+    body = _bodies(particles, initial)
     reference = initial.position if initial is not None else particles.position
+    n = len(particles)
     members, groups, offset = [], [], 0
     for b in np.unique(body[broken]):
         of_body = np.flatnonzero(broken & (body == b))
@@ -157,12 +171,17 @@ def grady_fragments(particles, *, link_length_cm: float, damage_threshold: float
         offset += count
     position, velocity, mass = particles.position, particles.velocity, particles.mass
     if mirror_x0:
-        image = np.array([-1.0, 1.0, 1.0])
-        position, velocity = (np.concatenate([a, a * image]) for a in (position, velocity))
+        position, velocity = with_images(position), with_images(velocity)
         mass, volume = (np.concatenate([a, a]) for a in (mass, volume))
     idx = np.concatenate(members) if members else np.zeros(0, dtype=np.int64)
     group = np.concatenate(groups) if groups else np.zeros(0, dtype=np.int64)
     return fragments_of_groups(position, velocity, mass, volume, idx, group, from_failed=True)
+
+
+def _bodies(particles, initial) -> np.ndarray:
+    """(N,) each particle's body: its material, and, with the initial state, whether it moved at t = 0 (the
+    projectile) or not (the bumper)."""
+    return 2 * particles.material + (np.any(initial.velocity != 0.0, axis=1) if initial is not None else 0)
 
 
 def _partition(x: np.ndarray, centre: np.ndarray, owner: np.ndarray, link_length_cm: float, mirror_x0: bool
@@ -174,9 +193,7 @@ def _partition(x: np.ndarray, centre: np.ndarray, owner: np.ndarray, link_length
     images') and the centres mirrored (module docstring).
     """
     if mirror_x0:
-        image = np.array([-1.0, 1.0, 1.0])
-        x, centre, owner = (np.concatenate([x, x * image]), np.concatenate([centre, centre * image]),
-                            np.concatenate([owner, owner + x.shape[0]]))
+        x, centre, owner = with_images(x), with_images(centre), np.concatenate([owner, owner + x.shape[0]])
     region = linked_groups(x, link_length_cm)
     return _nearest_centre(x, region, centre, region[owner]), centre.shape[0] + int(region.max()) + 1
 
