@@ -9,7 +9,7 @@ resolution, at half the SPH spacing (i) and at twice the wall mesh (ii).
 
 Per shot and resolution the SPH runs once (with seed 1's case: the SPH does not depend on the seed);
 for every other seed the shield stage's folder is copied and only its fragments are drawn again from
-the kept particles (:func:`impactdyn.whipple._cloud.debris_fragments`, as the stage does), then the run
+the kept particles (:func:`impactdyn.shield.debris_fragments`, as the stage does), then the run
 goes on from the binning (``run_whipple(..., start="binning")``).  Twice the wall mesh reruns the wall
 stage of the example's run of the same seed (``start="wall"``): its SPH, fragments and deposition are
 the example's.  Each draw appends one JSON line to the ledger; a draw already there is not run again.
@@ -62,9 +62,10 @@ def shot_case(speed: float, factor: float, seed: int, resolution: str) -> Whippl
 
 def redraw_shield(source: Path, target: Path, case: WhippleCase) -> None:
     """``target``'s shield stage: ``source``'s particles, the fragments drawn with ``case``'s seed."""
-    from impactdyn.shield import fragment_rows, origin_masses, read_particles, write_fragments
+    from impactdyn.shield import debris_fragments, fragment_rows, origin_masses, read_particles, write_fragments
+    from impactdyn.units import km_s_to_cm_us
     from impactdyn.whipple._case import projectile_mass, shield_problem
-    from impactdyn.whipple._cloud import debris_fragments, debris_state, fragment_figures, projectile_particles
+    from impactdyn.whipple._cloud import debris_state, fragment_figures, projectile_particles
     from impactdyn.whipple._stages import settings
     from impactdyn._runfolder import FolderWriter
 
@@ -72,7 +73,7 @@ def redraw_shield(source: Path, target: Path, case: WhippleCase) -> None:
     out = target / "shield"
     problem, _ = shield_problem(case)
     particles, _ = read_particles(out / "particles.h5")
-    fragments = debris_fragments(particles, problem, case)
+    fragments = debris_fragments(particles, problem, case.fragment_options, km_s_to_cm_us(case.projectile.velocity_km_s))
     write_fragments(out / "fragments.h5", fragments)
     from_projectile = origin_masses(fragments, particles.mass, projectile_particles(problem))
     FolderWriter(out).write_csv("fragments.csv", *fragment_rows(fragments, from_projectile_g=from_projectile))

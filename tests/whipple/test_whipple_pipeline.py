@@ -21,10 +21,18 @@ from impactdyn._errors import InputError
 from impactdyn.whipple import ble_verdict, load_whipple_case, rerun_wall, shield_problem, wall_ending
 from impactdyn.wall import ENDINGS, LSDYNA_HOURGLASS_TYPE
 from impactdyn.whipple._case import ble_shield, projectile_mass
-from impactdyn.whipple._cloud import debris_fragments
 from impactdyn.whipple._pipeline import deck_options, run_whipple
 
 EXAMPLES = Path(__file__).parents[2] / "examples" / "whipple"
+
+
+def case_fragments(particles, case):
+    """The debris fragments the shield stage finds in ``particles`` for ``case``."""
+    from impactdyn.shield import debris_fragments
+    from impactdyn.units import km_s_to_cm_us
+
+    return debris_fragments(particles, shield_problem(case)[0], case.fragment_options,
+                            km_s_to_cm_us(case.projectile.velocity_km_s))
 
 
 @pytest.fixture(scope="module")
@@ -442,12 +450,13 @@ def test_wall_stage_takes_the_deposited_impulse_and_gives_a_verdict(run):
 def test_wall_caution_names_what_the_validation_shots_say_and_what_lies_outside_them(diameter, velocity, outside):
     from impactdyn.whipple._report import WALL_VALIDATION, wall_caution
 
-    caution = wall_caution(diameter, velocity)
+    case = load_whipple_case(EXAMPLES / "table2_7a.toml")
+    caution = wall_caution(case, diameter, velocity)
     assert caution.startswith(WALL_VALIDATION) and caution.endswith("beside it")
     assert ("outside" in caution) == (outside is not None) and (outside is None or outside in caution)
     # with the fragments of failed material the wall's load is not the cloud's alone: the caution says
     # what stands behind that verdict instead
-    with_fragments = wall_caution(diameter, velocity, fragments=True)
+    with_fragments = wall_caution(load_whipple_case(EXAMPLES / "table2_7a_fragments.toml"), diameter, velocity)
     assert "fragments of failed material" in with_fragments and WALL_VALIDATION not in with_fragments
     assert with_fragments.endswith("beside it") and ("outside" in with_fragments) == (outside is not None)
 
@@ -545,7 +554,7 @@ def test_a_fragmenting_shot_reports_its_solid_fragments(tmp_path, make_case, fai
     # found once by the shield stage, read back exactly by the later ones
     kept = read_fragments(out / "shield" / "fragments.h5")
     loaded = load_whipple_case(case)
-    found = debris_fragments(read_particles(out / "shield" / "particles.h5")[0], shield_problem(loaded)[0], loaded)
+    found = case_fragments(read_particles(out / "shield" / "particles.h5")[0], loaded)
     for name in ("mass", "position", "velocity", "spin", "diameter_cm", "axes_cm", "count", "ptr", "members",
                  "from_failed"):
         np.testing.assert_array_equal(getattr(kept, name), getattr(found, name))
@@ -560,8 +569,9 @@ def test_a_fragmenting_shot_reports_its_solid_fragments(tmp_path, make_case, fai
     compact = stages["debris"]["compact_fragments"]
     assert compact["n_fragments"] >= 1 and stages["binning"]["n_particles_in_compact_fragments"] > 0
     particles, _ = read_particles(out / "shield" / "particles.h5")
-    from impactdyn.whipple._cloud import compact_fragments, compact_particles
-    fragments = compact_fragments(debris_fragments(particles, shield_problem(loaded)[0], loaded), loaded)
+    from impactdyn.shield import compact_particles
+    from impactdyn.whipple._cloud import compact_fragments
+    fragments = compact_fragments(case_fragments(particles, loaded), loaded)
     taken = compact_particles(fragments, len(particles))
     behind = particles.position[:, 1] >= loaded.bumper.thickness_cm
     grid = read_grid(out / "binning" / "handoff_grid.h5")

@@ -20,6 +20,7 @@ from impactdyn.debris._integrators import (
 from impactdyn.debris._particle import (
     ParticleMaterial, check_wave_speed, pack_state, state_rates, total_energy, unpack_state)
 from impactdyn.debris._compact import compact_arrival_us, compact_deposition, half_model_share
+from impactdyn.debris._landing import compact_records, landing_mask, with_compact_fragments
 from impactdyn.debris._debris_h5 import read_arrivals, read_deposition
 from impactdyn.debris._decks import DeckOptions, write_decks
 from impactdyn.debris._outputs import write_debris_files, write_debris_run
@@ -43,7 +44,8 @@ __all__ = [
     "DepositionOptions", "Failure", "FilterSection", "HydroGrid", "INTEGRATORS", "IntegratorOptions",
     "IntegratorSection", "LegacySection", "OutputSection", "ParticleMaterial", "POINTS_PER_PARTICLE", "ParticleCloud",
     "PropagationStats", "SeedFilter", "SeedOptions", "ShellCloud", "WallDeposition", "WallGrid", "WallSection",
-    "Mat13Card", "affine_velocity_fit", "compact_arrival_us", "compact_deposition", "half_model_share",
+    "Mat13Card", "affine_velocity_fit", "compact_arrival_us", "compact_deposition", "compact_records", "half_model_share", "landing_mask",
+    "with_compact_fragments",
     "areal_density", "arrival_points", "arrival_times", "build",
     "cell_nodes", "check_bulk_modulus", "check_seeding", "check_wave_speed", "deposit",
     "element_impulse", "element_records", "face_areas", "face_element", "gather_tets", "inertia_tensor",

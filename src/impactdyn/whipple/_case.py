@@ -31,7 +31,8 @@ from impactdyn.debris import (
     ParticleMaterial, check_bulk_modulus, check_wave_speed)
 from impactdyn.debris import WallSection as DebrisWallSection
 from impactdyn.materials import REPORT_MATERIAL, Material, MaterialName, get_material
-from impactdyn.shield import DEFAULT_PLATE_RADIUS_D, BinningMethod, SPHOptions, bin_to_hydrogrid, spacing_too_coarse
+from impactdyn.shield import (DEFAULT_PLATE_RADIUS_D, FRAGMENT_KEYS, BinningMethod, FragmentOptions, SPHOptions,
+                              bin_to_hydrogrid, spacing_too_coarse)
 from impactdyn.wall import WallOptions, check_deposition_depth, check_mesh_sizes, resolve_model
 
 
@@ -126,23 +127,10 @@ class WallSection(Section):
 
 
 class _ShieldBase(Section):
-    """SPH numerics of the shield stage and the hand-off time; the numerics are those of
-    :class:`impactdyn.shield.SPHOptions`, with its defaults and bounds (the rest keep its defaults).
+    """SPH numerics of the shield stage, the hand-off time and how the debris's fragments are found; the
+    numerics are those of :class:`impactdyn.shield.SPHOptions`, the fragments' settings those of
+    :class:`impactdyn.shield.FragmentOptions`, with their defaults and bounds (the rest keep their defaults).
 
-    fragment_link_spacings : the friends-of-friends link length of the fragments at hand-off, in
-        particle spacings (1.5 links a particle to its 18 nearest lattice neighbours; one broken layer
-        separates two fragments).
-    fragment_damage_threshold : a particle with damage below it (and less than half melted on release)
-        is intact, part of a fragment (1: every particle that has not failed).
-    failed_fragments : what the failed solid material of the debris becomes: ``"spray"``, the binned
-        cloud; ``"grady"``, fragments of the size Grady's energy balance gives at the stretching rate
-        ``fragment_rate`` (:func:`impactdyn.shield.grady_fragments`, seeded by ``fragment_seed``), those the wall
-        resolves flying to it as compact bodies.  Needs ``failure_model = "fragmentation"``.
-    fragment_seed : the seed of the random partition of the failed material into Grady's fragments.
-    fragment_rate : the stretching rate that sizes Grady's fragments: ``"own_size"``, the velocity gradient
-        of the failed material across each fragment's own size, against the particles' initial positions
-        (:func:`impactdyn.shield.own_size_strain_rates`); ``"at_failure"``, the kernel-scale rate each
-        particle recorded on failing, which grows as the spacing shrinks (kept to compare with).
     spacing_cm : the SPH particles' pitch (cm; a cubic lattice; 0.0254 cm = 0.01 in).  It must
         put at least 4 particles across the projectile and one layer through the bumper; the
         particle count grows as its inverse cube.  (Not ``wall.spacing_cm``, the stand-off.)
@@ -153,15 +141,10 @@ class _ShieldBase(Section):
 
     spacing_cm: Positive = 0.0254
     handoff_us: Positive = 4.0
-    fragment_link_spacings: Positive = 1.5
-    fragment_damage_threshold: Annotated[float, Field(gt=0, le=1)] = 1.0
-    failed_fragments: Literal["spray", "grady"] = "spray"
-    fragment_seed: Annotated[int, Field(ge=0)] = 1
-    fragment_rate: Literal["own_size", "at_failure"] = "own_size"
 
     @model_validator(mode="after")
     def _grady_needs_fragmentation(self) -> "_ShieldBase":
-        if self.failed_fragments == "grady" and self.failure_model != "fragmentation":
+        if self.fragment_options().grady and self.failure_model != "fragmentation":
             raise ValueError(f"failed_fragments = \"grady\" needs failure_model = \"fragmentation\" (got "
                              f"{self.failure_model!r}): the threshold model fails material in compression, "
                              "which breaks nothing")
@@ -169,12 +152,18 @@ class _ShieldBase(Section):
 
     def sph_options(self) -> SPHOptions:
         """The :class:`impactdyn.shield.SPHOptions` of this table."""
-        return SPHOptions(**self.model_dump(exclude={"spacing_cm", "handoff_us", "fragment_link_spacings",
-                                                     "fragment_damage_threshold", "failed_fragments",
-                                                     "fragment_seed", "fragment_rate"}))
+        return SPHOptions(**self.model_dump(exclude={"spacing_cm", "handoff_us", *FRAGMENT_KEYS}))
+
+    def fragment_options(self) -> FragmentOptions:
+        """The :class:`impactdyn.shield.FragmentOptions` of this table: its fragment keys, and compact
+        bodies with the fragmentation failure model."""
+        return FragmentOptions(**self.model_dump(include=set(FRAGMENT_KEYS)),
+                               compact_bodies=self.failure_model == "fragmentation")
 
 
-ShieldSection = section_of("ShieldSection", _ShieldBase, SPHOptions,
+ShieldSection = section_of("ShieldSection",
+                           section_of("_ShieldFragments", _ShieldBase, FragmentOptions, FRAGMENT_KEYS, __name__),
+                           SPHOptions,
                            ("flow_stress", "failure", "failure_model", "viscosity_switch", "alpha", "beta",
                             "artificial_stress", "h_factor", "cfl"),
                            __name__)
@@ -266,7 +255,7 @@ class WhippleCase(Section):
     @model_validator(mode="after")
     def _fits(self) -> "WhippleCase":
         p, b, w, s = self.projectile, self.bumper, self.wall, self.shield
-        if s.failed_fragments == "grady":
+        if self.fragment_options.grady:
             from impactdyn.materials import FRACTURE_TOUGHNESS
 
             lacking = [f"{key}.material = {m.material!r}" for key, m in (("projectile", p), ("bumper", b))
@@ -326,6 +315,12 @@ class WhippleCase(Section):
     def wall_front_y(self) -> float:
         """y of the wall's front face, cm."""
         return self.bumper.thickness_cm + self.wall.spacing_cm
+
+    @property
+    def fragment_options(self) -> FragmentOptions:
+        """How the shield stage's debris becomes fragments (:class:`impactdyn.shield.FragmentOptions`, from
+        ``[shield]``): the one place the stages, the report and the limit take them from."""
+        return self.shield.fragment_options()
 
     @property
     def wall_options(self):

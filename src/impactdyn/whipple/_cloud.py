@@ -73,39 +73,8 @@ def cloud_figures(particles, bumper_back_y: float) -> dict:
     }
 
 
-#: A fragment is debris when its centre of mass moves toward the wall faster than this share of the
-#: projectile's speed: the bumper's remnant, the largest intact body, moves at a few m/s (7 m/s in a
-#: 2-km/s shot), the debris at hundreds of m/s and more.
-DEBRIS_FRAGMENT_SPEED_FRACTION = 0.05
-
-
-def debris_fragments(particles, problem, case):
-    """The solid fragments of the debris in ``particles``, the shield stage's state of ``problem``
-    (:func:`impactdyn.shield.fragments_of` with the case's ``[shield]`` link length, in the problem's
-    particle spacings, and damage threshold, images of the half model included so that masses
-    are the full model's; with ``failed_fragments = "grady"`` also those of the failed solid material,
-    :func:`impactdyn.shield.grady_fragments`, sized at the case's ``fragment_rate``, against the
-    problem's state at t = 0): those moving toward the wall (v_y > 5 % of the
-    projectile's speed, :data:`DEBRIS_FRAGMENT_SPEED_FRACTION`), which leaves out the bumper's
-    remnant; a fragment still crossing the bumper's plane counts."""
-    from impactdyn.shield import fragments_of, grady_fragments, join_fragments
-    from impactdyn.units import km_s_to_cm_us
-
-    s = case.shield
-    link = s.fragment_link_spacings * problem.spacing_cm
-    fragments = fragments_of(particles, link_length_cm=link, damage_threshold=s.fragment_damage_threshold)
-    if s.failed_fragments == "grady":
-        fragments = join_fragments(fragments, grady_fragments(particles, link_length_cm=link,
-                                                              damage_threshold=s.fragment_damage_threshold,
-                                                              seed=s.fragment_seed,
-                                                              initial=problem.particles if s.fragment_rate == "own_size"
-                                                              else None))
-    speed = km_s_to_cm_us(case.projectile.velocity_km_s)
-    return fragments.select(fragments.velocity[:, 1] > DEBRIS_FRAGMENT_SPEED_FRACTION * speed)
-
-
 def stage_fragments(folder: Path):
-    """The debris fragments the shield stage of the run folder ``folder`` found (:func:`debris_fragments`,
+    """The debris fragments the shield stage of the run folder ``folder`` found (:func:`impactdyn.shield.debris_fragments`,
     ``shield/fragments.h5``): found once, read back exactly by the later stages.  A folder whose shield
     stage predates the file is refused, naming the stage to run from."""
     from impactdyn.shield import read_fragments
@@ -132,27 +101,14 @@ def fragment_figures(fragments, from_projectile_g, projectile_mass_g: float) -> 
     return figures
 
 
-#: An intact debris fragment flies to the wall as a compact body (:func:`impactdyn.debris.compact_deposition`)
-#: when the SPH resolves it (at least this many particles: two across) ...
-COMPACT_MIN_PARTICLES = 8
-
-
 def compact_fragments(fragments, case):
-    """The debris fragments carried to the wall as compact bodies, not binned (the second of the
-    two populations to the wall, docs/theory/shield.md): with the fragmentation model only (the
-    threshold model's intact particles are what its compressive-strain criterion left, not
-    fragments), at least as large as the fragment the wall's mesh rule is built to crater
-    (:data:`impactdyn.wall.FRAGMENT_DIAMETER_CM`, 0.06 cm: its crater spans ≥ 4 core elements), and,
-    for an intact region, resolved by the SPH (:data:`COMPACT_MIN_PARTICLES`; a fragment of failed
-    material has the size of the model that drew it, :func:`impactdyn.shield.grady_fragments`).
-    Smaller fragments stay in the binned cloud with their momentum."""
+    """The debris fragments carried to the wall as compact bodies (:func:`impactdyn.shield.compact_fragments`
+    with the case's fragment options), at least as large as the fragment the wall's mesh rule is built to
+    crater (:data:`impactdyn.wall.FRAGMENT_DIAMETER_CM`, 0.06 cm: its crater spans ≥ 4 core elements)."""
+    from impactdyn.shield import compact_fragments as compact
     from impactdyn.wall import FRAGMENT_DIAMETER_CM
 
-    carried = np.zeros(len(fragments), dtype=bool)
-    if case.shield.failure_model == "fragmentation":
-        carried = (((fragments.count >= COMPACT_MIN_PARTICLES) | fragments.from_failed)
-                   & (fragments.diameter_cm >= FRAGMENT_DIAMETER_CM))
-    return fragments.select(carried)
+    return compact(fragments, case.fragment_options, min_diameter_cm=FRAGMENT_DIAMETER_CM)
 
 
 def projectile_particles(problem) -> np.ndarray:
@@ -185,7 +141,7 @@ def debris_state(particles, projectile: np.ndarray, fragments, bumper_back_y: fl
     :func:`projectile_particles`) and over its bumper particles; ``mass_g`` is each one's mass in the half
     model; the shares are None where there is no such debris.
 
-    The largest projectile piece: the heaviest of ``fragments`` (:func:`debris_fragments`, whose members
+    The largest projectile piece: the heaviest of ``fragments`` (:func:`impactdyn.shield.debris_fragments`, whose members
     count the images of the half model from N on and whose masses are the full model's) that is an intact
     region (not a fragment of failed material) and more than half projectile by mass; its mass (g, full
     model), its share of the projectile's mass ``projectile_mass_g`` (the full sphere), its equivalent
@@ -216,11 +172,3 @@ def debris_state(particles, projectile: np.ndarray, fragments, bumper_back_y: fl
         "largest_projectile_piece_over_projectile": float(fragments.mass[piece] / projectile_mass_g),
         "largest_projectile_piece_diameter_cm": float(fragments.diameter_cm[piece]),
         "largest_projectile_piece_particles": int(fragments.count[piece])}
-
-
-def compact_particles(fragments, n_particles: int) -> np.ndarray:
-    """``(n_particles,)`` bool: the particles of the half model in ``fragments`` (whose member indices
-    count the images of :func:`impactdyn.shield.fragments_of` from ``n_particles`` on)."""
-    taken = np.zeros(n_particles, dtype=bool)
-    taken[fragments.members % n_particles] = True
-    return taken

@@ -62,6 +62,7 @@ class _Search:
     """The bracket of one velocity: the largest safe and the smallest failed diameter found so far."""
 
     velocity: float
+    case: WhippleCase
     jsc: float
     ratio: float
     start: tuple[float, float]
@@ -128,13 +129,12 @@ def run_limit(raw: dict, velocities: list[float], outdir: str | Path, *, source:
         raise InputError(f"--bracket-ratio {bracket_ratio}: must be > 1")
     brackets = _check_brackets(brackets or {}, velocities)
     base = validate(WhippleCase, raw, source)
-    fragments = base.shield.failed_fragments == "grady"
     bases = limit_velocities(raw, velocities, source)
     searches = []
     for v, case in zip(velocities, bases):
         jsc = ble_verdict(case)["threshold_cm"]
         start = brackets.get(float(v), (jsc / bracket_ratio, jsc * bracket_ratio))
-        searches.append(_Search(velocity=float(v), jsc=jsc, ratio=bracket_ratio, start=start))
+        searches.append(_Search(velocity=float(v), case=case, jsc=jsc, ratio=bracket_ratio, start=start))
     settings = {"case": base.model_dump(mode="json"), "velocities_km_s": [s.velocity for s in searches],
                 "tolerance_cm": tolerance_cm, "bracket_ratio": bracket_ratio, "max_expansions": max_expansions,
                 "start_brackets_cm": {f"{s.velocity:g}": list(s.start) for s in searches}, "keep_all": keep_all}
@@ -147,11 +147,11 @@ def run_limit(raw: dict, velocities: list[float], outdir: str | Path, *, source:
                                  f"runs/{shot_name(search.velocity, d)}"))
             search.record(d, failed)
             family.finished += 1
-            _write_tables(family, searches, tolerance_cm, bracket_ratio, fragments)
+            _write_tables(family, searches, tolerance_cm, bracket_ratio)
             if progress:
                 progress(family.finished)
 
-        _write_tables(family, searches, tolerance_cm, bracket_ratio, fragments)
+        _write_tables(family, searches, tolerance_cm, bracket_ratio)
         while batch := [(s, d) for s in searches for d in s.pending()]:
             cases = case_variants(WhippleCase, raw, [shot_variant(base, s.velocity, d) for s, d in batch], source)
             summaries = [family.path / "runs" / shot_name(s.velocity, d) / "summary.json" for s, d in batch]
@@ -162,16 +162,15 @@ def run_limit(raw: dict, velocities: list[float], outdir: str | Path, *, source:
                         scheduler=scheduler, workers=shot_workers(scheduler, workers, len(batch)), address=address)
             for s in searches:
                 s.settle(tolerance_cm, max_expansions)
-            rows = _write_tables(family, searches, tolerance_cm, bracket_ratio, fragments)
+            rows = _write_tables(family, searches, tolerance_cm, bracket_ratio)
         _plot(family.path / "limit.png", bases[0], searches, rows, tolerance_cm)
     return rows
 
 
-def _write_tables(folder: FamilyFolder, searches: list[_Search], tolerance_cm: float, bracket_ratio: float,
-                  fragments: bool) -> list[dict]:
-    """``limit.csv``, ``limit.json`` and ``shots.csv`` as the searches stand (``fragments``: the case loads
-    the wall with the fragments of failed material, which the cautions say); returns the rows."""
-    rows = [_limit_row(s, fragments) for s in searches]
+def _write_tables(folder: FamilyFolder, searches: list[_Search], tolerance_cm: float, bracket_ratio: float
+                  ) -> list[dict]:
+    """``limit.csv``, ``limit.json`` and ``shots.csv`` as the searches stand; returns the rows."""
+    rows = [_limit_row(s) for s in searches]
     folder.write_csv("limit.csv", LIMIT_HEADER, [[r[k] for k in LIMIT_HEADER] for r in rows])
     folder.write_json("limit.json", {"tolerance_cm": tolerance_cm, "bracket_ratio": bracket_ratio,
                                      "start_brackets_cm": {f"{s.velocity:g}": list(s.start) for s in searches},
@@ -195,14 +194,14 @@ def _check_brackets(brackets: dict, velocities: list[float]) -> dict[float, tupl
     return checked
 
 
-def _limit_row(s: _Search, fragments: bool) -> dict:
+def _limit_row(s: _Search) -> dict:
     both = s.safe is not None and s.failed is not None
     return {"velocity_km_s": s.velocity,
             "limit_diameter_cm": 0.5 * (s.safe + s.failed) if both else None,
             "half_width_cm": 0.5 * abs(s.failed - s.safe) if both else None,
             "largest_safe_cm": s.safe, "smallest_failed_cm": s.failed,
             "jsc_critical_diameter_cm": s.jsc, "n_shots": len(s.shots), "status": s.status,
-            "caution": wall_caution(0.5 * (s.safe + s.failed), s.velocity, fragments=fragments) if both else None}
+            "caution": wall_caution(s.case, 0.5 * (s.safe + s.failed), s.velocity) if both else None}
 
 
 def tested_limits(case: WhippleCase) -> list:

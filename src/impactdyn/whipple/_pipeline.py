@@ -53,16 +53,16 @@ from pathlib import Path
 import numpy as np
 
 from impactdyn._config import dump_toml
-from impactdyn.units import KM_S_PER_CM_US
+from impactdyn.units import KM_S_PER_CM_US, km_s_to_cm_us
 from impactdyn._errors import InputError
 from impactdyn._runfolder import FolderWriter, RunFolder, check_target
 from impactdyn.whipple._case import WhippleCase
 from impactdyn.whipple._stages import DEPENDS, KEEP, STAGES, Progress, StageContext, read_stage, settings
 
 def _shield(s: StageContext) -> dict:
-    from impactdyn.shield import fragment_rows, origin_masses, run, write_fragments, write_particles
+    from impactdyn.shield import debris_fragments, fragment_rows, origin_masses, run, write_fragments, write_particles
     from impactdyn.whipple._case import projectile_mass, shield_problem
-    from impactdyn.whipple._cloud import debris_fragments, debris_state, fragment_figures, projectile_particles
+    from impactdyn.whipple._cloud import debris_state, fragment_figures, projectile_particles
 
     problem, options = shield_problem(s.case)
     t_end = s.case.shield.handoff_us
@@ -71,7 +71,8 @@ def _shield(s: StageContext) -> dict:
     write_particles(out.file("particles.h5"), result.state, result.history)
     if s.case.output.vtk:
         _write_points_vtk(out.file("particles.vtu"), result.state)
-    fragments = debris_fragments(result.state, problem, s.case)
+    fragments = debris_fragments(result.state, problem, s.case.fragment_options,
+                                 km_s_to_cm_us(s.case.projectile.velocity_km_s))
     write_fragments(out.file("fragments.h5"), fragments)
     from_projectile = origin_masses(fragments, result.state.mass, projectile_particles(problem))
     out.write_csv("fragments.csv", *fragment_rows(fragments, from_projectile_g=from_projectile))
@@ -115,10 +116,9 @@ def _write_points_vtk(path: Path, particles) -> None:
 def _binning(s: StageContext) -> dict:
     from impactdyn.hydrogrid import check_cells
     from impactdyn.io import write_grid
-    from impactdyn.shield import bin_to_hydrogrid
-    from impactdyn.shield import read_particles
+    from impactdyn.shield import bin_to_hydrogrid, compact_particles, read_particles
     from impactdyn.whipple._case import binning_region
-    from impactdyn.whipple._cloud import compact_fragments, compact_particles, stage_fragments
+    from impactdyn.whipple._cloud import compact_fragments, stage_fragments
 
     s.report("binning", 0, 1)
     particles, _ = read_particles(s.folder.path / "shield" / "particles.h5")
@@ -151,8 +151,7 @@ def _binning(s: StageContext) -> dict:
 
 
 def _debris(s: StageContext) -> dict:
-    from impactdyn.debris import build, check_seeding, run_debris
-    from impactdyn.debris import write_debris_files
+    from impactdyn.debris import build, check_seeding, run_debris, with_compact_fragments, write_debris_files
     from impactdyn.io import read_grid
     from impactdyn.whipple._case import debris_case
 
@@ -163,7 +162,7 @@ def _debris(s: StageContext) -> dict:
                   "the wall's front face (bumper.thickness_cm + wall.spacing_cm)", "the shield stage's hand-off")
     result = run_debris(**build(case, grid=grid), progress=s.report)
     landing = _landing_fragments(s.case, s.folder.path)
-    result, compact = _with_compact_fragments(s.case, result, *landing)
+    result, compact = with_compact_fragments(result, *landing, s.case.wall_front_y)
     summary = write_debris_files(s.folder.sub("debris"), result, case, decks=False, lean=s.lean,
                                  extra_summary={"compact_fragments": compact,
                                                 "peak_areal_density_mesh": _mesh_scale_peak(s.case, result, *landing)})
@@ -178,32 +177,15 @@ def _debris(s: StageContext) -> dict:
 
 def _landing_fragments(case: WhippleCase, folder: Path):
     """The compact fragments of the shield stage's debris (:func:`impactdyn.whipple._cloud.compact_fragments`)
-    and which of them reach the wall during the wall run: (fragments, inside (F,) bool).
-
-    A compact fragment lands whenever it arrives from ``[filter] t_min_us`` and has passed into the wall
-    (its rear at the face, d/v_y after its front: its records' last) by the wall run's end
-    (``wall_solver.end_time_us``, else its ceiling ``max_time_us``), not only inside the cloud's arrival
-    window (``t_cut_us``, the 1994 code's budget for its many particles): a slow solid fragment still
-    craters the wall it reaches.  One arriving after the run is stated by the debris summary, in mass and
-    momentum (``compact_fragments``), not silently dropped."""
-    from impactdyn.debris import compact_arrival_us
+    and which of them land during the wall run (:func:`impactdyn.debris.landing_mask`, the run ending at
+    ``wall_solver.end_time_us``, else its ceiling ``max_time_us``): (fragments, inside (F,) bool)."""
+    from impactdyn.debris import landing_mask
     from impactdyn.whipple._cloud import compact_fragments, stage_fragments
 
     fragments = compact_fragments(stage_fragments(folder), case)
-    arrival = compact_arrival_us(case.wall_front_y, fragments.diameter_cm, fragments.position, fragments.velocity)
     options = case.wall_options
     end = options.max_time_us if options.end_time_us is None else min(options.end_time_us, options.max_time_us)
-    passed = arrival + fragments.diameter_cm / fragments.velocity[:, 1]
-    return fragments, (arrival >= case.filter.t_min_us) & (passed <= end)
-
-
-def _compact_records(case: WhippleCase, face, fragments, inside):
-    """The records of the compact fragments that land inside the window on the face grid ``face``."""
-    from impactdyn.debris import compact_deposition
-
-    landing = fragments.select(inside)
-    return compact_deposition(face, case.wall_front_y, landing.mass, landing.diameter_cm, landing.position,
-                              landing.velocity)[0]
+    return fragments, landing_mask(fragments, case.wall_front_y, case.filter.t_min_us, end)
 
 
 def _mesh_scale_peak(case: WhippleCase, result, fragments, inside) -> dict:
@@ -211,7 +193,7 @@ def _mesh_scale_peak(case: WhippleCase, result, fragments, inside) -> dict:
     deposited on the wall mesh's own face cells, and those cells' smallest in-plane edge (cm): what the
     case's grid, on whose cells the wall is loaded, smooths away (the wall stage shares each case cell's
     impulse among the mesh's face cells it covers by area)."""
-    from impactdyn.debris import areal_density, element_impulse
+    from impactdyn.debris import areal_density, compact_records, element_impulse
     from impactdyn.wall import solver_grid
 
     if not result.deposition.element.size:
@@ -219,38 +201,9 @@ def _mesh_scale_peak(case: WhippleCase, result, fragments, inside) -> dict:
     face = solver_grid(result.wall, result.deposition, **case.wall_options.grid_settings())
     impulse = element_impulse(result.deposition_on(face), face)
     if inside.any():
-        impulse = impulse + element_impulse(_compact_records(case, face, fragments, inside), face)
+        impulse = impulse + element_impulse(compact_records(face, case.wall_front_y, fragments, inside), face)
     return {"peak_g_cm_us": float(areal_density(impulse, face).max()),
             "cell_cm": float(min(np.diff(face.x).min(), np.diff(face.z).min()))}
-
-
-def _with_compact_fragments(case: WhippleCase, result, fragments, inside):
-    """The debris result with the records of the compact fragments that land during the wall run
-    (:func:`impactdyn.debris.compact_deposition`, :func:`_landing_fragments`) added to the cloud's: the wall
-    and the decks read one deposition, the two populations in it.  A fragment whose front reaches the wall
-    before ``t_min_us`` or after the wall run lays down nothing.  Returns the result and the fragments'
-    record (how many, their mass and momentum in the half model, how many, how much mass and momentum
-    arrive outside the wall run (``*_outside_window``: the compact fragments' window is the wall run), the
-    momentum their records deposit; ``momentum_deposited`` of the summary holds both populations)."""
-    from impactdyn.debris import areal_density, element_impulse, half_model_share
-    from impactdyn.wallgrid import WallDeposition
-
-    records = _compact_records(case, result.wall, fragments, inside)
-    share = half_model_share(fragments.position, fragments.diameter_cm)
-    mass = share * fragments.mass          # in the half model: images carry none of their own
-    record = {"n_fragments": int(np.count_nonzero(share)), "mass_g": float(mass.sum()),
-              "momentum": (mass @ fragments.velocity).tolist(),
-              "n_outside_window": int(np.count_nonzero(share[~inside])),
-              "mass_outside_window_g": float(mass[~inside].sum()),
-              "momentum_outside_window": (mass[~inside] @ fragments.velocity[~inside]).tolist(),
-              "momentum_deposited": records.impulse.sum(axis=0).tolist()}
-    if not len(records.element):
-        return result, record
-    deposition = WallDeposition(element=np.concatenate([result.deposition.element, records.element]),
-                                time=np.concatenate([result.deposition.time, records.time]),
-                                impulse=np.concatenate([result.deposition.impulse, records.impulse]))
-    impulse = result.impulse + element_impulse(records, result.wall)
-    return replace(result, deposition=deposition, impulse=impulse, areal=areal_density(impulse, result.wall)), record
 
 
 def _wall(s: StageContext) -> dict:

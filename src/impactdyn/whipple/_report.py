@@ -105,13 +105,14 @@ VALIDATION_DIAMETER_CM = VALIDATION.diameter_cm
 VALIDATION_VELOCITY_KM_S = VALIDATION.velocity_km_s
 
 
-def wall_caution(d: float, v: float, *, fragments: bool = False) -> str:
-    """Why the simulated verdict of a projectile of diameter ``d`` (cm) at ``v`` (km/s) should not be
-    read without the equation's: :data:`WALL_VALIDATION` (``fragments``: the case loads the wall with the
-    fragments of failed material, :data:`FRAGMENTS_VALIDATION`), and whether the shot lies outside the
-    validation shots (:data:`VALIDATION_DIAMETER_CM`, :data:`VALIDATION_VELOCITY_KM_S`)."""
+def wall_caution(case: WhippleCase, d: float, v: float) -> str:
+    """Why the simulated verdict of ``case``'s shield against a projectile of diameter ``d`` (cm) at ``v``
+    (km/s) should not be read without the equation's: what validation stands behind the case's wall load
+    (:data:`WALL_VALIDATION`, or :data:`FRAGMENTS_VALIDATION` where the case loads the wall with the
+    fragments of failed material), and whether the shot lies outside the validation shots
+    (:data:`VALIDATION_DIAMETER_CM`, :data:`VALIDATION_VELOCITY_KM_S`)."""
     (d_lo, d_hi), (v_lo, v_hi) = VALIDATION_DIAMETER_CM, VALIDATION_VELOCITY_KM_S
-    notes = [FRAGMENTS_VALIDATION if fragments else WALL_VALIDATION]
+    notes = [FRAGMENTS_VALIDATION if case.fragment_options.grady else WALL_VALIDATION]
     if not d_lo <= d <= d_hi:
         notes.append(f"d = {d:g} cm is outside the validation shots' {d_lo:g}-{d_hi:g} cm")
     if not v_lo <= v <= v_hi:
@@ -220,8 +221,7 @@ def write_report(folder: FolderWriter, case: WhippleCase, keep: str = "all") -> 
         "cloud": cloud,
         "deposition": deposition,
         "wall": wall_figures(records["wall"], ble) | {
-            "caution": wall_caution(case.projectile.diameter_cm, case.projectile.velocity_km_s,
-                                    fragments=case.shield.failed_fragments == "grady")},
+            "caution": wall_caution(case, case.projectile.diameter_cm, case.projectile.velocity_km_s)},
         "stages": {name: {k: v for k, v in r.items() if k not in ("stage", "settings")}
                    for name, r in records.items()},
         "timings_s": {name: r["wall_time_s"] for name, r in records.items()},
