@@ -592,3 +592,59 @@ def test_a_fragmenting_shot_reports_its_solid_fragments(tmp_path, make_case, fai
     assert compact["mass_outside_window_g"] == pytest.approx(mass[~inside].sum(), rel=1e-12, abs=1e-15)
     assert np.array(compact["momentum_deposited"])[1:] == pytest.approx(
         (mass[inside] @ fragments.velocity[inside])[1:], rel=1e-9)
+
+
+def test_draws_run_the_sph_once_and_each_draw_as_a_run_with_its_seed(tmp_path, make_case):
+    """``fragment_draws = 3``: the run's own wall is the first draw, and each further draw, the fragments drawn
+    again from the same SPH state, is the run a case with that seed would make (its deposition and wall,
+    bit for bit); the record counts the perforations and states P with its Wilson interval."""
+    from impactdyn.ble import wilson_interval
+    from impactdyn.whipple._stages import FAILED_VERDICTS
+
+    keys = dict(shield__failure_model="fragmentation", shield__spacing_cm=0.05, shield__handoff_us=3.0,
+                projectile__velocity_km_s=2.0, wall_solver__max_time_us=30.0, shield__failed_fragments="grady",
+                filter__t_cut_us=12.0)
+    out = tmp_path / "run"
+    assert main(["whipple", "run", str(make_case(tmp_path, **keys)), "-o", str(out), "--draws", "3"]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    draws = summary["draws"]
+    assert [d["seed"] for d in draws["draws"]] == [1, 2, 3] and draws["n_draws"] == 3
+    assert draws["draws"][0]["verdict"] == summary["wall"]["verdict"]
+    k = sum(d["verdict"] in FAILED_VERDICTS for d in draws["draws"])
+    assert draws["perforated"] == k and draws["probability"] == k / 3
+    assert draws["wilson_95"] == pytest.approx(list(wilson_interval(k, 3)), abs=0)
+    assert f"perforation in {k} of 3 draws" in (out / "report.html").read_text()
+    # the third draw is the run of a case with seed 3: its wall's record, bit for bit
+    alone = tmp_path / "seed3"
+    assert main(["whipple", "run", str(make_case(tmp_path, name="seed3.toml", shield__fragment_seed=3, **keys)),
+                 "-o", str(alone)]) == 0
+    drawn = json.loads((out / "draws" / "seed3" / "wall" / "stage.json").read_text())
+    single = json.loads((alone / "wall" / "stage.json").read_text())
+    for key in ("verdict", "evidence", "measures", "mesh"):
+        assert drawn[key] == single[key], key
+    for stage in ("binning", "debris"):
+        a = json.loads((out / "draws" / "seed3" / stage / "stage.json").read_text())
+        b = json.loads((alone / stage / "stage.json").read_text())
+        assert {k: v for k, v in a.items() if k not in ("wall_time_s", "settings", "timings_s")} == \
+            {k: v for k, v in b.items() if k not in ("wall_time_s", "settings", "stage", "timings_s")} | {"stage": stage}
+    assert not list((out / "draws").rglob("*.h5"))      # the draws keep what a lean shot keeps
+
+
+@pytest.mark.parametrize("draws, message", [("0", "shield.fragment_draws: must be greater than or equal to 1"),
+                                            ("-2", "shield.fragment_draws: must be greater than or equal to 1"),
+                                            ("65", "shield.fragment_draws: must be less than or equal to 64"),
+                                            ("2.5", "'--draws'"), ("many", "'--draws'")])
+def test_a_bad_number_of_draws_is_refused_naming_it_before_any_work(tmp_path, capsys, make_case, draws, message):
+    case = make_case(tmp_path, shield__failure_model="fragmentation", shield__failed_fragments="grady")
+    out = tmp_path / "run"
+    assert main(["whipple", "run", str(case), "-o", str(out), "--draws", draws]) == 2
+    err = capsys.readouterr().err
+    assert message in err and "Traceback" not in err
+    assert not out.exists()
+
+
+def test_draws_need_the_random_partition(tmp_path, capsys, make_case):
+    out = tmp_path / "run"
+    assert main(["whipple", "run", str(make_case(tmp_path, shield__fragment_draws=2)), "-o", str(out)]) == 2
+    assert "fragment_draws = 2 needs failed_fragments = \"grady\"" in capsys.readouterr().err
+    assert not out.exists()

@@ -13,12 +13,15 @@ app = typer.Typer(help="Whipple shield: SPH shield impact → debris cloud → r
                        "and verdict → decks and report.",
                   no_args_is_help=True)
 
-STAGE_HELP = "shield, binning, debris, wall, decks or report"
+STAGE_HELP = "shield, binning, debris, wall, draws, decks or report"
 KEEP_HELP = ("lean (default): what the report, ParaView and a restart (--from) need; all: every file besides "
              "(the debris particles' states and VTU files, every frame of the wall's ParaView series, the "
              "LS-DYNA and DYNA3D decks).")
 RESUME_HELP = ("Go on in the folder an interrupted run of the same command left: its finished shots are "
                "read back, not run again (the case and options must be the same).")
+DRAWS_HELP = ("Draws of the fragments' random partition ([shield] fragment_draws, 1-64; needs failed_fragments = "
+              "\"grady\"): the SPH once, then per draw the fragments, the debris and the wall; prints the "
+              "perforations in k of N draws with P and its 95 % interval.")
 
 
 @app.command()
@@ -29,14 +32,15 @@ def run(
                                                        "stages are taken from the existing run folder."),
     force: bool = typer.Option(False, "--force", help="Overwrite an existing run folder."),
     keep: str = typer.Option("lean", "--keep", metavar="lean|all", help=KEEP_HELP),
+    draws: Optional[int] = typer.Option(None, "--draws", metavar="N", help=DRAWS_HELP),
 ):
     """Run a shot end to end: shield impact, binning, debris flight and deposition on the rear wall, the wall's
     finite-element response and its verdict (perforation, detached spall or no perforation, beside the JSC
     equation's), wall decks, report."""
-    from impactdyn.whipple import load_whipple_case
+    from impactdyn._config import load_toml
 
     _check_keep(keep)
-    _echo_summary(_run_with_progress(load_whipple_case(case), out, start, force, keep), out)
+    _echo_summary(_run_with_progress(_with_draws(load_toml(case), draws, str(case)), out, start, force, keep), out)
 
 
 @app.command()
@@ -53,6 +57,7 @@ def shot(
                                                    "test's outcome and the JSC verdict."),
     force: bool = typer.Option(False, "--force", help="Overwrite an existing run folder or case file."),
     keep: str = typer.Option("lean", "--keep", metavar="lean|all", help=KEEP_HELP),
+    draws: Optional[int] = typer.Option(None, "--draws", metavar="N", help=DRAWS_HELP),
 ):
     """Run a shot of the test database (or write its case) and print the test's outcome beside the verdicts."""
     from impactdyn._errors import InputError
@@ -77,9 +82,20 @@ def shot(
         typer.echo(f"test {test.name}: {test.outcome}; simulated: not run "
                    f"(impactdyn whipple run {write_case} -o OUT); JSC: {ble_verdict(WhippleCase.model_validate(raw))['verdict']}")
         return
-    s = _run_with_progress(WhippleCase.model_validate(raw), out, "shield", force, keep)
+    s = _run_with_progress(_with_draws(raw, draws, f"shot {test.name}"), out, "shield", force, keep)
     _echo_summary(s, out)
     typer.echo(f"test {test.name}: {test.outcome}; simulated: {s['wall']['verdict']}; JSC: {s['ble']['verdict']}")
+
+
+def _with_draws(raw: dict, draws: int | None, source: str):
+    """The case of ``raw`` with ``--draws`` set as ``shield.fragment_draws`` (validated: a bad N is refused
+    naming the flag and the key)."""
+    from impactdyn._config import set_dotted, validate
+    from impactdyn.whipple import WhippleCase
+
+    if draws is None:
+        return validate(WhippleCase, raw, source)
+    return validate(WhippleCase, set_dotted(raw, "shield.fragment_draws", draws), f"{source} (--draws {draws})")
 
 
 def _check_keep(keep: str) -> None:
@@ -101,7 +117,7 @@ def _run_with_progress(case, out: Path, start: str, force: bool, keep: str = "le
 
 def _echo_summary(s: dict, out: Path) -> None:
     """The lines a finished run prints: the equation's verdict, the cloud, the load and the wall's response."""
-    from impactdyn.whipple import wall_ending, wall_permanent_bulge
+    from impactdyn.whipple import draws_statement, wall_ending, wall_permanent_bulge
 
     ble, cloud, dep = s["ble"], s["cloud"], s["deposition"]
     typer.echo(f"ballistic limit ({ble['equation']}): perforation above d = {ble['threshold_cm']:.4f} cm "
@@ -123,6 +139,8 @@ def _echo_summary(s: dict, out: Path) -> None:
                    f"{share['outside_window']:.1f} % outside the arrival window ([filter] t_min_us, t_cut_us; "
                    "compact fragments: the wall run)")
     w = s["wall"]
+    if s["draws"]["n_draws"] > 1:
+        typer.echo(f"over the fragments' draws: {draws_statement(s['draws'])}")
     typer.echo(f"wall response: {w['verdict']} ({w['criterion']}); crater depth {w.get('crater_depth_ratio', 0):.2f} "
                f"of the thickness, rear bulge {w.get('rear_bulge_cm', 0):.3g} cm; report in {Path(out) / 'report.html'}")
     if w.get("caution"):

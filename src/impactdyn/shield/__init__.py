@@ -19,7 +19,7 @@ Typical use::
 
 from impactdyn.shield._binning import BinningMethod, bin_to_hydrogrid
 from impactdyn.shield._debris_fragments import (COMPACT_MIN_PARTICLES, DEBRIS_FRAGMENT_SPEED_FRACTION, FRAGMENT_KEYS,
-                                                FragmentOptions, compact_fragments, compact_particles,
+                                                MAX_FRAGMENT_DRAWS, FragmentOptions, compact_fragments, compact_particles,
                                                 debris_fragments)
 from impactdyn.shield._fragment_rate import own_size_strain_rates
 from impactdyn.shield._fragments import (Fragments, cumulative_mass, cumulative_number, find_fragments, fragment_rows,
@@ -36,7 +36,7 @@ from impactdyn.shield._state import TENSOR_COMPONENTS, History, Particles, RunRe
 
 __all__ = [
     "BinningMethod", "COMPACT_MIN_PARTICLES", "DEBRIS_FRAGMENT_SPEED_FRACTION", "DEFAULT_PLATE_RADIUS_D",
-    "FRAGMENT_KEYS", "FragmentOptions", "compact_fragments", "compact_particles", "debris_fragments", "Domain", "FAILURE_MODELS", "FLOW_STRESS_MODELS", "FailureModel", "FlowStress", "Fragments",
+    "FRAGMENT_KEYS", "FragmentOptions", "MAX_FRAGMENT_DRAWS", "compact_fragments", "compact_particles", "debris_fragments", "Domain", "FAILURE_MODELS", "FLOW_STRESS_MODELS", "FailureModel", "FlowStress", "Fragments",
     "History", "MELTED_SHARE", "Particles", "ReleasedPhase", "Problem", "RunResult", "SPHError", "SPHOptions", "TENSOR_COMPONENTS", "bin_to_hydrogrid",
     "cumulative_mass", "cumulative_number", "find_fragments", "fragment_rows", "fragments_of", "grady_fragment_size", "grady_fragments", "grady_sizes",
     "join_fragments", "neighbour_pairs", "origin_masses", "own_size_strain_rates", "planar_impact",

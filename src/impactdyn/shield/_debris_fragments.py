@@ -14,7 +14,7 @@ from __future__ import annotations
 from typing import Annotated, Literal
 
 import numpy as np
-from pydantic import Field
+from pydantic import Field, model_validator
 
 from impactdyn._config import Positive, Section
 
@@ -25,6 +25,10 @@ FragmentRate = Literal["own_size", "at_failure"]
 #: projectile's speed: the bumper's remnant, the largest intact body, moves at a few m/s (7 m/s in a
 #: 2-km/s shot), the debris at hundreds of m/s and more.
 DEBRIS_FRAGMENT_SPEED_FRACTION = 0.05
+
+#: The most draws of the partition one run may take: each draw is a wall run (20–60 s warm on 2 cores for
+#: Table 2's 7a), so 64 draws are about an hour; more is a campaign, not a run.
+MAX_FRAGMENT_DRAWS = 64
 
 #: An intact debris fragment flies to the wall as a compact body when the SPH resolves it (at least
 #: this many particles: two across).
@@ -44,6 +48,10 @@ class FragmentOptions(Section):
         ``fragment_rate`` (:func:`impactdyn.shield.grady_fragments`, seeded by ``fragment_seed``), those the wall
         resolves flying to it as compact bodies.  Needs the fragmentation failure model.
     fragment_seed : the seed of the random partition of the failed material into Grady's fragments.
+    fragment_draws : how many partitions of the failed material a run draws, with the seeds
+        ``fragment_seed``, ``fragment_seed + 1``, …: the SPH runs once, each draw's fragments fly to its own
+        wall, and the run reports the perforations in k of N draws, P = k/N with its Wilson 95 % interval
+        (1 to 64; more than 1 needs ``failed_fragments = "grady"``, the only random part).
     fragment_rate : the stretching rate that sizes Grady's fragments: ``"own_size"``, the velocity gradient
         of the failed material across each fragment's own size, against the particles' initial positions
         (:func:`impactdyn.shield.own_size_strain_rates`); ``"at_failure"``, the kernel-scale rate each
@@ -58,8 +66,21 @@ class FragmentOptions(Section):
     fragment_damage_threshold: Annotated[float, Field(gt=0, le=1)] = 1.0
     failed_fragments: FailedFragments = "spray"
     fragment_seed: Annotated[int, Field(ge=0)] = 1
+    fragment_draws: Annotated[int, Field(ge=1, le=MAX_FRAGMENT_DRAWS)] = 1
     fragment_rate: FragmentRate = "own_size"
     compact_bodies: bool = False
+
+    @model_validator(mode="after")
+    def _draws_need_a_random_partition(self) -> "FragmentOptions":
+        if self.fragment_draws > 1 and not self.grady:
+            raise ValueError(f"fragment_draws = {self.fragment_draws} needs failed_fragments = \"grady\": without "
+                             "Grady's partition the fragments are not drawn, and every draw would be the same")
+        return self
+
+    @property
+    def seeds(self) -> tuple[int, ...]:
+        """The partition seeds of the draws: ``fragment_seed`` and the next ``fragment_draws − 1``."""
+        return tuple(range(self.fragment_seed, self.fragment_seed + self.fragment_draws))
 
     @property
     def grady(self) -> bool:
@@ -69,7 +90,7 @@ class FragmentOptions(Section):
 
 #: The keys of :class:`FragmentOptions` a case table sets.
 FRAGMENT_KEYS = ("fragment_link_spacings", "fragment_damage_threshold", "failed_fragments", "fragment_seed",
-                 "fragment_rate")
+                 "fragment_draws", "fragment_rate")
 
 
 def debris_fragments(particles, problem, options: FragmentOptions, impact_speed_cm_us: float):

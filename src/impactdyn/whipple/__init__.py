@@ -19,7 +19,7 @@ from impactdyn.whipple._rerun import rerun_wall
 from impactdyn.whipple._stages import STAGES, read_stage
 from impactdyn.whipple._database_shot import (ALLOYS, DatabaseShot, alloy_substitutions, database_shot, database_shot_case,
                                           database_shot_case_text)
-from impactdyn.whipple._report import ble_verdict, wall_ending, wall_permanent_bulge
+from impactdyn.whipple._report import ble_verdict, draws_statement, wall_ending, wall_permanent_bulge
 from impactdyn.whipple._selection import SelectionRule, fix_rule, load_rule, rule_hash, select_shots
 from impactdyn.whipple._validate import run_validation, score_validation
 from impactdyn.whipple._validation_record import (ValidationRecord, limit_statement, record_validation,
@@ -28,6 +28,6 @@ from impactdyn.whipple._validation_record import (ValidationRecord, limit_statem
 __all__ = ["ALLOYS", "STAGES", "DatabaseShot", "SelectionRule", "WhippleCase", "ble_verdict", "cloud_figures",
            "database_shot", "database_shot_case", "fix_rule", "load_rule", "load_whipple_case", "read_stage",
            "rerun_wall", "rule_hash", "run_campaign", "run_limit", "run_validation", "run_whipple", "score_validation",
-           "select_shots", "shield_problem", "wall_ending", "wall_permanent_bulge", "ValidationRecord",
+           "draws_statement", "select_shots", "shield_problem", "wall_ending", "wall_permanent_bulge", "ValidationRecord",
            "limit_statement", "record_validation", "validation_record", "alloy_substitutions",
            "database_shot_case_text"]

@@ -22,7 +22,7 @@ from impactdyn._family import FamilyFolder, run_members
 from impactdyn._sweep import case_variants
 from impactdyn.whipple._case import WhippleCase
 from impactdyn.whipple._shots import run_shot, shot_name, shot_tasks, shot_variant, shot_workers
-from impactdyn.whipple._limit import FAILED_VERDICTS
+from impactdyn.whipple._stages import FAILED_VERDICTS
 
 CAMPAIGN_HEADER = [
     "velocity_km_s", "diameter_cm", "ble_critical_diameter_cm", "ble_regime", "ble_verdict",

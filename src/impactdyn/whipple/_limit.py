@@ -46,6 +46,7 @@ from impactdyn._family import FamilyFolder, run_members
 from impactdyn._sweep import case_variants
 from impactdyn.whipple._case import WhippleCase
 from impactdyn.whipple._report import ble_verdict, wall_caution
+from impactdyn.whipple._stages import FAILED_VERDICTS
 from impactdyn.whipple._shots import run_shot, shot_name, shot_tasks, shot_variant, shot_workers
 from impactdyn.whipple._database_shot import ALLOYS
 
@@ -53,8 +54,6 @@ LIMIT_HEADER = ["velocity_km_s", "limit_diameter_cm", "half_width_cm", "largest_
                 "jsc_critical_diameter_cm", "n_shots", "status", "caution"]
 SHOTS_HEADER = ["velocity_km_s", "diameter_cm", "simulated_verdict", "failed", "jsc_verdict", "run"]
 
-#: Simulated verdicts that count as a failed rear wall (JSC test practice).
-FAILED_VERDICTS = ("perforation", "detached spall")
 
 
 @dataclass

@@ -57,12 +57,12 @@ from impactdyn.units import KM_S_PER_CM_US, km_s_to_cm_us
 from impactdyn._errors import InputError
 from impactdyn._runfolder import FolderWriter, RunFolder, check_target
 from impactdyn.whipple._case import WhippleCase
-from impactdyn.whipple._stages import DEPENDS, KEEP, STAGES, Progress, StageContext, read_stage, settings
+from impactdyn.whipple._stages import (DEPENDS, FAILED_VERDICTS, KEEP, STAGES, Progress, StageContext, read_stage,
+                                      settings)
 
 def _shield(s: StageContext) -> dict:
-    from impactdyn.shield import debris_fragments, fragment_rows, origin_masses, run, write_fragments, write_particles
-    from impactdyn.whipple._case import projectile_mass, shield_problem
-    from impactdyn.whipple._cloud import debris_state, fragment_figures, projectile_particles
+    from impactdyn.shield import run, write_particles
+    from impactdyn.whipple._case import shield_problem
 
     problem, options = shield_problem(s.case)
     t_end = s.case.shield.handoff_us
@@ -71,11 +71,6 @@ def _shield(s: StageContext) -> dict:
     write_particles(out.file("particles.h5"), result.state, result.history)
     if s.case.output.vtk:
         _write_points_vtk(out.file("particles.vtu"), result.state)
-    fragments = debris_fragments(result.state, problem, s.case.fragment_options,
-                                 km_s_to_cm_us(s.case.projectile.velocity_km_s))
-    write_fragments(out.file("fragments.h5"), fragments)
-    from_projectile = origin_masses(fragments, result.state.mass, projectile_particles(problem))
-    out.write_csv("fragments.csv", *fragment_rows(fragments, from_projectile_g=from_projectile))
     h = result.history
     p0 = h.momentum[0]
     e0 = h.total_energy[0]
@@ -94,10 +89,25 @@ def _shield(s: StageContext) -> dict:
         "kinetic_final": float(h.kinetic[-1]),
         "internal_final": float(h.internal[-1]),
         "n_failed": int(result.state.failed.sum()),
-        "fragments": fragment_figures(fragments, from_projectile, projectile_mass(s.case)),
-        "debris_state": debris_state(result.state, projectile_particles(problem), fragments,
-                                     s.case.bumper.thickness_cm, projectile_mass(s.case)),
-    }
+    } | _write_fragments(s.case, out, result.state, problem)
+
+
+def _write_fragments(case: WhippleCase, out: FolderWriter, particles, problem) -> dict:
+    """The debris's fragments of the shield stage's state (:func:`impactdyn.shield.debris_fragments` with the
+    case's fragment options) into ``out`` (``fragments.h5``, ``fragments.csv``); returns their figures and the
+    debris's state for the stage record."""
+    from impactdyn.shield import debris_fragments, fragment_rows, origin_masses, write_fragments
+    from impactdyn.whipple._case import projectile_mass
+    from impactdyn.whipple._cloud import debris_state, fragment_figures, projectile_particles
+
+    fragments = debris_fragments(particles, problem, case.fragment_options, km_s_to_cm_us(case.projectile.velocity_km_s))
+    write_fragments(out.file("fragments.h5"), fragments)
+    projectile = projectile_particles(problem)
+    from_projectile = origin_masses(fragments, particles.mass, projectile)
+    out.write_csv("fragments.csv", *fragment_rows(fragments, from_projectile_g=from_projectile))
+    return {"fragments": fragment_figures(fragments, from_projectile, projectile_mass(case)),
+            "debris_state": debris_state(particles, projectile, fragments, case.bumper.thickness_cm,
+                                         projectile_mass(case))}
 
 
 def _write_points_vtk(path: Path, particles) -> None:
@@ -224,6 +234,44 @@ def _wall(s: StageContext) -> dict:
     return result.summary() | {"files": sorted(f"wall/{p.relative_to(out.path).as_posix()}" for p in files.values())}
 
 
+def _draws(s: StageContext) -> dict:
+    """The partition's draws (``[shield] fragment_draws``): the run's own wall is the first draw; each further
+    seed draws the fragments again from the same SPH state and runs the binning, the debris and the wall
+    into ``draws/seed<k>/``, which keeps what a lean shot of a family keeps (stage records, the wall's
+    measures, plots: :func:`impactdyn.whipple._shots.prune_run`).  The record: each draw's seed and verdict,
+    the perforations k of N (:data:`FAILED_VERDICTS`) and P = k/N with its Wilson 95 % interval."""
+    from impactdyn.ble import Proportion
+    from impactdyn.shield import read_particles
+    from impactdyn.whipple._case import shield_problem
+    from impactdyn.whipple._shots import LEAN_OUTPUT, prune_run
+
+    seeds = s.case.fragment_options.seeds
+    verdicts = [read_stage(s.folder.path, "wall")["verdict"]]
+    if len(seeds) > 1:
+        particles, _ = read_particles(s.folder.path / "shield" / "particles.h5")
+        problem = shield_problem(s.case)[0]
+    for done, seed in enumerate(seeds[1:], start=1):
+        s.report("draws", done, len(seeds))
+        case = s.case.model_copy(update={"shield": s.case.shield.model_copy(update={"fragment_seed": seed}),
+                                         "output": s.case.output.model_copy(update=LEAN_OUTPUT)})
+        draw = StageContext(case, s.folder.sub(f"draws/seed{seed}"), None, "lean")
+        shield = draw.folder.sub("shield")
+        shield.write_json("stage.json", {"stage": "shield", "fragment_seed": seed}
+                          | _write_fragments(case, shield, particles, problem))
+        # the later stages read the SPH state from their run folder's shield/: the run's own, not a copy
+        (shield.path / "particles.h5").symlink_to(s.folder.path / "shield" / "particles.h5")
+        for stage in ("binning", "debris", "wall"):
+            draw.folder.sub(stage).write_json("stage.json", {"stage": stage} | _RUN[stage](draw))
+        prune_run(draw.folder.path)
+        verdicts.append(read_stage(draw.folder.path, "wall")["verdict"])
+    s.report("draws", len(seeds), len(seeds))
+    failed = [v in FAILED_VERDICTS for v in verdicts]
+    p = Proportion.of_counts(sum(failed), len(failed))
+    return {"n_draws": len(seeds), "draws": [{"seed": seed, "verdict": v, "perforated": f}
+                                             for seed, v, f in zip(seeds, verdicts, failed)],
+            "perforated": p.count, "probability": p.rate, "wilson_95": [p.low, p.high]}
+
+
 def _decks(s: StageContext) -> dict:
     """The decks of the mesh the wall stage runs, loaded as the wall stage loads it: the records on the
     case's grid shared among the mesh's face cells by area (:func:`impactdyn.wall.solver_mesh`)."""
@@ -270,7 +318,8 @@ def _report(s: StageContext) -> dict:
     return record
 
 
-_RUN = {"shield": _shield, "binning": _binning, "debris": _debris, "wall": _wall, "decks": _decks, "report": _report}
+_RUN = {"shield": _shield, "binning": _binning, "debris": _debris, "wall": _wall, "draws": _draws, "decks": _decks,
+        "report": _report}
 
 
 def run_whipple(case: WhippleCase, outdir: str | Path, *, start: str = "shield", force: bool = False,

@@ -120,6 +120,15 @@ def wall_caution(case: WhippleCase, d: float, v: float) -> str:
     return "; ".join(notes) + ": read the equation's verdict beside it"
 
 
+def draws_statement(draws: dict) -> str:
+    """"perforation in k of N draws (P = k/N, 95 % interval lo–hi; seeds …)" of the draws stage's record."""
+    low, high = draws["wilson_95"]
+    seeds = [d["seed"] for d in draws["draws"]]
+    return (f"perforation in {draws['perforated']} of {draws['n_draws']} draw{'s' if draws['n_draws'] > 1 else ''} "
+            f"of the fragments (P = {draws['probability']:.2f}, 95 % interval {low:.2f}–{high:.2f}; "
+            f"seed{'s' if len(seeds) > 1 else ''} {', '.join(map(str, seeds))})")
+
+
 def wall_figures(wall: dict, ble: dict) -> dict:
     """The wall stage's verdict beside the equation's, and its headline measures."""
     m = wall["measures"]
@@ -222,6 +231,7 @@ def write_report(folder: FolderWriter, case: WhippleCase, keep: str = "all") -> 
         "deposition": deposition,
         "wall": wall_figures(records["wall"], ble) | {
             "caution": wall_caution(case, case.projectile.diameter_cm, case.projectile.velocity_km_s)},
+        "draws": {k: v for k, v in records["draws"].items() if k not in ("stage", "settings", "wall_time_s")},
         "stages": {name: {k: v for k, v in r.items() if k not in ("stage", "settings")}
                    for name, r in records.items()},
         "timings_s": {name: r["wall_time_s"] for name, r in records.items()},
@@ -455,6 +465,7 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
     wall = s["wall"]
     wall_rows = _rows([
         ("simulated verdict", f"{wall['verdict']} ({wall['criterion']})"),
+        ("perforation over the partition's draws", draws_statement(s["draws"])),
         ("equation's verdict", f"{ble['verdict']} ({ble['equation']})"),
         ("caution", wall["caution"]),
         ("crater depth / wall thickness", _crater(wall)),

@@ -19,7 +19,10 @@ from impactdyn._errors import InputError
 from impactdyn._runfolder import FolderWriter
 from impactdyn.whipple._case import WhippleCase
 
-STAGES = ("shield", "binning", "debris", "wall", "decks", "report")
+STAGES = ("shield", "binning", "debris", "wall", "draws", "decks", "report")
+
+#: Simulated verdicts that count as a failed rear wall (JSC test practice).
+FAILED_VERDICTS = ("perforation", "detached spall")
 
 #: Case tables each stage's result depends on (cumulative: a stage depends on the ones before it).
 #: ``compute`` is left out: where the particle chunks run does not change the result.
@@ -28,6 +31,7 @@ DEPENDS = {
     "binning": ("binning",),
     "debris": ("wall", "debris", "filter", "integrator", "legacy"),
     "wall": ("wall_solver",),
+    "draws": (),
     "decks": ("output",),
     "report": (),
 }

@@ -31,7 +31,7 @@ from impactdyn._errors import InputError
 from impactdyn._family import FamilyFolder, run_members
 from impactdyn.ble import mcnemar, score_by_distance
 from impactdyn.whipple._case import WhippleCase
-from impactdyn.whipple._limit import FAILED_VERDICTS
+from impactdyn.whipple._stages import FAILED_VERDICTS
 from impactdyn.whipple._report import ble_verdict
 from impactdyn.whipple._shots import run_shot, shot_tasks, shot_workers
 from impactdyn.whipple._database_shot import DatabaseShot, database_shot_case
