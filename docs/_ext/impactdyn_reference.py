@@ -249,7 +249,7 @@ API_MODULES = {
     "io": "File formats: grids, legacy DC3D and CTH files, LS-DYNA and DYNA3D decks, VTK.",
     "hydrogrid": "The hand-off state on a rectilinear grid.",
     "wallgrid": "The wall's brick mesh and the deposited momentum.",
-    "materials": "The material library with its sources.",
+    "materials": "One record per alloy, the registry, and the library with its sources.",
     "constitutive": "Compiled equation-of-state and strength kernels shared by the SPH and FE solvers.",
     "units": "Unit conversions.",
 }

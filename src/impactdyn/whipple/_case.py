@@ -267,13 +267,11 @@ class WhippleCase(Section):
     def _fits(self) -> "WhippleCase":
         p, b, w, s = self.projectile, self.bumper, self.wall, self.shield
         if s.failed_fragments == "grady":
-            from impactdyn.materials import FRACTURE_TOUGHNESS
-
             lacking = [f"{key}.material = {m.material!r}" for key, m in (("projectile", p), ("bumper", b))
-                       if get_material(m.material).name not in FRACTURE_TOUGHNESS]
+                       if get_material(m.material).fracture_toughness is None]
             if lacking:
                 raise ValueError(f"shield.failed_fragments = \"grady\": no fracture toughness for "
-                                 f"{', '.join(lacking)} (impactdyn.materials.FRACTURE_TOUGHNESS)")
+                                 f"{', '.join(lacking)} (no fracture_toughness in its material record)")
         coarse = spacing_too_coarse(s.spacing_cm, p.diameter_cm, b.thickness_cm, plate="bumper")
         if coarse:
             raise ValueError(f"shield.spacing_cm = {s.spacing_cm} is too coarse {coarse}")
