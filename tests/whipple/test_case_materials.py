@@ -75,7 +75,8 @@ BAD = [
     ({"materials.al6061-t6": {"eos": {}, "strength": {}}}, "materials.al6061-t6.eos.density_g_cm3: missing key"),
     ({"materials.ti6al4v.phase.boiling_K": 1000.0}, "materials.ti6al4v.phase: needs solidus_K <= liquidus_K"),
     ({"shield.failure_model": "fragmentation"}, "needs the Weibull flaws"),
-    ({"shield.failure_model": "fragmentation", "shield.failed_fragments": "grady"}, "material 'ti6al4v'"),
+    ({"shield.failure_model": "fragmentation", "shield.failed_fragments": "grady"},
+     "no fracture toughness for projectile.material = 'ti6al4v'"),
 ]
 
 

@@ -280,6 +280,12 @@ class WhippleCase(Section):
     @model_validator(mode="after")
     def _fits(self) -> "WhippleCase":
         p, b, w, s = self.projectile, self.bumper, self.wall, self.shield
+        if s.failed_fragments == "grady":
+            lacking = [f"{key}.material = {m.material!r}" for key, m in (("projectile", p), ("bumper", b))
+                       if get_material(m.material).fracture_toughness is None]
+            if lacking:
+                raise ValueError(f"shield.failed_fragments = \"grady\": no fracture toughness for "
+                                 f"{', '.join(lacking)} (no fracture_toughness in its material record)")
         if s.failure_model == "fragmentation":
             for key, m in (("projectile", p), ("bumper", b)):
                 try:
@@ -287,12 +293,6 @@ class WhippleCase(Section):
                                                                       "= \"fragmentation\"")
                 except InputError as err:
                     raise ValueError(str(err)) from None
-        if s.failed_fragments == "grady":
-            lacking = [f"{key}.material = {m.material!r}" for key, m in (("projectile", p), ("bumper", b))
-                       if get_material(m.material).fracture_toughness is None]
-            if lacking:
-                raise ValueError(f"shield.failed_fragments = \"grady\": no fracture toughness for "
-                                 f"{', '.join(lacking)} (no fracture_toughness in its material record)")
         coarse = spacing_too_coarse(s.spacing_cm, p.diameter_cm, b.thickness_cm, plate="bumper")
         if coarse:
             raise ValueError(f"shield.spacing_cm = {s.spacing_cm} is too coarse {coarse}")
