@@ -108,13 +108,17 @@ def _fragment_rate(root: Path):
 
     import numpy as np
     from impactdyn import shield
-    from impactdyn.materials import AL_6061_T6, FRACTURE_TOUGHNESS
+    from impactdyn import materials
+    from impactdyn.materials import AL_6061_T6
 
     spacing = 0.008
     g = (np.arange(20) + 0.5) * spacing
     x = np.stack(np.meshgrid(g, g, g, indexing="ij"), axis=-1).reshape(-1, 3)
     velocity = 0.3 * x * (1.0 + 0.05 * np.random.default_rng(1).standard_normal(x.shape))
-    size_of_rate = partial(shield.grady_fragment_size, FRACTURE_TOUGHNESS["al6061-t6"], AL_6061_T6.rho0,
+    # older commits (this script runs against them) kept K_Ic in a table by name, newer ones in the record
+    toughness = (AL_6061_T6.fracture_toughness.K_Ic if hasattr(AL_6061_T6, "fracture_toughness")
+                 else materials.FRACTURE_TOUGHNESS["al6061-t6"])
+    size_of_rate = partial(shield.grady_fragment_size, toughness, AL_6061_T6.rho0,
                            AL_6061_T6.young_modulus)
     return lambda: shield.own_size_strain_rates(x, velocity, np.full(len(x), spacing), size_of_rate)
 

@@ -222,10 +222,23 @@ BAD_INPUT: dict[str, dict[str, Builder]] = {
         "bad bracket": lambda d, out: (["whipple", "limit", str(whipple_case(d)), "--velocity", "6:7:2",
                                         "--bracket", "7:0.9", "-o", str(out)], "--bracket '7:0.9'"),
     },
+    "materials list": {
+        "missing case": lambda d, out: (["materials", "list", "--case", str(d / "nowhere.toml")],
+                                        "nowhere.toml: no such file"),
+        "material used but not defined": lambda d, out: (
+            ["materials", "list", "--case", str(whipple_case(d, **{"projectile.material": "ti64"}))],
+            "projectile.material: unknown material 'ti64'"),
+    },
+    "materials show": {
+        "unknown name": lambda d, out: (["materials", "show", "unobtainium"], "unknown material 'unobtainium'"),
+        "bad material table": lambda d, out: (
+            ["materials", "show", "x", "--case", str(whipple_case(d, **{"materials.x.eos.c0_km_s": -1.0}))],
+            "materials.x.eos"),
+    },
 }
 
 #: Commands that write no file (fix-rule writes into the rule file it is given, which must exist).
-NO_OUTPUT = {"beam modes", "ble single-wall", "whipple fix-rule"}
+NO_OUTPUT = {"beam modes", "ble single-wall", "whipple fix-rule", "materials list", "materials show"}
 
 #: command -> builder(dir, output path) of an invocation that writes to that path.
 OUTPUT: dict[str, Callable[[Path, Path], list[str]]] = {

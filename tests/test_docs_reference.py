@@ -34,8 +34,11 @@ def _tables(annotation) -> list[type[BaseModel]]:
 def _keys(model: type[BaseModel], prefix: str = "") -> set[str]:
     keys = set()
     for name, info in model.model_fields.items():
+        named = impactdyn_reference._named_table(info.annotation)
         tables = _tables(info.annotation)
-        if tables:
+        if named is not None:
+            keys |= _keys(named, f"{prefix}{name}.NAME.")
+        elif tables:
             for table in tables:
                 keys |= _keys(table, f"{prefix}{name}.")
         else:

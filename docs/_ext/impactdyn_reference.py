@@ -86,6 +86,20 @@ def _sections(annotation: Any) -> list[type[BaseModel]]:
     return [m for m in members if isinstance(m, type) and issubclass(m, BaseModel)]
 
 
+def _named_table(annotation: Any) -> type[BaseModel] | None:
+    """The section of a field that holds tables by name (``dict[str, Section]``, optional), else None."""
+    if typing.get_origin(annotation) is Annotated or _is_union(annotation):
+        return next((t for a in typing.get_args(annotation) if (t := _named_table(a))), None)
+    if typing.get_origin(annotation) is dict:
+        value = typing.get_args(annotation)[1]
+        return value if isinstance(value, type) and issubclass(value, BaseModel) else None
+    return None
+
+
+#: The placeholder of a table's own name in a key (``[materials.NAME]``).
+NAME = "NAME"
+
+
 def _is_union(annotation: Any) -> bool:
     return typing.get_origin(annotation) in (Union, types.UnionType)
 
@@ -143,6 +157,10 @@ def case_keys(model: type[BaseModel], prefix: str = "", variant: str = "") -> li
     described = documented_settings(model)
     for name, info in model.model_fields.items():
         dotted = f"{prefix}{name}"
+        named = _named_table(info.annotation)
+        if named is not None:
+            keys += case_keys(named, f"{dotted}.{NAME}.", variant)
+            continue
         sections = _sections(info.annotation)
         if sections:
             for section in sections:
@@ -165,7 +183,10 @@ def _table_doc(model: type[BaseModel], table: str) -> str:
     """The docstring of the section that holds ``table``, first paragraph."""
     node: Any = model
     for part in table.split("."):
-        sections = _sections(node.model_fields[part].annotation)
+        if part == NAME:
+            continue
+        named = _named_table(node.model_fields[part].annotation)
+        sections = [named] if named is not None else _sections(node.model_fields[part].annotation)
         node = sections[0] if len(sections) == 1 else None
         if node is None:
             return ""
@@ -249,7 +270,7 @@ API_MODULES = {
     "io": "File formats: grids, legacy DC3D and CTH files, LS-DYNA and DYNA3D decks, VTK.",
     "hydrogrid": "The hand-off state on a rectilinear grid.",
     "wallgrid": "The wall's brick mesh and the deposited momentum.",
-    "materials": "The material library with its sources.",
+    "materials": "One record per alloy, the registry, and the library with its sources.",
     "constitutive": "Compiled equation-of-state and strength kernels shared by the SPH and FE solvers.",
     "units": "Unit conversions.",
 }

@@ -38,9 +38,13 @@ CM_US_PER_KM_S = 0.1
 KM_S_PER_CM_US = 10.0  # exact; 1/CM_US_PER_KM_S is not (0.1 has no binary representation)
 MBAR_PER_DYN_CM2 = 1.0e-12  # CTH pressures (dyn/cm²) -> Mbar; RDAVS divides by 1e12
 MBAR_PER_GPA = 1.0e-2
+MBAR_PER_MPA = 1.0e-3 * MBAR_PER_GPA
 MBAR_PER_PA = 1.0e-11
 MBAR_PER_KSI = 6.894757293168361e6 * MBAR_PER_PA  # 1 ksi = 6.894757 MPa (exact lbf/in² definition)
 CM2_US2_PER_ERG_G = 1.0e-12  # CTH specific internal energy (erg/g) -> cm²/µs²
+CM2_US2_PER_J_G = 1.0e-5  # 1 J/g = 1e3 J/kg = 1e-5 cm²/µs² (1 cm²/µs² = 1e8 J/kg)
+MBAR_SQRT_CM_PER_MPA_SQRT_M = 1.0e-4  # fracture toughness: 1 MPa·√m = 1e6 Pa · 10 √cm = 1e-4 Mbar·√cm
+PER_US_PER_PER_S = 1.0e-6  # strain rates: 1 s⁻¹ = 1e-6 µs⁻¹
 N_S_PER_G_CM_US = 10.0  # momentum, impulse: 1 g·cm/µs = 1e-3 kg · 1e-2 m / 1e-6 s = 10 N·s
 
 

@@ -23,7 +23,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from impactdyn import shield
-from impactdyn.materials import FRACTURE_TOUGHNESS, get_material
+from impactdyn.materials import get_material
 
 DIAMETER_CM = 0.3175
 MATERIAL = "al6061-t6"
@@ -46,7 +46,7 @@ def material_scale_rates(reference, velocity, spacing, material, iterations):
             gradient = coef[1:].T
             rates[j] = max(np.linalg.eigvalsh(0.5 * (gradient + gradient.T)).max(), 1e-9)
         found = np.isfinite(rates)
-        size[found] = shield.grady_fragment_size(FRACTURE_TOUGHNESS[material], mat.rho0, mat.young_modulus,
+        size[found] = shield.grady_fragment_size(mat.fracture_toughness.K_Ic, mat.rho0, mat.young_modulus,
                                                  rates[found])
     return rates, size
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from impactdyn._errors import InputError
-from impactdyn.materials import AL_6061_T6_MAT13, JOHNSON_COOK_DAMAGE, get_material
+from impactdyn.materials import AL_6061_T6_MAT13, get_material
 from impactdyn.wallgrid import WallDeposition, WallGrid
 from impactdyn.io._dyna3d import write_dyna3d_deck
 from impactdyn.io._legacy_dc3din import read_dc3din
@@ -229,7 +229,7 @@ def test_johnson_cook_material_and_controls(tmp_path):
     constants and spall cut-off; the wall stage's hourglass and bulk-viscosity settings as
     *CONTROL cards; all read back from the deck as written."""
     al = get_material("al6061-t6")
-    jc, dmg = al.johnson_cook, JOHNSON_COOK_DAMAGE["al6061-t6"]
+    jc, dmg = al.johnson_cook, al.johnson_cook_damage
     wall = WallGrid.uniform((0.0, 1.0), (0.0, 0.3), (0.0, 1.0), (2, 2, 2))
     p = tmp_path / "wall.k"
     write_lsdyna_deck(p, wall, al, hourglass=(6, 1.0), bulk_viscosity=(1.5, 0.06))

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from impactdyn import shield
-from impactdyn.materials import AL_6061_T6, FRACTURE_TOUGHNESS
+from impactdyn.materials import AL_6061_T6
 
-TOUGHNESS, RHO0, YOUNG = FRACTURE_TOUGHNESS["al6061-t6"], AL_6061_T6.rho0, AL_6061_T6.young_modulus
+TOUGHNESS, RHO0, YOUNG = AL_6061_T6.fracture_toughness.K_Ic, AL_6061_T6.rho0, AL_6061_T6.young_modulus
 
 
 def grady(rate):

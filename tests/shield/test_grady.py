@@ -9,7 +9,7 @@ import pytest
 
 from impactdyn import shield
 from impactdyn._errors import InputError
-from impactdyn.materials import AL_6061_T6, FRACTURE_TOUGHNESS
+from impactdyn.materials import AL_6061_T6
 
 
 def test_grady_size_is_the_energy_balance_in_si_units():
@@ -17,7 +17,7 @@ def test_grady_size_is_the_energy_balance_in_si_units():
     E of 6061-T6, ε̇ = 10⁶ s⁻¹ — about half a millimetre."""
     young_pa = AL_6061_T6.young_modulus * 1e11
     expected_m = (24 * 29e6 ** 2 / (young_pa * AL_6061_T6.rho0 * 1e3 * 1e6 ** 2)) ** (1 / 3)
-    size_cm = shield.grady_fragment_size(FRACTURE_TOUGHNESS["al6061-t6"], AL_6061_T6.rho0,
+    size_cm = shield.grady_fragment_size(AL_6061_T6.fracture_toughness.K_Ic, AL_6061_T6.rho0,
                                          AL_6061_T6.young_modulus, 1.0)       # 1 µs⁻¹ = 10⁶ s⁻¹
     assert size_cm == pytest.approx(100 * expected_m, rel=1e-12)
     assert 0.04 < size_cm < 0.06
@@ -48,7 +48,7 @@ def _block(n=16, spacing=0.01, rate_us=1.0, x0=0.0, material="al6061-t6", **fiel
 
 def _rate_for_size(size_cm):
     """The stretching rate (µs⁻¹) at which 6061-T6 breaks into fragments of Grady size ``size_cm``."""
-    return (24 * FRACTURE_TOUGHNESS["al6061-t6"] ** 2
+    return (24 * AL_6061_T6.fracture_toughness.K_Ic ** 2
             / (AL_6061_T6.young_modulus * AL_6061_T6.rho0 * size_cm ** 3)) ** 0.5
 
 

@@ -8,7 +8,7 @@ import pytest
 from impactdyn._errors import InputError
 from impactdyn import wall
 from impactdyn.constitutive import temperature
-from impactdyn.materials import (AL_6061_T6, AL_6061_T6_JC_DAMAGE, AL_6061_T6_MAT13, JOHNSON_COOK_DAMAGE,
+from impactdyn.materials import (AL_6061_T6, AL_6061_T6_JC_DAMAGE, AL_6061_T6_MAT13, CU_OFHC, MATERIALS,
                                  JohnsonCookDamage)
 from impactdyn.wall._state import DAMAGE, EPS_P, FAILED, IE, P, RATE
 from impactdyn.wall._step import step_kernels
@@ -81,7 +81,7 @@ def test_unknown_and_duplicate_models():
         wall.register_model(wall.Mat13Model)
     with pytest.raises(InputError, match="Johnson-Cook"):
         wall.wall_model("johnson_cook", "al7075-t6")           # no JC constants in the library
-    assert wall.wall_model("johnson_cook", "cu-ofhc").damage is JOHNSON_COOK_DAMAGE["cu-ofhc"]
+    assert wall.wall_model("johnson_cook", "cu-ofhc").damage is CU_OFHC.johnson_cook_damage
 
 
 def test_failure_criteria_say_what_can_fail_the_wall():
@@ -97,7 +97,7 @@ def test_failure_criteria_say_what_can_fail_the_wall():
     assert wall.wall_model("mat13", "al2024-t4").failure_criteria() == ("plastic_strain", "tensile_pressure")
 
 
-@pytest.mark.parametrize("material", sorted(JOHNSON_COOK_DAMAGE))
+@pytest.mark.parametrize("material", sorted(n for n, m in MATERIALS.items() if m.johnson_cook_damage))
 def test_jc_damage_in_shear_follows_the_formula(material):
     # simple shear: σ* = −p/σ_eq stays near 0 (only the Grüneisen pressure of the plastic heating),
     # so D ≈ εₚ/(D1 + D2) up to the rate and heating factors; the test integrates
@@ -105,7 +105,7 @@ def test_jc_damage_in_shear_follows_the_formula(material):
     model = wall.wall_model("johnson_cook", material, erosion=False, spall=False)
     s = one_element(model)
     table = model.kernel_table()
-    d, jc = JOHNSON_COOK_DAMAGE[material], model.material.johnson_cook
+    d, jc = model.material.johnson_cook_damage, model.material.johnson_cook
     rows = []
 
     def record(s):

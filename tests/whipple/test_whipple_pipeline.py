@@ -336,7 +336,7 @@ def test_restart_needs_a_run_folder(tmp_path, capsys, make_case):
     (dict(shield__fragment_damage_threshold=0.0), "shield.fragment_damage_threshold: must be greater than 0"),
     (dict(shield__fragment_damage_threshold=1.5), "shield.fragment_damage_threshold: must be less than or equal to 1"),
     (dict(shield__failure_model="fragmentation", projectile__material="cu-ofhc"),
-     "no Weibull flaw constants for cu-ofhc"),
+     "needs the Weibull flaws (the shield's fragmentation model) constants of material 'cu-ofhc'"),
     (dict(wall_solver__max_time_us=1.0), "wall_solver.max_time_us = 1 us is before the last arrival on the wall"),
     (dict(shield__failed_fragments="dust"), "shield.failed_fragments: "),
     (dict(shield__fragment_rate="kernel"), "shield.fragment_rate: "),

@@ -23,7 +23,7 @@ import typer  # noqa: E402
 
 from impactdyn._errors import InputError, Interrupted, SimulationError
 from impactdyn._interrupt import caused_by_interrupt, terminate_as_interrupt
-from impactdyn.cli import beam, ble, debris, whipple
+from impactdyn.cli import beam, ble, debris, materials, whipple
 
 app = typer.Typer(
     name="impactdyn",
@@ -38,6 +38,7 @@ app.add_typer(beam.app, name="beam")
 app.add_typer(debris.app, name="debris")
 app.add_typer(ble.app, name="ble")
 app.add_typer(whipple.app, name="whipple")
+app.add_typer(materials.app, name="materials")
 
 
 def _print_version(value: bool) -> None:

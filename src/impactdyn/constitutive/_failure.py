@@ -14,7 +14,7 @@ from collections.abc import Sequence
 import numpy as np
 from numba import njit
 
-from impactdyn.materials import JOHNSON_COOK_DAMAGE, WEIBULL_FLAWS, Material
+from impactdyn.materials import Material
 
 #: Columns of the damage table (:func:`pack_damage`): Weibull k (cm⁻³) and m, Young's modulus E
 #: (Mbar), crack-growth speed c_g (cm/µs), Johnson–Cook D1…D5 and ε_f,min, and two flags.
@@ -30,19 +30,19 @@ TRIAXIALITY_CUTOFF = -1.0 / 3.0
 
 
 def pack_damage(materials: Sequence[Material]) -> np.ndarray:
-    """The damage table (n, N_DAMAGE) of ``materials`` (index = material id): the Weibull flaws of
-    :data:`impactdyn.materials.WEIBULL_FLAWS`, the Johnson–Cook damage of
-    :data:`impactdyn.materials.JOHNSON_COOK_DAMAGE` (floor ε_f,min where the alloy has one, else 0),
+    """The damage table (n, N_DAMAGE) of ``materials`` (index = material id): each material's
+    :attr:`~impactdyn.materials.Material.weibull_flaws`, its
+    :attr:`~impactdyn.materials.Material.johnson_cook_damage` (floor ε_f,min where the alloy has one, else 0),
     E and c_g (:attr:`~impactdyn.materials.Material.young_modulus`, :attr:`~impactdyn.materials.Material.crack_speed`).
-    A material without an entry has its flag 0 (no such damage)."""
+    A material without such data has its flag 0 (no such damage)."""
     table = np.zeros((len(materials), N_DAMAGE))
     for k, mat in enumerate(materials):
         row = table[k]
         row[DM_YOUNG], row[DM_GROWTH] = mat.young_modulus, mat.crack_speed
-        flaws = WEIBULL_FLAWS.get(mat.name)
+        flaws = mat.weibull_flaws
         if flaws is not None:
             row[[DM_K, DM_M, DM_HAS_WEIBULL]] = flaws.k, flaws.m, 1.0
-        ductile = JOHNSON_COOK_DAMAGE.get(mat.name)
+        ductile = mat.johnson_cook_damage
         if ductile is not None:
             row[[DM_D1, DM_D2, DM_D3, DM_D4, DM_D5, DM_HAS_DUCTILE]] = (
                 ductile.D1, ductile.D2, ductile.D3, ductile.D4, ductile.D5, 1.0)

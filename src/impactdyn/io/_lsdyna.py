@@ -26,7 +26,7 @@ Or, given a library :class:`Material` with Johnson–Cook constants (the wall st
 ``johnson_cook`` model): *MAT_JOHNSON_COOK (MAT_015) — MID RO G; A B N C M TM TR EPSO;
 CP PC SPALL IT D1–D4; D5 — with PC = −p_spall and SPALL = 3 (the element spalls when
 the pressure falls below PC, the wall stage's criterion), the JC damage constants of
-:data:`impactdyn.materials.JOHNSON_COOK_DAMAGE` in Johnson & Cook's convention (σ* the
+:attr:`~impactdyn.materials.Material.johnson_cook_damage` in Johnson & Cook's convention (σ* the
 mean stress over the effective stress; LS-DYNA's D1–D5 are entered as in their paper),
 EROD and EFMIN the wall stage's (failed elements keep compressive pressure, EROD 1, and the
 fracture strain its floor, :mod:`impactdyn.wall._johnson_cook`); the wall stage's default
@@ -73,7 +73,7 @@ import numpy as np
 
 from impactdyn._config import Positive, checked
 from impactdyn._errors import InputError
-from impactdyn.materials import AL_6061_T6_MAT13, JOHNSON_COOK_DAMAGE, Mat13Card, Material
+from impactdyn.materials import AL_6061_T6_MAT13, Mat13Card, Material
 from impactdyn.wallgrid import WallDeposition, WallGrid, face_overlaps
 from impactdyn.io._fortran import parse_int, parse_real, read_lines
 from impactdyn._runfolder import atomic_output
@@ -163,7 +163,7 @@ def _material_cards(m: Mat13Card | Material, efmin: float | None = None, erode: 
     jc = m.johnson_cook
     if jc is None:
         raise InputError(f"material {m.name!r}: no Johnson-Cook constants for *MAT_JOHNSON_COOK")
-    d = JOHNSON_COOK_DAMAGE.get(m.name)
+    d = m.johnson_cook_damage
     damage = [d.D1, d.D2, d.D3, d.D4] if d is not None else [None] * 4
     pc = -m.spall_strength if m.spall_strength is not None else None
     return ["*PART", "wall", _row([1, 1, 1, 1])] + cards + [

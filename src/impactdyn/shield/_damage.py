@@ -29,12 +29,12 @@ from impactdyn.constitutive import DM_HAS_WEIBULL, N_FLAW
 def new_flaws(material: np.ndarray, names: tuple[str, ...], damage_table: np.ndarray) -> np.ndarray:
     """The flaw records (N, N_FLAW) of particles of the given material ids, all zero (no strain yet).
 
-    A material without Weibull constants (:data:`impactdyn.materials.WEIBULL_FLAWS`) is refused,
+    A material without Weibull constants (:attr:`impactdyn.materials.Material.weibull_flaws`) is refused,
     naming it: the fragmentation model has no tensile failure for it.
     """
     missing = sorted({names[k] for k in np.unique(material) if damage_table[k, DM_HAS_WEIBULL] == 0.0})
     if missing:
         raise InputError(f"shield.failure_model = \"fragmentation\": no Weibull flaw constants for "
-                         f"{', '.join(missing)} (impactdyn.materials.WEIBULL_FLAWS); use failure_model = "
+                         f"{', '.join(missing)} (no weibull_flaws in its material record); use failure_model = "
                          "\"threshold\" for it")
     return np.zeros((material.size, N_FLAW))

@@ -107,9 +107,9 @@ def grady_sizes(particles, *, damage_threshold: float = 1.0, initial=None) -> tu
     projectile, moving at t = 0, and the bumper); None, it is the kernel-scale rate recorded at failure.
     Returns (failed (N,) bool, Grady's size s (N,) cm: inf where not failed, or where compressed or at rest).
     Raises :class:`InputError` naming a material of a failed particle without a fracture toughness
-    (:data:`impactdyn.materials.FRACTURE_TOUGHNESS`).
+    (:attr:`impactdyn.materials.Material.fracture_toughness`).
     """
-    from impactdyn.materials import FRACTURE_TOUGHNESS, get_material
+    from impactdyn.materials import get_material
 
     if not (0.0 < damage_threshold <= 1.0):
         raise InputError(f"damage_threshold = {damage_threshold}: must lie in (0, 1]")
@@ -118,12 +118,12 @@ def grady_sizes(particles, *, damage_threshold: float = 1.0, initial=None) -> tu
     rate = particles.failure_strain_rate
     failed = (particles.damage >= damage_threshold) & (rate > 0.0) & solid_particles(particles)
     missing = sorted({particles.materials[k] for k in np.unique(kind[failed])
-                      if particles.materials[k] not in FRACTURE_TOUGHNESS})
+                      if mats[k].fracture_toughness is None})
     if missing:
         raise InputError(f"fragments of failed material: no fracture toughness for {', '.join(missing)} "
-                         "(impactdyn.materials.FRACTURE_TOUGHNESS)")
+                         "(no fracture_toughness in its material record)")
     rho0 = np.array([m.rho0 for m in mats])[kind]
-    toughness = np.array([FRACTURE_TOUGHNESS.get(m.name, np.nan) for m in mats])[kind]
+    toughness = np.array([m.fracture_toughness.K_Ic if m.fracture_toughness else np.nan for m in mats])[kind]
     young = np.array([m.young_modulus for m in mats])[kind]
     size = np.full(len(particles), np.inf)
     if initial is None:

@@ -38,8 +38,8 @@ in mean tension above ≈ 0.45 GPa fails the element (the behaviour before the f
 ``table2_7a`` verdict, 99 % of its failed mass, and made it mesh-dependent: docs/vv/convergence.md,
 "The wall: Table 2 at the default mesh and at twice its resolution").  ``damage_at_floor=False`` skips the increments on steps where the fit
 is at or below the floor instead (a study switch).  Constants:
-:data:`impactdyn.materials.JOHNSON_COOK_DAMAGE` (6061-T6: Lesuer, Kay & LeBlanc 2001; 2024-T351 as
-widely quoted; OFHC copper: Johnson & Cook 1985); a material without an entry runs without
+the material's :attr:`~impactdyn.materials.Material.johnson_cook_damage` (6061-T6: Lesuer, Kay & LeBlanc
+2001; 2024-T351 as widely quoted; OFHC copper: Johnson & Cook 1985); a material without them runs without
 ductile damage and fails by spall alone (``failure_criteria`` in :meth:`describe` says which apply).
 
 Spall (``spall_law``): ``"tuler_butcher"`` (the default; Tuler & Butcher, Int. J. Fract. Mech. 4
@@ -49,7 +49,7 @@ Spall (``spall_law``): ``"tuler_butcher"`` (the default; Tuler & Butcher, Int. J
 
 integrated by the trapezoidal rule over each step from the pressures at its start and end
 (per-element column ``SPALL_DAMAGE`` of ``es``), constants
-:data:`impactdyn.materials.TULER_BUTCHER` (a documented fallback scaled from the spall
+:attr:`~impactdyn.materials.Material.tuler_butcher` (the library's: a documented fallback scaled from the spall
 strengths, not published Tuler–Butcher constants: uncertain).  The mean tension, not the largest
 principal stress: the spall strengths the constants scale from are the pressure cut-offs of this
 model and of type 13 (the cut-off law is the limit K → 0 of this one); void growth, the mechanism
@@ -99,8 +99,7 @@ from impactdyn.constitutive import (
     C0, GAMMA0, JC_TMELT, JC_TROOM, JC_RATE0, P_SPALL, RHO0, SHEAR, SLOPE, flow_stress, flow_stress_floor,
     fracture_strain, jaumann_rate, pack_materials, pressure, radial_return, sound_speed, temperature,
     temperature_bound, tuler_butcher_increment, von_mises)
-from impactdyn.materials import (
-    JOHNSON_COOK_DAMAGE, TULER_BUTCHER, JohnsonCookDamage, Material, TulerButcher, get_material)
+from impactdyn.materials import JohnsonCookDamage, Material, TulerButcher, get_material
 from impactdyn.wall._models import WallModel, register_model
 from impactdyn.wall._state import (
     DAMAGE, EPS_P, FAIL_DAMAGE, FAIL_DAMAGE_FLOOR, FAIL_SPALL, FAIL_TENSION, FAILED, IE, P, RATE, SPALL_DAMAGE,
@@ -264,9 +263,9 @@ class JohnsonCookModel(WallModel):
             raise InputError(f"johnson_cook: material must be a library name or Material, got {material!r}")
         m = get_material(material)
         if isinstance(damage, str) and damage == LIBRARY:
-            damage = JOHNSON_COOK_DAMAGE.get(m.name)
+            damage = m.johnson_cook_damage
         if isinstance(tuler_butcher, str) and tuler_butcher == LIBRARY:
-            tuler_butcher = TULER_BUTCHER.get(m.name)
+            tuler_butcher = m.tuler_butcher
         return cls(m, damage=damage, spall=spall, erosion=erosion, damage_at_floor=damage_at_floor,
                    spall_law=spall_law, fracture_strain_floor=fracture_strain_floor, tuler_butcher=tuler_butcher)
 

@@ -127,7 +127,7 @@ class WallOptions(Section):
         (default: Tuler–Butcher cumulative damage of the mean tension over a threshold, a failure
         with a time scale) or "cutoff" (the instantaneous pressure cut-off p < −p_spall).
     fracture_strain_floor : the Johnson–Cook wall's floor on the fracture strain: "library" (default:
-        the alloy's ε_f,min from :data:`impactdyn.materials.JOHNSON_COOK_DAMAGE`, where its fit falls
+        the alloy's ε_f,min (:attr:`impactdyn.materials.JohnsonCookDamage.efmin`), where its fit falls
         to zero beyond its data) or "unbounded" (the fit as published, an extrapolation: any plastic
         increment beyond its zero fails the element).
     escape_velocity_km_s : the speed above which rear-face material attached to failed

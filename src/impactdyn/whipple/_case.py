@@ -20,7 +20,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated, Literal, get_type_hints
 
-from pydantic import Field, field_validator, model_validator
+from pydantic import Field, ValidationError, field_validator, model_validator
 
 from impactdyn import units
 from impactdyn._config import (NodeCount, Positive, Range, Section, check_ranges, field_of, load_toml,
@@ -30,7 +30,8 @@ from impactdyn.debris import (
     ComputeSection, DebrisCase, FilterSection, IntegratorSection, LegacySection, MomentumTransfer, OutputSection,
     ParticleMaterial, check_bulk_modulus, check_wave_speed)
 from impactdyn.debris import WallSection as DebrisWallSection
-from impactdyn.materials import REPORT_MATERIAL, Material, MaterialName, get_material
+from impactdyn.materials import (REPORT_MATERIAL, Material, MaterialName, MaterialsTable, get_material,
+                                 without_material_echoes)
 from impactdyn.shield import (DEFAULT_PLATE_RADIUS_D, FRAGMENT_KEYS, BinningMethod, FragmentOptions, SPHOptions,
                               bin_to_hydrogrid, spacing_too_coarse)
 from impactdyn.wall import WallOptions, check_deposition_depth, check_mesh_sizes, resolve_model
@@ -236,9 +237,13 @@ class WhippleCase(Section):
     """A complete Whipple case (every table of the TOML file).
 
     title : a name for the case, shown at the top of the report and written as the decks' title.
+    materials : the case's own alloys, ``[materials.NAME]`` tables (:class:`impactdyn.materials.MaterialTable`),
+        which ``[projectile]``, ``[bumper]`` and ``[wall]`` then name like the library's; none: the
+        library's alone.
     """
 
     title: str = ""
+    materials: MaterialsTable | None = None  # before the tables that name them: validated (registered) first
     projectile: ProjectileSection
     bumper: BumperSection
     wall: WallSection
@@ -252,17 +257,30 @@ class WhippleCase(Section):
     legacy: LegacySection = LegacySection()
     wall_solver: WallSolverSection = WallSolverSection()
 
+    @model_validator(mode="wrap")
+    @classmethod
+    def _one_error_per_bad_material(cls, data, handler):
+        try:
+            return handler(data)
+        except ValidationError as err:
+            raise without_material_echoes(err) from None
+
     @model_validator(mode="after")
     def _fits(self) -> "WhippleCase":
         p, b, w, s = self.projectile, self.bumper, self.wall, self.shield
         if self.fragment_options.grady:
-            from impactdyn.materials import FRACTURE_TOUGHNESS
-
             lacking = [f"{key}.material = {m.material!r}" for key, m in (("projectile", p), ("bumper", b))
-                       if get_material(m.material).name not in FRACTURE_TOUGHNESS]
+                       if get_material(m.material).fracture_toughness is None]
             if lacking:
                 raise ValueError(f"shield.failed_fragments = \"grady\": no fracture toughness for "
-                                 f"{', '.join(lacking)} (impactdyn.materials.FRACTURE_TOUGHNESS)")
+                                 f"{', '.join(lacking)} (no fracture_toughness in its material record)")
+        if s.failure_model == "fragmentation":
+            for key, m in (("projectile", p), ("bumper", b)):
+                try:
+                    get_material(m.material).require("weibull_flaws", f"{key}.material with shield.failure_model "
+                                                                      "= \"fragmentation\"")
+                except InputError as err:
+                    raise ValueError(str(err)) from None
         coarse = spacing_too_coarse(s.spacing_cm, p.diameter_cm, b.thickness_cm, plate="bumper")
         if coarse:
             raise ValueError(f"shield.spacing_cm = {s.spacing_cm} is too coarse {coarse}")

@@ -27,7 +27,7 @@ FAILED_VERDICTS = ("perforation", "detached spall")
 #: Case tables each stage's result depends on (cumulative: a stage depends on the ones before it).
 #: ``compute`` is left out: where the particle chunks run does not change the result.
 DEPENDS = {
-    "shield": ("projectile", "bumper", "shield"),
+    "shield": ("materials", "projectile", "bumper", "shield"),
     "binning": ("binning",),
     "debris": ("wall", "debris", "filter", "integrator", "legacy"),
     "wall": ("wall_solver",),
@@ -48,7 +48,9 @@ Progress = Callable[[str, float, float], None]
 def settings(case, stage: str) -> dict:
     """The case tables ``stage``'s result depends on, as plain data (cumulative)."""
     upto = STAGES[:STAGES.index(stage) + 1]
-    return {name: getattr(case, name).model_dump(mode="json") for s in upto for name in DEPENDS[s]}
+    data = case.model_dump(mode="json")
+    # a case without its own materials records none, as the runs before a case could define them did
+    return {name: data[name] for s in upto for name in DEPENDS[s] if data[name] is not None}
 
 
 def read_stage(folder: Path, stage: str) -> dict:
