@@ -11,12 +11,13 @@ import pytest
 
 from impactdyn._errors import InputError
 from impactdyn.ble import read_database
-from impactdyn.whipple import (database_shot, limit_statement, load_rule, record_validation, rule_hash,
-                               score_validation, select_shots, validation_record)
+from impactdyn.whipple import (database_shot, limit_statement, load_rule, load_whipple_case, record_validation,
+                               rule_hash, score_validation, select_shots, validation_record)
 from impactdyn.whipple._report import WALL_VALIDATION, _top
 from impactdyn.whipple._validation_record import RECORD_PATH, quoted_figures
 
 ROOT = Path(__file__).resolve().parents[2]
+EXAMPLES = ROOT / "examples" / "whipple"
 
 
 def _words(text: str) -> str:
@@ -124,9 +125,17 @@ def test_a_folder_that_is_not_a_finished_set_changes_nothing(tmp_path, spoil, me
 def test_the_report_opens_with_a_banner_where_the_verdicts_differ_and_always_with_the_caution():
     caution = "on the validation shots the wall stage called every tested perforation safe"
     ble = {"equation": "jsc2011", "verdict": "perforation"}
-    clash = _top({"verdict": "no perforation", "agrees_with_equation": False, "caution": caution}, ble)
+    default = load_whipple_case(EXAMPLES / "table2_7a.toml")
+    clash = _top({"verdict": "no perforation", "agrees_with_equation": False, "caution": caution}, ble, default)
     assert clash.startswith('<div class="banner"') and clash.index("banner") < clash.index(caution)
     assert "simulated wall: no perforation; jsc2011: perforation" in clash
     assert all(f in clash for f in quoted_figures())
-    agree = _top({"verdict": "perforation", "agrees_with_equation": True, "caution": caution}, ble)
+    agree = _top({"verdict": "perforation", "agrees_with_equation": True, "caution": caution}, ble, default)
     assert "banner" not in agree and caution in agree
+    # with the fragments the banner says what stands behind that case's verdict, not the default wall's record
+    fragments = load_whipple_case(EXAMPLES / "table2_7a_fragments.toml")
+    clash = _top({"verdict": "perforation", "agrees_with_equation": False, "caution": caution},
+                 {"equation": "jsc2011", "verdict": "no perforation"}, fragments)
+    assert "simulated wall: perforation; jsc2011: no perforation" in clash
+    assert "no validation set has judged" in clash and "not evidence" not in clash
+    assert not any(f in clash for f in quoted_figures())

@@ -339,16 +339,26 @@ def _mesh(mesh: dict) -> str:
     return counts + (f" = {total:,} elements" if total else " elements") + (f", {mesh['kind']}" if mesh.get("kind") else "")
 
 
-def _top(wall: dict, ble: dict) -> str:
-    """The report's first lines: a banner when the simulated verdict and the equation's differ, with what the
-    validation sets say of the simulated one; the caution always."""
+def verdict_record(case: WhippleCase) -> str:
+    """What stands behind the simulated verdict of ``case``, in words, from the package's record: the default
+    wall's validation sets (:func:`impactdyn.whipple.limit_statement`), or, where the case loads the wall with
+    the fragments of failed material, that no validation set has judged them (:data:`FRAGMENTS_VALIDATION`)."""
+    if case.fragment_options.grady:
+        return (f"The simulated wall is loaded by the debris cloud and its solid fragments: "
+                f"{FRAGMENTS_VALIDATION}; weigh its verdict, either way, against the equation's.")
+    return limit_statement(VALIDATION)
+
+
+def _top(wall: dict, ble: dict, case: WhippleCase) -> str:
+    """The report's first lines: a banner when the simulated verdict and the equation's differ, with what stands
+    behind the simulated one for this case (:func:`verdict_record`); the caution always."""
     caution = (f'<p class="caution"><strong>Caution:</strong> {html.escape(wall["caution"])}.</p>'
                if wall.get("caution") else "")
     if wall["agrees_with_equation"]:
         return caution
     return (f'<div class="banner" role="alert"><p><strong>The simulation and the equation disagree:</strong> '
             f'simulated wall: {html.escape(wall["verdict"])}; {html.escape(ble["equation"])}: '
-            f'{html.escape(ble["verdict"])}.</p><p>{html.escape(limit_statement(VALIDATION))}</p></div>\n' + caution)
+            f'{html.escape(ble["verdict"])}.</p><p>{html.escape(verdict_record(case))}</p></div>\n' + caution)
 
 
 def _bulge(wall: dict) -> str:
@@ -503,7 +513,7 @@ table{{border-collapse:collapse;margin:0.5em 0 1.5em}}th,td{{border:1px solid #c
 th{{background:#f4f4f4;font-weight:normal}}img{{max-width:100%}}
 .banner{{border:2px solid #b00020;background:#fdecee;padding:0.2em 1em;margin:1em 0}}
 .caution{{border-left:4px solid #c77700;background:#fff6e5;padding:0.5em 1em}}</style></head><body>
-{_top(wall, ble)}
+{_top(wall, ble, case)}
 <h1>{title}</h1>
 <p>impactdyn Whipple pipeline: SPH shield impact → debris cloud (DC3D) → momentum on the rear wall → the wall's
 finite-element response and verdict → wall decks.
