@@ -218,7 +218,7 @@ def plot_history(result: WallResult, path: str | os.PathLike) -> Path:
     bx.plot(t, h["rear_bulge"], label="rear bulge")
     bx.plot(t, h["front_dent"], label="front dent")
     bx.set_ylabel("displacement, cm")
-    bx.set_xlabel("t, us")
+    bx.set_xlabel("t (µs)")
     cx = bx.twinx()
     cx.plot(t, h["rear_velocity"] * KM_S_PER_CM_US, color="0.5", lw=0.8, label="largest rear-face v_y")
     cx.set_ylabel("rear-face velocity, km/s")

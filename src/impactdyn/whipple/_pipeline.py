@@ -100,7 +100,8 @@ def _write_fragments(case: WhippleCase, out: FolderWriter, particles, problem) -
     from impactdyn.whipple._case import projectile_mass
     from impactdyn.whipple._cloud import debris_state, fragment_figures, projectile_particles
 
-    fragments = debris_fragments(particles, problem, case.fragment_options, km_s_to_cm_us(case.projectile.velocity_km_s))
+    speed = km_s_to_cm_us(case.projectile.velocity_km_s)
+    fragments = debris_fragments(particles, problem, case.fragment_options, speed)
     write_fragments(out.file("fragments.h5"), fragments)
     projectile = projectile_particles(problem)
     from_projectile = origin_masses(fragments, particles.mass, projectile)

@@ -258,7 +258,7 @@ def _plot_cloud(path, particles, case: WhippleCase, cloud: dict) -> None:
             v = np.array(cloud["centre_of_mass_velocity_km_s"])
             reach = x[:, 1].max()
             ax.plot([0.0, reach], [0.0, reach * v[2] / v[1]], color="k", lw=1,
-                    label=f"cloud axis, {cloud['axis_angle_from_normal_deg']:.1f}° from the normal")
+                    label=f"cloud axis, {_angle(cloud['axis_angle_from_normal_deg'])}° from the normal")
             ax.legend(loc="upper left", fontsize=8)
         ax.set_xlabel("y (cm), toward the wall")
         ax.set_ylabel(label)
@@ -326,10 +326,30 @@ def _rows(pairs) -> str:
     return "\n".join(f"<tr><th>{html.escape(k)}</th><td>{html.escape(v)}</td></tr>" for k, v in pairs)
 
 
-def _fmt(v, unit="", digits=4) -> str:
+#: Below this share of its ledger's total a momentum is the round-off of the sums, not a measure (the ledger
+#: closes to ~1e-12 of its total, float64 sums over up to 10⁶ records).
+LEDGER_ROUND_OFF = 1e-9
+#: The cloud axis's angle is read to 0.05°: below it the half model's mirror makes it zero to round-off.
+ANGLE_RESOLUTION_DEG = 0.05
+
+
+def _fmt(v, unit="", digits=4, resolution=0.0) -> str:
+    """``v`` to ``digits`` significant figures, for people: a value within ``resolution`` of zero (what the
+    measure cannot resolve, round-off) reads 0, never −0 or 1e-17."""
     if v is None:
         return "–"
+    v = 0.0 if abs(v) <= resolution else v + 0.0     # + 0.0: −0.0 reads 0
     return f"{v:.{digits}g}" + (f" {unit}" if unit else "")
+
+
+def _angle(degrees: float | None) -> str:
+    """An angle to 3 figures, 0 within :data:`ANGLE_RESOLUTION_DEG`."""
+    return _fmt(degrees, digits=3, resolution=ANGLE_RESOLUTION_DEG)
+
+
+def _error(v: float) -> str:
+    """A relative conservation error: 0 when exact, else to two figures (1.2e-07)."""
+    return "0" if v == 0.0 else f"{v:.1e}"
 
 
 def _mesh(mesh: dict) -> str:
@@ -414,8 +434,10 @@ def _mesh_peak(dep: dict) -> str:
 def _ledger(ledger: dict) -> str:
     """The normal component of the momentum ledger (:func:`momentum_ledger`), full model, N·s and shares."""
     total = ledger["in"][1]
-    parts = [ledger[k][1] for k in ("deposited", "outside_window", "off_wall", "not_reaching", "failed")]
-    share = (lambda v: f" ({100.0 * v / total:.1f} %)") if total else (lambda v: "")
+    noise = LEDGER_ROUND_OFF * abs(total)
+    parts = [0.0 if abs(v) <= noise else v for v in
+             (ledger[k][1] for k in ("deposited", "outside_window", "off_wall", "not_reaching", "failed"))]
+    share = (lambda v: f" ({_fmt(100.0 * v / total, digits=3, resolution=0.05)} %)") if total else (lambda v: "")
     added = ledger["added_at_wall"][1]
     return (f"{_fmt(2.0 * N_S_PER_G_CM_US * total, 'N·s')} in: "
             + ", ".join(_fmt(2.0 * N_S_PER_G_CM_US * v, "N·s") + share(v) for v in parts)
@@ -455,7 +477,7 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
     ])
     cloud_rows = _rows([
         ("cloud centre-of-mass velocity", _fmt(cloud.get("centre_of_mass_speed_km_s"), "km/s")
-         + f" at {_fmt(cloud.get('axis_angle_from_normal_deg'))}° from the normal"),
+         + f" at {_angle(cloud.get('axis_angle_from_normal_deg'))}° from the normal"),
         ("cloud leading-edge velocity", _fmt(cloud.get("leading_edge_velocity_km_s"), "km/s")),
         ("cone half-angle (95 % of momentum)", _fmt(cloud.get("cone_half_angle_deg"), "°")),
         ("debris mass (half model)", _fmt(cloud.get("debris_mass_g"), "g")),
@@ -492,11 +514,11 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
     ])
     stages = _rows([
         ("shield (SPH)", f"{st['shield']['n_particles']} particles, {st['shield']['steps']} steps to "
-                         f"{st['shield']['t_handoff_us']:g} µs; momentum error {st['shield']['momentum_error_rel']:.1e}, "
-                         f"energy error {st['shield']['energy_error_rel']:.1e}; "
+                         f"{st['shield']['t_handoff_us']:g} µs; momentum error {_error(st['shield']['momentum_error_rel'])}, "
+                         f"energy error {_error(st['shield']['energy_error_rel'])}; "
                          f"{st['shield']['wall_time_s']:.1f} s"),
         ("binning", f"{st['binning']['n_cells_with_mass']} cells with mass of {st['binning']['n_cells']}, "
-                    f"mass error {st['binning']['mass_error_rel']:.1e}; {st['binning']['wall_time_s']:.1f} s"),
+                    f"mass error {_error(st['binning']['mass_error_rel'])}; {st['binning']['wall_time_s']:.1f} s"),
         ("debris (DC3D)", f"{st['debris']['n_particles']} particles, {st['debris']['n_arrived']} arrived, "
                           f"{st['debris']['integrator']['n_failed']} failed; {st['debris']['wall_time_s']:.1f} s"),
         ("wall (FE)", f"{st['wall']['measures'].get('steps', 0)} steps to {_fmt(st['wall']['measures'].get('end_time_us'), 'µs')}; "
