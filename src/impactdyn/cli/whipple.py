@@ -244,6 +244,7 @@ def validate(
     workers: Optional[int] = typer.Option(None, "--workers", help="Shots run at once (default: all cores)."),
     dask: Optional[str] = typer.Option(None, "--dask", help="'local' for a LocalCluster, or a scheduler address."),
     keep_all: bool = typer.Option(False, "--keep-all", help="Keep every file of each shot."),
+    draws: Optional[int] = typer.Option(None, "--draws", metavar="N", help=DRAWS_HELP),
 ):
     """Run test shots of the database and score the simulated verdicts, and the equation's, by distance
     from the equation's limit."""
@@ -269,10 +270,13 @@ def validate(
         task = bar.add_task("shots", total=len(shots))
         scores = run_validation(shots, out, selection=selection, base=from_case, force=force, resume=resume,
                                 scheduler="dask" if dask else "processes", workers=workers, address=dask,
-                                keep_all=keep_all, progress=lambda: bar.advance(task))
+                                keep_all=keep_all, draws=draws, progress=lambda: bar.advance(task))
     for who, name in (("simulated", "simulation"), ("jsc", "JSC 2011")):
         a = scores[who]["overall"]["accuracy"]
         typer.echo(f"{name}: {a['count']} of {a['of']} right ({100 * a['low']:.0f}–{100 * a['high']:.0f} %, 95 %)")
+    for who, f in (scores.get("forecast") or {}).items():
+        typer.echo(f"{who} as a forecast: Brier {f['brier']:.3f} ({f['brier_95'][0]:.3f}–{f['brier_95'][1]:.3f}), "
+                   f"log-loss {f['log_loss']:.3f} ({f['log_loss_95'][0]:.3f}–{f['log_loss_95'][1]:.3f})")
     if select is not None and rule.fixed is None:
         typer.echo(f"note: rule {rule.name} is not fixed (impactdyn whipple fix-rule): these scores cannot judge a "
                    "change")

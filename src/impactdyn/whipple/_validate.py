@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from impactdyn._config import validate
+from impactdyn._config import set_dotted, validate
 from impactdyn._errors import InputError
 from impactdyn._family import FamilyFolder, run_members
 from impactdyn.ble import mcnemar, score_by_distance
@@ -38,22 +38,27 @@ from impactdyn.whipple._database_shot import DatabaseShot, database_shot_case
 
 VALIDATION_HEADER = ["line", "source", "shot_id", "diameter_cm", "velocity_km_s", "obliquity_deg",
                      "normal_velocity_km_s", "jsc_limit_cm", "d_over_limit", "test_perforated", "jsc_perforated",
-                     "simulated_verdict", "simulated_perforated", "simulated_right", "jsc_right", "caution", "run"]
+                     "simulated_verdict", "simulated_perforated", "simulated_right", "jsc_right", "n_draws",
+                     "p_perforation", "caution", "run"]
 
 
 def run_validation(shots: list[DatabaseShot], outdir: str | Path, *, selection: dict, base: str | Path | None = None,
                    force: bool = False, resume: bool = False, scheduler: str = "processes",
                    workers: int | None = None, address: str | None = None, keep_all: bool = False,
-                   progress=None) -> dict:
+                   draws: int | None = None, progress=None) -> dict:
     """Run ``shots`` into ``outdir`` and score them (module docstring); returns ``scores.json``'s content.
 
     ``selection``: how the shots were chosen (the rule's name and hash, or the lines given),
-    recorded with the folder so that a resume under another selection is refused.
+    recorded with the folder so that a resume under another selection is refused.  ``draws``: the
+    fragments' draws of every shot (``shield.fragment_draws``; None: the base case's).
     """
     if not shots:
         raise InputError("validate: the selection holds no shot")
-    cases = [validate(WhippleCase, database_shot_case(shot, base), source=f"test shot {shot.name}")
-             for shot in shots]
+    raws = [database_shot_case(shot, base) for shot in shots]
+    if draws is not None:
+        raws = [set_dotted(raw, "shield.fragment_draws", draws) for raw in raws]
+    cases = [validate(WhippleCase, raw, source=f"test shot {shot.name}" + ("" if draws is None else f" (--draws {draws})"))
+             for shot, raw in zip(shots, raws)]
     settings = {"selection": selection, "keep_all": keep_all,
                 "cases": {_run_name(s): c.model_dump(mode="json") for s, c in zip(shots, cases)}}
     rows: list = [None] * len(shots)
@@ -79,7 +84,10 @@ def run_validation(shots: list[DatabaseShot], outdir: str | Path, *, selection: 
 
 
 def score_validation(rows: list[dict]) -> dict:
-    """The simulated and the JSC verdicts scored against the tests by distance band, and McNemar's test."""
+    """The simulated and the JSC verdicts scored against the tests by distance band, and McNemar's test; with
+    the draws' P(perforation) of each shot (``p_perforation`` of ``n_draws``), the forecasts' Brier score and
+    log-loss against JSC 2011's verdict as 0/1 and the database's logistic in d/d_c refitted without these
+    shots (:func:`impactdyn.ble.forecast_scores`)."""
     ratio = np.array([r["d_over_limit"] for r in rows], dtype=float)
     truth = np.array([r["test_perforated"] for r in rows], dtype=bool)
     simulated = np.array([r["simulated_perforated"] for r in rows], dtype=bool)
@@ -89,7 +97,22 @@ def score_validation(rows: list[dict]) -> dict:
             "simulated": score_by_distance(ratio, truth, simulated).as_dict(),
             "jsc": score_by_distance(ratio, truth, jsc).as_dict(),
             "mcnemar_simulated_vs_jsc": {"simulated_right_jsc_wrong": test.b, "jsc_right_simulated_wrong": test.c,
-                                         "p_exact": test.p_exact, "p_mid": test.p_mid}}
+                                         "p_exact": test.p_exact, "p_mid": test.p_mid},
+            "forecast": _forecast(rows)}
+
+
+def _forecast(rows: list[dict]) -> dict | None:
+    """The forecast scores (:func:`score_validation`); None for rows without the draws' P (older folders)."""
+    from impactdyn.ble import database_logistic, forecast_scores
+
+    if not rows or any(r.get("p_perforation") is None for r in rows):
+        return None
+    baselines = {"jsc": np.array([float(r["jsc_perforated"]) for r in rows])}
+    logistic = database_logistic(exclude_lines=[r["line"] for r in rows])
+    if logistic is not None:
+        baselines["database_logistic"] = logistic(np.array([r["d_over_limit"] for r in rows], dtype=float))
+    return forecast_scores([r["p_perforation"] for r in rows], [r["n_draws"] for r in rows],
+                           [r["test_perforated"] for r in rows], baselines)
 
 
 def _run_name(shot: DatabaseShot) -> str:
@@ -108,6 +131,7 @@ def _row(shot: DatabaseShot, case: WhippleCase, summary: dict) -> dict:
             "jsc_limit_cm": limit, "d_over_limit": shot.diameter_cm / limit if limit else None,
             "test_perforated": shot.perforated, "jsc_perforated": jsc_called, "simulated_verdict": wall["verdict"],
             "simulated_perforated": called, "simulated_right": called == shot.perforated,
+            "n_draws": summary["draws"]["n_draws"], "p_perforation": summary["draws"]["probability"],
             "jsc_right": jsc_called == shot.perforated, "caution": wall.get("caution") or "",
             "run": f"runs/{_run_name(shot)}"}
 
@@ -148,6 +172,19 @@ def _ratio_text(ratio: float | None) -> str:
     return "–" if ratio is None else f"{ratio:.3f}"
 
 
+def _forecast_table(forecast: dict | None) -> str:
+    """The forecasts' scores (:func:`score_validation`) as a table, lower is better; empty without them."""
+    if not forecast:
+        return ""
+    names = {"simulated": "simulation, P = k/N over the fragments' draws", "jsc": "JSC 2011 verdict as 0 or 1",
+             "database_logistic": "the test database's logistic in d/d_c (these shots left out)"}
+    cells = "".join(f"<tr><td>{html.escape(names.get(k, k))}</td><td>{f['brier']:.3f} ({f['brier_95'][0]:.3f}–"
+                    f"{f['brier_95'][1]:.3f})</td><td>{f['log_loss']:.3f} ({f['log_loss_95'][0]:.3f}–"
+                    f"{f['log_loss_95'][1]:.3f})</td></tr>" for k, f in forecast.items())
+    return ("<h2>The verdicts as forecasts (lower is better; 95 % bootstrap intervals)</h2><table><tr><th>forecast"
+            "</th><th>Brier score</th><th>log-loss (P clipped to [1/2N, 1 − 1/2N])</th></tr>" + cells + "</table>")
+
+
 def _page(rows: list[dict], scores: dict) -> str:
     """``validation.html``: the scores by band beside the equation's, McNemar's test, every shot."""
     def interval(p: dict) -> str:
@@ -179,6 +216,7 @@ td,th{{padding:2px 8px;border-bottom:1px solid #ddd}}</style></head>
 <p>Exact McNemar test, simulation against the equation on the same shots: simulation right and equation wrong on
 {m['simulated_right_jsc_wrong']}, the reverse on {m['jsc_right_simulated_wrong']}; p = {m['p_exact']:.3g}
 (mid-p {m['p_mid']:.3g}).</p>
+{_forecast_table(scores.get("forecast"))}
 <img src="validation.png" alt="shots as d/d_lim against V cos θ">
 <h2>Shots</h2><table><tr><th>line</th><th>shot</th><th>d (cm)</th><th>V (km/s)</th><th>θ (°)</th><th>d/d_lim</th>
 <th>test</th><th>JSC</th><th>simulated</th><th>right</th><th></th></tr>{shot_rows}</table></body></html>
