@@ -46,7 +46,8 @@ def shot_case(speed: float, factor: float, seed: int, resolution: str) -> Whippl
     """The example case made into the shot (as the limit search makes it), at ``resolution``."""
     from impactdyn._config import validate
     from impactdyn._sweep import case_variants
-    from impactdyn.whipple._shots import LEAN_OUTPUT, shot_variant
+    from impactdyn.whipple._shots import shot_variant
+    from impactdyn.whipple._stages import LEAN_OUTPUT
 
     raw = load_toml(CASE)
     base = validate(WhippleCase, raw, str(CASE))

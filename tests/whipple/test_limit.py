@@ -115,7 +115,7 @@ def test_bad_search_settings(tmp_path, make_case, kwargs, message):
 
 
 def test_a_lean_shot_folder_keeps_what_a_user_reads(tmp_path):
-    from impactdyn.whipple._shots import prune_run
+    from impactdyn.whipple._stages import prune_run
 
     keep = ["summary.json", "report.html", "case.toml", "plots/ballistic_limit.png", "wall/stage.json",
             "wall/wall.json", "wall/plots/wall_rear.png", "debris/areal_density.csv", "debris/summary.json"]

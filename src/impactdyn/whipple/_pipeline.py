@@ -57,8 +57,8 @@ from impactdyn.units import KM_S_PER_CM_US, km_s_to_cm_us
 from impactdyn._errors import InputError
 from impactdyn._runfolder import FolderWriter, RunFolder, check_target
 from impactdyn.whipple._case import WhippleCase
-from impactdyn.whipple._stages import (DEPENDS, FAILED_VERDICTS, KEEP, STAGES, Progress, StageContext, read_stage,
-                                      settings)
+from impactdyn.whipple._stages import (DEPENDS, FAILED_VERDICTS, KEEP, LEAN_OUTPUT, STAGES, Progress, StageContext,
+                                      prune_run, read_stage, settings)
 
 def _shield(s: StageContext) -> dict:
     from impactdyn.shield import run, write_particles
@@ -239,12 +239,11 @@ def _draws(s: StageContext) -> dict:
     """The partition's draws (``[shield] fragment_draws``): the run's own wall is the first draw; each further
     seed draws the fragments again from the same SPH state and runs the binning, the debris and the wall
     into ``draws/seed<k>/``, which keeps what a lean shot of a family keeps (stage records, the wall's
-    measures, plots: :func:`impactdyn.whipple._shots.prune_run`).  The record: each draw's seed and verdict,
+    measures, plots: :func:`impactdyn.whipple._stages.prune_run`).  The record: each draw's seed and verdict,
     the perforations k of N (:data:`FAILED_VERDICTS`) and P = k/N with its Wilson 95 % interval."""
     from impactdyn.ble import Proportion
     from impactdyn.shield import read_particles
     from impactdyn.whipple._case import shield_problem
-    from impactdyn.whipple._shots import LEAN_OUTPUT, prune_run
 
     seeds = s.case.fragment_options.seeds
     verdicts = [read_stage(s.folder.path, "wall")["verdict"]]

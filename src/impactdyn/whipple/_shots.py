@@ -3,7 +3,7 @@
 A Table 2 run folder holds ~530 MB with ``--keep all`` (every debris particle's states, ParaView
 files, the LS-DYNA deck's load curves) and ~50 MB as a lean ``whipple run`` (:mod:`._pipeline`);
 a family of dozens of shots keeps by default even less, only what a user reads afterwards
-(:data:`LEAN_KEEP`): the summary and report, the stage records, the plots, the DCPOST table, the
+(:data:`impactdyn.whipple._stages.LEAN_KEEP`): the summary and report, the stage records, the plots, the DCPOST table, the
 wall's measures and pictures: a few MB per shot.  A lean shot does not
 write what it would delete (:data:`LEAN_OUTPUT`: the decks and the ParaView files, a
 quarter of a Table 2 shot's time), so it is faster as well as smaller.
@@ -12,19 +12,11 @@ quarter of a Table 2 shot's time), so it is faster as well as smaller.
 
 from __future__ import annotations
 
-import fnmatch
 import os
 from dataclasses import dataclass
 from pathlib import Path
 
-#: Files a lean shot folder keeps (glob patterns relative to the run folder).
-LEAN_KEEP = ("summary.json", "report.html", "case.toml", "plots/*", "*/stage.json", "*/summary.json",
-             "*/plots/*", "debris/areal_density.csv", "debris/config.resolved.toml", "wall/*.json")
-
-
-#: The case's ``[output]`` settings of a lean shot: no file that :data:`LEAN_KEEP` drops.
-LEAN_OUTPUT = {"vtk": False, "lsdyna_deck": False, "dyna3d_deck": False}
-
+from impactdyn.whipple._stages import LEAN_OUTPUT, prune_run
 
 @dataclass(frozen=True)
 class Shot:
@@ -91,14 +83,3 @@ def run_shot(shot: Shot) -> dict:
     if not shot.keep_all:
         prune_run(shot.folder)
     return summary
-
-
-def prune_run(folder: Path) -> None:
-    """Delete every file of a run folder that :data:`LEAN_KEEP` does not name, and the emptied folders."""
-    folder = Path(folder)
-    for path in sorted(folder.rglob("*"), reverse=True):
-        rel = path.relative_to(folder).as_posix()
-        if path.is_file() and not any(fnmatch.fnmatchcase(rel, pattern) for pattern in LEAN_KEEP):
-            path.unlink()
-        elif path.is_dir() and not any(path.iterdir()):
-            path.rmdir()

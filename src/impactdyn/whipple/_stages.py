@@ -10,6 +10,7 @@ later stage reuses an earlier stage only if its recorded settings equal the case
 
 from __future__ import annotations
 
+import fnmatch
 import json
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -78,3 +79,23 @@ class StageContext:
     def report(self, stage: str, done: float, total: float) -> None:
         if self.progress is not None:
             self.progress(stage, done, total)
+
+
+#: Files a lean shot folder keeps (glob patterns relative to the run folder).
+LEAN_KEEP = ("summary.json", "report.html", "case.toml", "plots/*", "*/stage.json", "*/summary.json",
+             "*/plots/*", "debris/areal_density.csv", "debris/config.resolved.toml", "wall/*.json")
+
+
+#: The case's ``[output]`` settings of a lean shot: no file that :data:`LEAN_KEEP` drops.
+LEAN_OUTPUT = {"vtk": False, "lsdyna_deck": False, "dyna3d_deck": False}
+
+
+def prune_run(folder: Path) -> None:
+    """Delete every file of a run folder that :data:`LEAN_KEEP` does not name, and the emptied folders."""
+    folder = Path(folder)
+    for path in sorted(folder.rglob("*"), reverse=True):
+        rel = path.relative_to(folder).as_posix()
+        if path.is_file() and not any(fnmatch.fnmatchcase(rel, pattern) for pattern in LEAN_KEEP):
+            path.unlink()
+        elif path.is_dir() and not any(path.iterdir()):
+            path.rmdir()
