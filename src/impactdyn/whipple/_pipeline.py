@@ -1,4 +1,4 @@
-"""The end-to-end Whipple pipeline: shield → binning → debris → wall → decks → report (docs/theory/).
+"""The end-to-end Whipple pipeline: shield → binning → debris → wall → draws → decks → report (docs/theory/).
 
 Each stage reads the artifacts of the stages before it from the run folder and
 writes its own into a subfolder with a ``stage.json`` record (its numbers, its
@@ -15,6 +15,9 @@ stage with exactly the code path of a full run::
                wall_deposition.vtu, plots/)
     wall/      wall.json (verdict, evidence, measures, energy balance), wall.pvd + wall_*.vtu (ParaView
                time series), plots/wall_front.png, wall_rear.png, wall_history.png
+    draws/     seed<k>/ for each further draw of the fragments' partition (``[shield] fragment_draws``): its
+               shield/ (the fragments' record), binning/, debris/ and wall/ stage records, as a lean shot keeps
+               them; draws/stage.json holds every draw's verdict and P(perforation) with its interval
     decks/     wall.k, wall_dyna3d.inp   the wall decks with the deposited momentum
     report.html, summary.json, plots/, case.toml   (the report stage)
 
