@@ -25,14 +25,16 @@ STAGES = ("shield", "binning", "debris", "wall", "draws", "decks", "report")
 #: Simulated verdicts that count as a failed rear wall (JSC test practice).
 FAILED_VERDICTS = ("perforation", "detached spall")
 
-#: Case tables each stage's result depends on (cumulative: a stage depends on the ones before it).
+#: Case tables each stage's result depends on (cumulative: a stage depends on the ones before it), or a
+#: single key ``table.key`` of a table that an earlier stage reads, which that stage then does not depend on
+#: (the draws' count changes no earlier stage: a run folder from before the key restarts from any stage).
 #: ``compute`` is left out: where the particle chunks run does not change the result.
 DEPENDS = {
     "shield": ("materials", "projectile", "bumper", "shield"),
     "binning": ("binning",),
     "debris": ("wall", "debris", "filter", "integrator", "legacy"),
     "wall": ("wall_solver",),
-    "draws": (),
+    "draws": ("shield.fragment_draws",),
     "decks": ("output",),
     "report": (),
 }
@@ -47,11 +49,21 @@ Progress = Callable[[str, float, float], None]
 
 
 def settings(case, stage: str) -> dict:
-    """The case tables ``stage``'s result depends on, as plain data (cumulative)."""
+    """The case tables and keys ``stage``'s result depends on, as plain data (cumulative; :data:`DEPENDS`)."""
     upto = STAGES[:STAGES.index(stage) + 1]
     data = case.model_dump(mode="json")
+    later = [name.split(".") for names in DEPENDS.values() for name in names if "." in name]
+
+    def value(name: str):
+        if "." in name:
+            table, key = name.split(".")
+            return data[table][key]
+        if data[name] is None:
+            return None
+        return {k: v for k, v in data[name].items() if [name, k] not in later}
+
     # a case without its own materials records none, as the runs before a case could define them did
-    return {name: data[name] for s in upto for name in DEPENDS[s] if data[name] is not None}
+    return {name: value(name) for s in upto for name in DEPENDS[s] if data[name.split(".")[0]] is not None}
 
 
 def read_stage(folder: Path, stage: str) -> dict:
