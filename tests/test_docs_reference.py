@@ -102,3 +102,33 @@ def test_every_key_has_a_description(model):
 def test_a_rendered_row_carries_its_description(page):
     row = next(line for line in _section(page, WhippleCase).splitlines() if line.startswith("| `filter.dencut` |"))
     assert "bulk density ratio" in row.strip("|").split("|")[-1]
+
+
+#: Words that carry no meaning of their own: a description needs more than these and symbols.
+_FUNCTION_WORDS = frozenset("a an and as at by for from in into is it its of on or per than that the their "
+                            "them these this to where which with none off default".split())
+
+
+def _meaning_words(text: str) -> list[str]:
+    """The words of ``text`` of three letters or more that are not function words (ρ₀, G, k, εₚ,f are not)."""
+    return [w for w in re.findall(r"[^\W\d_]{3,}", text) if w.lower() not in _FUNCTION_WORDS]
+
+
+@pytest.mark.parametrize("model", CASES, ids=lambda m: m.__name__)
+def test_every_description_is_a_sentence_a_user_can_act_on(model):
+    """A key's description says what the value means and does: at least five words ending with a full stop,
+    not the key's name repeated, and at least three words of meaning besides its symbols ("G.", "A and B
+    (≥ 0).", "the constants." are not descriptions)."""
+    weak = []
+    for key in impactdyn_reference.case_keys(model):
+        text = _text(key).strip()
+        name = key.dotted.rsplit(".", 1)[-1].replace("_", " ").lower()
+        said = re.sub(r"[\W_]+", " ", text).strip().lower()
+        problems = [problem for problem, found in [
+            ("the key's name repeated", said in (name, name.replace(" ", ""))),
+            ("fewer than 5 words", len(text.split()) < 5),
+            ("no full stop at the end", not re.search(r"\.\)?$", text)),
+            ("symbols without the meaning", len(_meaning_words(text)) < 3)] if found]
+        if problems:
+            weak.append(f"{key.dotted} ({', '.join(problems)}): {text!r}")
+    assert weak == [], f"{model.__name__}: weak descriptions:\n" + "\n".join(weak)
