@@ -132,3 +132,13 @@ def test_every_description_is_a_sentence_a_user_can_act_on(model):
         if problems:
             weak.append(f"{key.dotted} ({', '.join(problems)}): {text!r}")
     assert weak == [], f"{model.__name__}: weak descriptions:\n" + "\n".join(weak)
+
+
+def test_the_key_that_chooses_a_member_of_a_union_of_tables_is_listed_once_with_its_choices():
+    """``contact.model`` chooses the beam's contact law: one row with every law and what each is, not one row
+    per law that repeats its value."""
+    rows = [key for key in impactdyn_reference.case_keys(BeamCase) if key.dotted == "contact.model"]
+    assert len(rows) == 1
+    assert rows[0].type == 'one of "momentum", "hertz", "hunt_crossley", "lankarani_nikravesh"'
+    assert rows[0].description.startswith("the law of the contact between the beam and the stop")
+    assert "IMPACTB's compliant contact" in rows[0].description

@@ -171,7 +171,9 @@ class DissipativePowerContact(Section):
 
 
 ContactSection = Annotated[
-    Union[MomentumContact, HertzContact, DissipativePowerContact], Field(discriminator="model")
+    Union[MomentumContact, HertzContact, DissipativePowerContact],
+    Field(discriminator="model", description="the law of the contact between the beam and the stop; it "
+          "decides which other keys the table takes (each of them names its law)."),
 ]
 
 
