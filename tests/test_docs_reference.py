@@ -142,3 +142,12 @@ def test_the_key_that_chooses_a_member_of_a_union_of_tables_is_listed_once_with_
     assert rows[0].type == 'one of "momentum", "hertz", "hunt_crossley", "lankarani_nikravesh"'
     assert rows[0].description.startswith("the law of the contact between the beam and the stop")
     assert "IMPACTB's compliant contact" in rows[0].description
+
+
+@pytest.mark.parametrize("model, key, bounds", [
+    (DebrisCase, "integrator.steps_per_period", "> π"),  # not > 3.141592653589793
+    (WhippleCase, "wall.spacing_cm", "> 0"),  # its own validator words the error; the bound is still shown
+    (WhippleCase, "shield.cfl", "> 0, ≤ 1"),  # declared on the option and in its type: shown once
+])
+def test_bounds_are_printed_for_people(model, key, bounds):
+    assert next(k for k in impactdyn_reference.case_keys(model) if k.dotted == key).bounds == bounds

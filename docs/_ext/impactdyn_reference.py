@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import inspect
+import math
 import re
 import types
 import typing
@@ -118,9 +119,23 @@ def type_name(annotation: Any) -> str:
     return {str: "string", float: "number", int: "integer", bool: "boolean"}.get(annotation, str(annotation))
 
 
+#: Bounds that are a named number, printed by name: steps per period > π (stability of the leapfrog).
+_NAMED_NUMBERS = {math.pi: "π"}
+
+
+def bound_number(value: Any) -> str:
+    """A bound for people: a named number by its name (π, not 3.141592653589793), else at most nine
+    significant digits (the light-speed bound 299.792458 km/s keeps its digits) without ``e+``."""
+    if isinstance(value, float):
+        named = next((name for number, name in _NAMED_NUMBERS.items() if math.isclose(value, number)), None)
+        return named or f"{value:.9g}".replace("e+", "e")
+    return str(value)
+
+
 def bounds_of(info: FieldInfo) -> str:
-    """Bounds of the value (and, for a list, of each item)."""
-    found = [_BOUNDS[type(m)].format(*dataclasses.astuple(m)) for m in info.metadata if type(m) in _BOUNDS]
+    """Bounds of the value (and, for a list, of each item), each once."""
+    found = [_BOUNDS[type(m)].format(*map(bound_number, dataclasses.astuple(m)))
+             for m in info.metadata if type(m) in _BOUNDS]
     lengths = [dataclasses.astuple(m)[0] for m in info.metadata if isinstance(m, (annotated_types.MinLen,
                                                                                    annotated_types.MaxLen))]
     if len(lengths) == 2 and lengths[0] == lengths[1]:
@@ -131,7 +146,7 @@ def bounds_of(info: FieldInfo) -> str:
             bounded = [m for m in typing.get_args(arg)[1:] if isinstance(m, FieldInfo)]
             prefix = "each " if typing.get_origin(inner) is list else ""
             found += [prefix + bounds_of(b) for b in bounded]
-    return ", ".join(found)
+    return ", ".join(dict.fromkeys(found))  # a bound declared on the field and in its type: once
 
 
 def default_of(info: FieldInfo) -> str:
