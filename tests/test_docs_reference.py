@@ -81,8 +81,8 @@ def test_a_setting_documented_in_its_class_docstring_keeps_its_description_in_a_
     from impactdyn.shield import SPHOptions
 
     shield = WhippleCase.model_fields["shield"].annotation
-    assert documented_settings(SPHOptions)["cfl"] == "time-step factors."
-    assert shield.model_fields["cfl"].description == "time-step factors."
+    assert documented_settings(SPHOptions)["cfl"].startswith("the Courant factor of the time step")
+    assert shield.model_fields["cfl"].description == documented_settings(SPHOptions)["cfl"]
 
 
 def _text(key) -> str:
@@ -102,3 +102,52 @@ def test_every_key_has_a_description(model):
 def test_a_rendered_row_carries_its_description(page):
     row = next(line for line in _section(page, WhippleCase).splitlines() if line.startswith("| `filter.dencut` |"))
     assert "bulk density ratio" in row.strip("|").split("|")[-1]
+
+
+#: Words that carry no meaning of their own: a description needs more than these and symbols.
+_FUNCTION_WORDS = frozenset("a an and as at by for from in into is it its of on or per than that the their "
+                            "them these this to where which with none off default".split())
+
+
+def _meaning_words(text: str) -> list[str]:
+    """The words of ``text`` of three letters or more that are not function words (ρ₀, G, k, εₚ,f are not)."""
+    return [w for w in re.findall(r"[^\W\d_]{3,}", text) if w.lower() not in _FUNCTION_WORDS]
+
+
+@pytest.mark.parametrize("model", CASES, ids=lambda m: m.__name__)
+def test_every_description_is_a_sentence_a_user_can_act_on(model):
+    """A key's description says what the value means and does: at least five words ending with a full stop,
+    not the key's name repeated, and at least three words of meaning besides its symbols ("G.", "A and B
+    (≥ 0).", "the constants." are not descriptions)."""
+    weak = []
+    for key in impactdyn_reference.case_keys(model):
+        text = _text(key).strip()
+        name = key.dotted.rsplit(".", 1)[-1].replace("_", " ").lower()
+        said = re.sub(r"[\W_]+", " ", text).strip().lower()
+        problems = [problem for problem, found in [
+            ("the key's name repeated", said in (name, name.replace(" ", ""))),
+            ("fewer than 5 words", len(text.split()) < 5),
+            ("no full stop at the end", not re.search(r"\.\)?$", text)),
+            ("symbols without the meaning", len(_meaning_words(text)) < 3)] if found]
+        if problems:
+            weak.append(f"{key.dotted} ({', '.join(problems)}): {text!r}")
+    assert weak == [], f"{model.__name__}: weak descriptions:\n" + "\n".join(weak)
+
+
+def test_the_key_that_chooses_a_member_of_a_union_of_tables_is_listed_once_with_its_choices():
+    """``contact.model`` chooses the beam's contact law: one row with every law and what each is, not one row
+    per law that repeats its value."""
+    rows = [key for key in impactdyn_reference.case_keys(BeamCase) if key.dotted == "contact.model"]
+    assert len(rows) == 1
+    assert rows[0].type == 'one of "momentum", "hertz", "hunt_crossley", "lankarani_nikravesh"'
+    assert rows[0].description.startswith("the law of the contact between the beam and the stop")
+    assert "IMPACTB's compliant contact" in rows[0].description
+
+
+@pytest.mark.parametrize("model, key, bounds", [
+    (DebrisCase, "integrator.steps_per_period", "> π"),  # not > 3.141592653589793
+    (WhippleCase, "wall.spacing_cm", "> 0"),  # its own validator words the error; the bound is still shown
+    (WhippleCase, "shield.cfl", "> 0, ≤ 1"),  # declared on the option and in its type: shown once
+])
+def test_bounds_are_printed_for_people(model, key, bounds):
+    assert next(k for k in impactdyn_reference.case_keys(model) if k.dotted == key).bounds == bounds

@@ -15,6 +15,8 @@ list before autodoc parses them.
 from __future__ import annotations
 
 import dataclasses
+import inspect
+import math
 import re
 import types
 import typing
@@ -117,9 +119,23 @@ def type_name(annotation: Any) -> str:
     return {str: "string", float: "number", int: "integer", bool: "boolean"}.get(annotation, str(annotation))
 
 
+#: Bounds that are a named number, printed by name: steps per period > π (stability of the leapfrog).
+_NAMED_NUMBERS = {math.pi: "π"}
+
+
+def bound_number(value: Any) -> str:
+    """A bound for people: a named number by its name (π, not 3.141592653589793), else at most nine
+    significant digits (the light-speed bound 299.792458 km/s keeps its digits) without ``e+``."""
+    if isinstance(value, float):
+        named = next((name for number, name in _NAMED_NUMBERS.items() if math.isclose(value, number)), None)
+        return named or f"{value:.9g}".replace("e+", "e")
+    return str(value)
+
+
 def bounds_of(info: FieldInfo) -> str:
-    """Bounds of the value (and, for a list, of each item)."""
-    found = [_BOUNDS[type(m)].format(*dataclasses.astuple(m)) for m in info.metadata if type(m) in _BOUNDS]
+    """Bounds of the value (and, for a list, of each item), each once."""
+    found = [_BOUNDS[type(m)].format(*map(bound_number, dataclasses.astuple(m)))
+             for m in info.metadata if type(m) in _BOUNDS]
     lengths = [dataclasses.astuple(m)[0] for m in info.metadata if isinstance(m, (annotated_types.MinLen,
                                                                                    annotated_types.MaxLen))]
     if len(lengths) == 2 and lengths[0] == lengths[1]:
@@ -130,7 +146,7 @@ def bounds_of(info: FieldInfo) -> str:
             bounded = [m for m in typing.get_args(arg)[1:] if isinstance(m, FieldInfo)]
             prefix = "each " if typing.get_origin(inner) is list else ""
             found += [prefix + bounds_of(b) for b in bounded]
-    return ", ".join(found)
+    return ", ".join(dict.fromkeys(found))  # a bound declared on the field and in its type: once
 
 
 def default_of(info: FieldInfo) -> str:
@@ -151,11 +167,32 @@ def _plain(text: str) -> str:
     return text.replace("``", "`").replace("|", "\\|").replace("\n", " ")
 
 
-def case_keys(model: type[BaseModel], prefix: str = "", variant: str = "") -> list[Key]:
-    """Every key of ``model``, tables walked; a key of one member of a union of tables names it."""
+def _choices(section: type[BaseModel], discriminator: str) -> tuple[str, ...]:
+    """The values of ``discriminator`` that select ``section`` (its ``Literal``)."""
+    return typing.get_args(section.model_fields[discriminator].annotation)
+
+
+def _discriminator_key(dotted: str, info: FieldInfo, sections: list[type[BaseModel]], description: str) -> Key:
+    """The key that chooses a member of a union of tables, listed once: every choice, each with the first
+    paragraph of its table's docstring, after the union's own description."""
+    discriminator = str(info.discriminator)
+    choices = [value for section in sections for value in _choices(section, discriminator)]
+    meanings = " ".join(
+        " or ".join(f'`"{value}"`' for value in _choices(section, discriminator)) + ": "
+        + " ".join(inspect.cleandoc(section.__doc__ or "").split("\n\n")[0].split()) for section in sections)
+    default = "required" if info.is_required() else f'`"{getattr(info.get_default(), discriminator)}"`'
+    return Key(f"{dotted}.{discriminator}", "one of " + ", ".join(f'"{v}"' for v in choices), "", default,
+               "", _plain(f"{description.strip()} {meanings}".strip()))
+
+
+def case_keys(model: type[BaseModel], prefix: str = "", variant: str = "", discriminator: str = "") -> list[Key]:
+    """Every key of ``model``, tables walked.  A union of tables has its discriminator listed once with
+    its choices; a key of one member names the member (``(model = "hertz")``)."""
     keys = []
     described = documented_settings(model)
     for name, info in model.model_fields.items():
+        if name == discriminator:  # listed once, with the union
+            continue
         dotted = f"{prefix}{name}"
         named = _named_table(info.annotation)
         if named is not None:
@@ -163,13 +200,12 @@ def case_keys(model: type[BaseModel], prefix: str = "", variant: str = "") -> li
             continue
         sections = _sections(info.annotation)
         if sections:
+            union_of = info.discriminator if len(sections) > 1 and isinstance(info.discriminator, str) else ""
+            if union_of:
+                keys.append(_discriminator_key(dotted, info, sections, info.description or described.get(name, "")))
             for section in sections:
-                tag = ""
-                if len(sections) > 1:  # a discriminated union: each member says which value selects it
-                    tag_field = section.model_fields[info.discriminator] if isinstance(info.discriminator, str) else None
-                    tag = f"{info.discriminator} = " + " or ".join(
-                        f'"{v}"' for v in typing.get_args(tag_field.annotation)) if tag_field else ""
-                keys += case_keys(section, f"{dotted}.", tag)
+                tag = f"{union_of} = " + " or ".join(f'"{v}"' for v in _choices(section, union_of)) if union_of else ""
+                keys += case_keys(section, f"{dotted}.", tag, union_of)
             continue
         description = info.description or described.get(name, "")
         if variant:

@@ -123,7 +123,7 @@ class StopSection(Section):
 class MomentumContact(Section):
     """IMPACTC's impulsive contact: an instantaneous momentum balance with a coefficient of restitution.
 
-    model : "momentum".
+    model : "momentum", which selects this contact law.
     restitution_law : "listing" (default): the listing's velocity-dependent coefficient
         e(v) = 2.578v² − 1.7428v + 1 for an approach speed v < 0.2 m/s, else 0.5014 v^(−1/4);
         "constant": ``restitution`` at every speed.
@@ -142,8 +142,9 @@ class MomentumContact(Section):
 class HertzContact(Section):
     """IMPACTB's compliant contact: F = k δ^(3/2) + ¾ c k δ δ̇, F ≥ 0, at a penetration δ = −g.
 
-    model : "hertz".
-    stiffness_N_m1_5 : the Hertzian stiffness k.
+    model : "hertz", which selects this contact law.
+    stiffness_N_m1_5 : the Hertzian stiffness (k): the contact force is k δ^(3/2) at a
+        penetration δ into the stop.
     damping_s_m : the damping c of the dashpot term ¾ c k δ δ̇; 0: elastic contact.
     """
 
@@ -156,8 +157,9 @@ class DissipativePowerContact(Section):
     """Compliant contact F = k δⁿ (1 + D δ̇), D from the restitution e and the approach speed v₀ at
     first touch: 3(1 − e)/(2v₀) (Hunt–Crossley) or 3(1 − e²)/(4v₀) (Lankarani–Nikravesh).
 
-    model : "hunt_crossley" or "lankarani_nikravesh".
-    stiffness_N_m_n : the stiffness k.
+    model : "hunt_crossley" or "lankarani_nikravesh", which select this contact law and its damping.
+    stiffness_N_m_n : the contact stiffness (k): the elastic contact force is k δⁿ at a
+        penetration δ into the stop.
     exponent : the exponent n of the penetration (1.5: Hertz).
     restitution : the coefficient of restitution e the damping is tuned to.
     """
@@ -169,18 +171,22 @@ class DissipativePowerContact(Section):
 
 
 ContactSection = Annotated[
-    Union[MomentumContact, HertzContact, DissipativePowerContact], Field(discriminator="model")
+    Union[MomentumContact, HertzContact, DissipativePowerContact],
+    Field(discriminator="model", description="the law of the contact between the beam and the stop; it "
+          "decides which other keys the table takes (each of them names its law)."),
 ]
 
 
 class InitialSection(Section):
     """The state at ``time.start_s`` (at rest, θ = 0, by default); the beam must start clear of the stop.
 
-    theta_rad : the hub angle θ.
-    theta_dot_rad_s : the hub's angular velocity θ̇.
+    theta_rad : the hub's angle at the start (θ), from the line θ = 0 (horizontal under gravity;
+        the stop's offset ``stop.y_m`` is measured from it), positive where a positive torque
+        turns the hub.
+    theta_dot_rad_s : the hub's angular velocity at the start (θ̇).
     q_m : the modal amplitudes q₁ … qₙ (one per mode, m: the deflection w = Σ φᵢ qᵢ, with
         φᵢ(1) = ±2 at the tip); none: zero.
-    q_dot_m_s : their rates q̇ᵢ; none: zero.
+    q_dot_m_s : the rates of change q̇₁ … q̇ₙ of the modal amplitudes (one per mode); none: zero.
     tip_velocity_m_s : IMPACTB-style: this tip velocity added into mode 1 (q̇₁ += v/φ₁(1)).
     """
 

@@ -178,7 +178,8 @@ class FilterSection(SeedFilter):
 class RemapSection(Section):
     """A second face grid to remap the deposition onto (DCPOST, dc3din's new wall grid).
 
-    x_cm, z_cm : its extent in x and z, cm.
+    x_cm, z_cm : the [first, last] coordinates of the second grid's edges in x and in z, cm, in
+        the wall's coordinates.
     nodes : its node counts (x, z); the deposited impulse is shared among its face cells by
         overlap area (conservative), written to ``areal_density_remap.csv``.
     """

@@ -73,7 +73,11 @@ class DepositionOptions(Section):
 
     momentum_transfer : "arrival" (default): its own momentum; "cratering": its normal component times
         the β(V_n) of a droplet cratering a thick wall (:func:`cratering_momentum`, an upper bound).
-    legacy_vertex_scaling, legacy_momentum_enhancement : DYNOUT's legacy options.
+    legacy_vertex_scaling : DYNOUT places a particle's deposition points at its vertices scaled by
+        (ρ/ρ_ref)^⅓ about the centre; off: the deformed vertices c + F(x⁰ − c⁰).
+    legacy_momentum_enhancement : DYNOUT's factor √((m_e + m)/m) on a particle's deposited momentum,
+        m_e the mass of one wall element at the debris' reference density (the listing computes it,
+        then sets it to 1); on, the deposited momentum exceeds the debris'.
     """
 
     momentum_transfer: MomentumTransfer = "arrival"

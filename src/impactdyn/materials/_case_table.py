@@ -45,12 +45,16 @@ Source = Annotated[str, AfterValidator(_named_source)]
 class EosGroup(Section):
     """The Mie–Grüneisen equation of state about the linear Hugoniot Us = c₀ + s·up, with Γρ = Γ₀ρ₀.
 
-    density_g_cm3 : the reference density ρ₀.
+    density_g_cm3 : the density of the uncompressed material at rest (ρ₀), about which the
+        pressure is measured.
     c0_km_s : the Hugoniot's intercept c₀ (the bulk sound speed).
-    s : the Hugoniot's slope.
-    gamma0 : the Grüneisen parameter Γ₀ at ρ₀.
-    specific_heat_J_gK : c_v, for the temperature estimate (Johnson–Cook softening, melt).
-    source : where these constants come from.
+    s : the slope of the linear Hugoniot: the shock speed grows by s km/s for each km/s of particle
+        speed (Us = c₀ + s·up).
+    gamma0 : the Grüneisen parameter Γ₀ at ρ₀: how much pressure the material's heat adds at a
+        given density.
+    specific_heat_J_gK : the specific heat at constant volume (c_v), which turns the internal
+        energy into the temperature that Johnson–Cook softening and melting read.
+    source : the published reference these constants come from, one a reader can find.
     """
 
     density_g_cm3: Positive
@@ -64,9 +68,10 @@ class EosGroup(Section):
 class StrengthGroup(Section):
     """Elastic–perfectly-plastic strength.
 
-    shear_modulus_GPa : G.
-    yield_stress_GPa : Y₀, the yield stress at zero plastic strain (≥ 0).
-    source : where these constants come from.
+    shear_modulus_GPa : the shear modulus (G) of the elastic response to a change of shape.
+    yield_stress_GPa : the yield stress at zero plastic strain (Y₀); 0: the material flows like a
+        fluid.
+    source : the published reference these constants come from, one a reader can find.
     """
 
     shear_modulus_GPa: Positive
@@ -77,8 +82,9 @@ class StrengthGroup(Section):
 class SpallGroup(Section):
     """Spall: a particle fails when its pressure falls below −p_spall (the cut-off laws).
 
-    strength_GPa : p_spall > 0.
-    source : where it comes from.
+    strength_GPa : the spall strength (p_spall): a particle fails when its pressure falls below
+        −p_spall, a tension this large.
+    source : the published reference the spall strength comes from, one a reader can find.
     """
 
     strength_GPa: Positive
@@ -88,8 +94,9 @@ class SpallGroup(Section):
 class PlasticFailureGroup(Section):
     """The plastic-strain failure limit (the shield's threshold model, the type-13 wall card).
 
-    strain : εₚ,f > 0 (e.g. the elongation at break).
-    source : where it comes from.
+    strain : the plastic strain at which the material fails (εₚ,f), for example the alloy's
+        elongation at break.
+    source : the published reference the failure strain comes from, one a reader can find.
     """
 
     strain: Positive
@@ -99,13 +106,20 @@ class PlasticFailureGroup(Section):
 class JohnsonCookGroup(Section):
     """Johnson–Cook flow stress Y = (A + B εₚⁿ)(1 + C ln ε̇*)(1 − T*ᵐ) (:class:`~impactdyn.materials.JohnsonCook`).
 
-    A_MPa, B_MPa : A and B (≥ 0).
-    n, m : the hardening and thermal-softening exponents (> 0).
-    C : the strain-rate coefficient (≥ 0).
-    melt_temperature_K : T_melt, above ``room_temperature_K``.
-    room_temperature_K : T_room, where T* = 0.
-    reference_strain_rate_per_s : ε̇₀ of the fit (often 1 s⁻¹).
-    source : where these constants come from.
+    A_MPa : the yield stress at zero plastic strain, room temperature and the reference strain
+        rate (A).
+    B_MPa : the strain-hardening modulus (B): the flow stress grows by B εₚⁿ with the plastic
+        strain εₚ.
+    n : the strain-hardening exponent of the plastic strain (n).
+    C : the strain-rate coefficient (C): the flow stress grows by the factor 1 + C ln(ε̇/ε̇₀).
+    m : the thermal-softening exponent (m): the flow stress falls by the factor 1 − T*ᵐ.
+    melt_temperature_K : the melting temperature (T_melt) at which the flow stress falls to zero
+        (T* = 1); above ``room_temperature_K``.
+    room_temperature_K : the temperature of the fit's tests (T_room), where there is no thermal
+        softening (T* = 0).
+    reference_strain_rate_per_s : the strain rate of the fit's quasi-static tests (ε̇₀; often 1 s⁻¹),
+        where the rate term vanishes.
+    source : the published reference these constants come from, one a reader can find.
     """
 
     A_MPa: NonNegative
@@ -130,10 +144,19 @@ class JohnsonCookDamageGroup(Section):
     """Johnson–Cook damage, ε_f = [D1 + D2 exp(D3 σ*)][1 + D4 ln ε̇*][1 + D5 T*]
     (:class:`~impactdyn.materials.JohnsonCookDamage`), in Johnson & Cook's signs (D3 < 0).
 
-    D1, D2, D3, D4, D5 : the constants.
-    failure_strain_floor : ε_f,min, where the fit falls to zero beyond its data; none: no floor.
-    failure_strain_floor_source : the floor's basis (required with a floor).
-    source : where the constants come from.
+    D1 : the constant term of the failure strain's dependence on the stress triaxiality σ* (the
+        mean stress over the von Mises stress, positive in tension).
+    D2 : the factor of the exponential term D2 exp(D3 σ*) of that dependence.
+    D3 : the factor of the triaxiality in that exponential (negative in Johnson & Cook's signs:
+        the more tension, the less strain to failure).
+    D4 : the strain-rate factor: the failure strain grows by the factor 1 + D4 ln ε̇* with the
+        strain rate.
+    D5 : the temperature factor: the failure strain grows by the factor 1 + D5 T* with the
+        homologous temperature T*.
+    failure_strain_floor : the smallest failure strain (ε_f,min) the fit may give, where it falls to
+        zero beyond its data; none: no floor.
+    failure_strain_floor_source : the reference or reasoning behind the floor (required with a floor).
+    source : the published reference these constants come from, one a reader can find.
     """
 
     D1: float
@@ -155,10 +178,11 @@ class JohnsonCookDamageGroup(Section):
 class TulerButcherGroup(Section):
     """Tuler–Butcher spall ∫ max(0, σ − σ₀)^λ dt ≥ K (:class:`~impactdyn.materials.TulerButcher`).
 
-    sigma0_GPa : the threshold σ₀.
-    exponent : λ.
-    K_Mbar_lambda_us : K, Mbar^λ·µs (the unit depends on λ: given in the package's units).
-    source : where the constants come from.
+    sigma0_GPa : the threshold tension (σ₀) below which no spall damage accumulates.
+    exponent : the exponent (λ) of the tension over the threshold in the damage integral.
+    K_Mbar_lambda_us : the damage integral at which the material spalls (K), Mbar^λ·µs (the unit
+        depends on λ: given in the package's units).
+    source : the published reference these constants come from, one a reader can find.
     """
 
     sigma0_GPa: Positive
@@ -170,9 +194,10 @@ class TulerButcherGroup(Section):
 class WeibullFlawsGroup(Section):
     """Weibull flaws n(ε) = k εᵐ per unit volume (:class:`~impactdyn.materials.WeibullFlaws`).
 
-    k_per_cm3 : k.
-    m : the Weibull modulus.
-    source : where the constants come from.
+    k_per_cm3 : the flaw density factor (k): the number of flaws per cm³ that activate by a
+        tensile strain ε is k εᵐ.
+    m : the Weibull modulus (m), how steeply the number of active flaws grows with the strain.
+    source : the published reference these constants come from, one a reader can find.
     """
 
     k_per_cm3: Positive
@@ -183,8 +208,9 @@ class WeibullFlawsGroup(Section):
 class FractureToughnessGroup(Section):
     """The plane-strain fracture toughness K_Ic (Grady's fragment size).
 
-    K_Ic_MPa_sqrt_m : K_Ic, MPa·√m.
-    source : where it comes from.
+    K_Ic_MPa_sqrt_m : the plane-strain fracture toughness (K_Ic), which sets the size of the
+        fragments of failed material through Grady's energy balance.
+    source : the published reference the toughness comes from, one a reader can find.
     """
 
     K_Ic_MPa_sqrt_m: Positive
@@ -194,11 +220,14 @@ class FractureToughnessGroup(Section):
 class PhaseGroup(Section):
     """Melting and vaporisation at ambient pressure (:class:`~impactdyn.materials.PhaseChange`).
 
-    solidus_K, liquidus_K : the melting range (equal for a pure metal).
-    latent_fusion_J_g : L_f.
-    boiling_K : T_b, above the liquidus.
-    latent_vaporisation_J_g : L_v.
-    source : where the constants come from.
+    solidus_K, liquidus_K : the temperatures where melting starts and ends (equal for a pure
+        metal).
+    latent_fusion_J_g : the latent heat of fusion (L_f): the energy per gram that melting takes on
+        top of the heating, which a particle released from its shock must have to be wholly melted.
+    boiling_K : the boiling point (T_b) at ambient pressure, above the liquidus.
+    latent_vaporisation_J_g : the latent heat of vaporisation (L_v): the energy per gram that boiling
+        takes, which a released particle must have beyond the boiling point to be wholly vapour.
+    source : the published reference these constants come from, one a reader can find.
     """
 
     solidus_K: Positive

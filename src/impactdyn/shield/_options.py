@@ -30,13 +30,20 @@ VISCOSITY_SWITCHES: tuple[str, ...] = get_args(ViscositySwitch)
 class SPHOptions(Section):
     """Numerical parameters of the SPH stage (:mod:`._equations`).
 
-    alpha, beta : artificial viscosity coefficients.
+    alpha : the linear coefficient of the artificial viscosity (α; Monaghan 1992, eq. 4.1), which
+        damps the ringing behind a shock (1.0; 0 turns the linear term off).
+    beta : the quadratic coefficient of the artificial viscosity (β), which keeps particles from
+        passing through each other in a strong shock (2.0; 0 turns the quadratic term off).
     viscosity_switch : "none" (the viscosity acts on every approaching pair) or "balsara" (scaled by
         Balsara's factor, zero where the flow expands: its heating confined to shocks).
     artificial_stress, artificial_stress_power : ε and n of the artificial stress (ε = 0 disables it).
     h_factor : κ in h = κ (m/ρ)^{1/3} (h over the particle spacing).
     h_max_factor : the largest growth of h under expansion.
-    cfl, force_cfl : time-step factors.
+    cfl : the Courant factor of the time step (C_cfl): the step is at most
+        C_cfl h / (c + 1.2 (α c + β max|μ|)) and C_cfl ρ/|ρ̇| over the particles (0.3; a smaller
+        factor takes smaller steps).
+    force_cfl : the factor of the acceleration's limit on the time step (C_f): the step is at most
+        C_f √(h/|a|) over the particles (0.25).
     flow_stress : "perfectly_plastic" (Y = Y₀) or "johnson_cook".
     failure : apply the materials' failure (``failure_model``); false: no particle fails.
     failure_model : "threshold": a particle fails at once when p < −p_spall or εₚ exceeds the

@@ -84,8 +84,8 @@ class WallOptions(Section):
         intact material connected to the supports, :mod:`._verdict`) has fallen below
         ``decay_fraction`` of its peak after the last arrival, or ``max_time_us``.  The solver has
         no structural damping, so a supported wall rings elastically and its kinetic energy
-        seldom decays that far: all 40 Table 2 and validation runs of 2026-11-27 ended at the
-        ceiling with 4–54 % of the load's work still kinetic; ``measures["ended_by"]`` says
+        seldom decays that far: every Table 2 and validation run (40 runs) ends at the ceiling
+        with 4–54 % of the load's work still kinetic; ``measures["ended_by"]`` says
         which end a run met (docs/vv/convergence.md, "The wall: Table 2 at the default mesh and at twice its resolution").
     decay_fraction : the fraction of the peak kinetic energy that ends a run (0.05).
     perforation_hold_us : a run without ``end_time_us`` ends (``ended_by`` "perforated") this long

@@ -18,7 +18,7 @@ z ∈ [−4, 12] cm about the impact point).
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Literal, get_type_hints
+from typing import Annotated, Any, Literal, get_type_hints
 
 from pydantic import Field, ValidationError, field_validator, model_validator
 
@@ -78,7 +78,7 @@ class WallSection(Section):
         from it, and the decks carry it.
     thickness_cm : the wall's thickness t_w (along y).
     spacing_cm : the stand-off S from the bumper's back face to the wall's front face (the
-        report's spacing, App. A), > 0; the wall's front face is y = t_b + S.  The debris must not
+        report's spacing, App. A); the wall's front face is y = t_b + S.  The debris must not
         reach it by the hand-off, and the binning cells must fit in it.
     yield_stress_ksi : the wall's yield stress σ_y in the NASA JSC ballistic-limit equation
         (the verdict the simulation is compared with); the simulated wall's strength comes from
@@ -102,7 +102,7 @@ class WallSection(Section):
 
     material: MaterialName = REPORT_MATERIAL
     thickness_cm: Positive
-    spacing_cm: float
+    spacing_cm: Positive
     yield_stress_ksi: Positive = 40.0
     x_cm: Range = [0.0, 8.0]
     z_cm: Range = [-4.0, 12.0]
@@ -110,10 +110,10 @@ class WallSection(Section):
     clamped_edges: bool = field_of(DebrisWallSection, "clamped_edges")
     momentum_transfer: MomentumTransfer = field_of(DebrisWallSection, "momentum_transfer")
 
-    @field_validator("spacing_cm")
+    @field_validator("spacing_cm", mode="before")  # before the bound > 0: this message says why
     @classmethod
-    def _outside_bumper(cls, spacing: float) -> float:
-        if spacing <= 0:
+    def _outside_bumper(cls, spacing: Any) -> Any:
+        if isinstance(spacing, (int, float)) and not isinstance(spacing, bool) and spacing <= 0:
             raise ValueError(f"{spacing}: the wall's front face would lie inside the bumper (the spacing runs "
                              "from the bumper's back face to the wall's front face and must be > 0)")
         return spacing

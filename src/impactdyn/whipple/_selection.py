@@ -55,8 +55,10 @@ class Eligible(Section):
     projectile_alloys : the database's names of the projectile alloys a shot may have, each one the
         pipeline models (:data:`impactdyn.whipple.ALLOYS` maps them to library materials).
     plate_alloys : the alloys its bumper and its wall may have (both must be listed).
-    velocity_km_s : [lowest, highest] impact speed.
-    diameter_cm : [smallest, largest] projectile diameter.
+    velocity_km_s : the range of impact speeds a shot may have, [lowest, highest], both ends
+        included.
+    diameter_cm : the range of projectile diameters a shot may have, [smallest, largest], both
+        ends included.
     min_spacing_cm : the smallest stand-off between bumper and wall (the hand-off grid must fit in
         it); 0: any.
     min_wall_thickness_cm : the thinnest wall; 0: any.
