@@ -10,7 +10,9 @@ covered at once — and fails here until it has a bad-input invocation in
   inputs is as it was);
 * an output path below a regular file (permissions do not stop root) → exit 2, a
   message naming the path, no folder;
-* an SPH breakdown in ``whipple run`` → exit 1, "simulation failed", no run folder.
+* an SPH breakdown in ``whipple run`` → exit 1, "simulation failed", no run folder;
+* a beam contact the solver cannot follow (a dashpot of 99999999999 s/m in ``beam run``) → exit 1, one
+  message naming the contact key, no run folder.
 
 Every case is tiny or fails before any simulation, so the whole file runs in seconds.
 """
@@ -357,3 +359,18 @@ def test_sph_breakdown_exits_1_and_leaves_no_run_folder(tmp_path, capsys, monkey
     assert "Traceback" not in stdout + err
     assert not out.exists()
     assert _tree(tmp_path) == {"in", "in/whipple.toml"}
+
+
+def test_a_contact_the_beam_solver_cannot_follow_exits_1_naming_its_key(tmp_path, capsys):
+    """The IMPACTB sample with its dashpot at 99999999999 s/m: at the first contact the dashpot holds the stop
+    point and would let it go only below the round-off of the gap rate, and the steps fall below what the
+    time resolves (it ended in a ZeroDivisionError and a traceback)."""
+    inputs, out = tmp_path / "in", tmp_path / "run"
+    inputs.mkdir()
+    case = beam_case(inputs, **{"time.end_s": 1.0, "contact.damping_s_m": 99999999999})
+    code, stdout, err = _run(capsys, ["beam", "run", str(case), "-o", str(out)])
+    assert code == 1, err
+    assert err.startswith("simulation failed: contact.damping_s_m = 1e+11: ") and err.count("\n") == 1, err
+    assert "Traceback" not in stdout + err
+    assert not out.exists()
+    assert _tree(tmp_path) == {"in", "in/beam.toml"}

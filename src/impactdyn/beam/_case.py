@@ -6,7 +6,7 @@ unit in the name. See ``examples/beam/*.toml`` for the two recorded sample runs.
 
 from __future__ import annotations
 
-from typing import Annotated, Literal, Union
+from typing import Annotated, ClassVar, Literal, Union
 
 import numpy as np
 from pydantic import Field, model_validator
@@ -151,6 +151,10 @@ class HertzContact(Section):
     model: Literal["hertz"]
     stiffness_N_m1_5: Positive
     damping_s_m: NonNegative = 0.0
+    spring: ClassVar[dict[str, str]] = {"stiffness_N_m1_5": "lower"}
+    """The keys that set the spring k δ^(3/2), each with the change that softens it (a run that cannot
+    follow the spring names them); ``dashpot`` the same for ¾ c k δ δ̇, the key that removes it first."""
+    dashpot: ClassVar[dict[str, str]] = {"damping_s_m": "lower", "stiffness_N_m1_5": "lower"}
 
 
 class DissipativePowerContact(Section):
@@ -168,6 +172,10 @@ class DissipativePowerContact(Section):
     stiffness_N_m_n: Positive
     exponent: Positive = 1.5
     restitution: Annotated[float, Field(gt=0, le=1)] = 0.8
+    spring: ClassVar[dict[str, str]] = {"stiffness_N_m_n": "lower", "exponent": "raise"}
+    """The keys that set the spring k δⁿ, each with the change that softens it at penetrations below 1 m;
+    ``dashpot`` the same for k δⁿ D δ̇, the key that removes it first (as :class:`HertzContact`'s)."""
+    dashpot: ClassVar[dict[str, str]] = {"restitution": "raise", "stiffness_N_m_n": "lower", "exponent": "raise"}
 
 
 ContactSection = Annotated[

@@ -49,7 +49,7 @@ from numba import carray, njit, types
 from numba.extending import intrinsic, overload
 
 from impactdyn.beam._model import IN_CONTACT, contact_force_kernel, event_kernel, jacobian_kernel, rhs_into
-from impactdyn.beam._step_control import next_step
+from impactdyn.beam._step_control import least_step, next_step
 
 # Shampine (1982) parameters
 _GAM = 0.5
@@ -391,6 +391,8 @@ def _rosenbrock_steps(t, t_end, h, control, model, coupled, events, out, k_out, 
         last = t + h >= t_end
         if last:
             h = t_end - t
+        elif t + h == t:  # a restart asked for less than the time resolves: a step of no length
+            return STEP_UNDERFLOW, k_out, h, -1, -1, ta, t
         jacobian_kernel(t, y, model, coupled, jac)
         stats[3] += 1
         gh = _GAM * h
@@ -447,6 +449,6 @@ def _rosenbrock_steps(t, t_end, h, control, model, coupled, events, out, k_out, 
         else:
             stats[1] += 1
             h = next_step(control, h, err)
-            if h < control.underflow * max(abs(t), 1.0):
+            if h < least_step(control, t):
                 return STEP_UNDERFLOW, k_out, h, -1, -1, ta, t
     return REACHED_END, k_out, h, -1, -1, ta, t

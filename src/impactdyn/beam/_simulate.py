@@ -14,10 +14,10 @@ side:
 * **resting** (impulsive law) — the stop point slides along the stop with g = ġ = 0,
   held by the multiplier λ ≥ 0. Event: λ crosses zero (the stop would pull).
 
-Events are located with Brent's method (time to ~1e-14 s) on the cubic Hermite
-interpolant of the step, the dense output every solver path shares
-(``_integrator.process_step``); the solver restarts at every event and at the
-torque-pulse corners, so no step straddles a discontinuity. Each step is sampled at
+Events are located on the cubic Hermite interpolant of the step, the dense output
+every solver path shares (``_integrator.process_step``), by Brent's method and then
+bisection to the first float of time past the crossing; the solver restarts at every
+event and at the torque-pulse corners, so no step straddles a discontinuity. Each step is sampled at
 interior points so a crossing and recrossing inside one step is not missed, and a
 restart just after an impact brackets the next crossing from the first instant the
 stop point is clear.
@@ -43,13 +43,13 @@ from scipy.optimize import brentq
 
 from impactdyn._errors import SimulationError
 from impactdyn.beam._case import BeamCase, MomentumContact
-from impactdyn.beam._contact import CONTACT_LAWS, ContactLaw
+from impactdyn.beam._contact import CONTACT_LAWS, ContactLaw, force_kernel
 from impactdyn.beam._integrator import (
     EVENT, SAMPLES_PER_STEP, STEP_UNDERFLOW, TOO_MANY_STEPS, Outputs, Step, event_scan, hermite, process_step,
     record_outputs, rosenbrock_segment, track_peak)
-from impactdyn.beam._model import IN_CONTACT, BeamModel, event_kernel, rhs_kernel
+from impactdyn.beam._model import IN_CONTACT, BeamModel, _law_slopes, event_kernel, rhs_kernel
 from impactdyn.beam._modes import modal_integrals, shapes
-from impactdyn.beam._step_control import StepControl
+from impactdyn.beam._step_control import StepControl, least_step
 
 _SOLVERS = {"Radau": Radau, "BDF": BDF, "LSODA": LSODA}
 FREE, CONTACT, RESTING = "free", "contact", "resting"
@@ -270,21 +270,24 @@ class _Segment:
         return event_kernel(y, self.model, self.coupled)
 
     def locate(self, step: Step, j, e) -> tuple[float, np.ndarray]:
-        """Root of event e inside sample bracket j of the step (Brent on the interpolant)."""
+        """The first instant on the far side of event e inside sample bracket j of the step, and the state
+        there: Brent's method on the interpolant, then bisection down to adjacent floats.  Brent stops within
+        its tolerance on either side of the root, and a strike located on the near side starts the contact
+        outside the stop (by 5e-19 m at t = 2.5e-4 s), where the Jacobian holds no contact force: the first
+        steps then meet a stiff contact explicitly."""
         ta, tb = step.ta, step.tb
         k = SAMPLES_PER_STEP
         a, b = ta + (tb - ta) * (j - 1) / k, ta + (tb - ta) * j / k
-        d = self.events.dirs[e]
         g = lambda t: self.event_values(hermite(step, t))[e]
-        ga = g(a)
-        if (ga > 0) if d < 0 else (ga < 0):
-            t_ev = b if g(b) == 0.0 else brentq(g, a, b, xtol=1e-15, rtol=4 * np.finfo(float).eps)
-            vt = g(t_ev)
-            if (vt > 0) if d < 0 else (vt < 0):
-                t_ev = np.nextafter(t_ev, b)  # the first instant on the far side
-        else:
-            t_ev = a
-        return t_ev, hermite(step, t_ev)
+        far = (lambda t: g(t) <= 0.0) if self.events.dirs[e] < 0 else (lambda t: g(t) >= 0.0)
+        if far(a):
+            return a, hermite(step, a)
+        root = brentq(g, a, b, xtol=1e-15, rtol=4 * np.finfo(float).eps)
+        near, beyond = (a, root) if far(root) else (root, b)
+        while np.nextafter(near, beyond) < beyond:
+            middle = 0.5 * (near + beyond)
+            near, beyond = (near, middle) if far(middle) else (middle, beyond)
+        return beyond, hermite(step, beyond)
 
     def finish_partial_step(self, step: Step, t_ev, peak):
         run = self.run
@@ -302,6 +305,8 @@ def _integrate_segment(run: "_Run", case: BeamCase, mode: _Mode, sc, t, t_seg, y
     if case.solver.method == "rosenbrock":
         status, run.k_out, run.h_next, j, e, step = rosenbrock_segment(
             t, y, t_seg, h0, run.control, seg.model, seg.coupled, seg.events, run.out, run.k_out, peak, run.counts)
+        if status in (STEP_UNDERFLOW, TOO_MANY_STEPS) and mode.kind == CONTACT:
+            raise SimulationError(_contact_failure(run, case, mode, status, step.tb, step.yb))
         if status == STEP_UNDERFLOW:
             raise SimulationError(f"step size underflow at t = {step.tb:.9g} s")
         if status == TOO_MANY_STEPS:
@@ -333,6 +338,101 @@ def _integrate_segment(run: "_Run", case: BeamCase, mode: _Mode, sc, t, t_seg, y
     if mode.contact is not None:
         mode.contact["peak"] = max(mode.contact["peak"], peak[0])
     return _event_name(mode, e), t_ev, y_ev
+
+
+@dataclass(frozen=True)
+class _ContactTerm:
+    """The term of a compliant law's force that sets the pace of a contact phase at one state
+    (:func:`_pacing_term`), for the message of a run that cannot follow it.
+
+    name : "spring" or "dashpot".
+    keys : its ``[contact]`` keys, each with the change that softens it (the section's ``spring`` or ``dashpot``).
+    time_s : its time scale.      delta_m : the penetration δ it was taken at.
+    damping_N_s_m : the dashpot's damping ∂F/∂δ̇ there.
+    holds : the dashpot holds the stop point and would let it go only at ``release_m_s``, below the
+        round-off ``round_off_m_s`` of the gap rate.
+    """
+
+    name: str
+    keys: dict[str, str]
+    time_s: float
+    delta_m: float
+    damping_N_s_m: float
+    holds: bool
+    release_m_s: float
+    round_off_m_s: float
+
+
+def _pacing_term(run: _Run, case: BeamCase, mode: _Mode, t: float, y: np.ndarray) -> _ContactTerm:
+    """The term of the contact law's force with the shorter time scale at (t, y) in a compliant contact phase.
+
+    Each term's time scale on the stop point's effective mass m = 1/(J M⁻¹ Jᵀ), at the penetration δ of the
+    state or, at first touch, the one a least step (:func:`._step_control.least_step`) reaches, is
+    √(m/|∂F/∂δ|) of its stiffness, and for the dashpot also m/|∂F/∂δ̇| of its damping.  A dashpot holds the
+    stop point when |δ̇| lies within the error the step control admits in ġ = J·v; if it would let it go
+    only at a separation speed F(δ, 0)/(∂F/∂δ̇) below the round-off of ġ ((n + 1) ε Σ|Jᵢvᵢ| for its n + 1
+    terms and the half unit of each vᵢ: Higham, *Accuracy and Stability of Numerical Algorithms*, 2nd ed.,
+    §4.2), the end of the contact is left to round-off: the release and re-engage events fire on noise,
+    and the restarts after them ask for steps shorter than the time resolves.
+    """
+    model, law, contact, solver = run.model, run.law, case.contact, case.solver
+    n, p, v0 = model.n, law.params(), mode.v0
+    J, v = model.jacobian_row(), y[n + 1 : 2 * n + 2]
+    mass = 1.0 / (J @ np.linalg.solve(model.mass_matrix(y), J))
+    rate = float(-model.gap_rate(y))
+    delta = max(float(-model.gap(y)), abs(rate) * least_step(run.control, t))
+    spring = force_kernel(law.kernel_id, delta, 0.0, v0, p)
+    stiffness, damping = _law_slopes(law.kernel_id, delta, rate, v0, p, force_kernel(law.kernel_id, delta, rate, v0, p))
+    spring_stiffness = _law_slopes(law.kernel_id, delta, 0.0, v0, p, spring)[0]
+    with np.errstate(divide="ignore"):
+        spring_time = np.sqrt(mass / abs(spring_stiffness))
+        dashpot_time = min(np.sqrt(mass / abs(stiffness - spring_stiffness)), mass / abs(damping))
+        release = spring / np.float64(damping)
+    round_off = (n + 1) * np.finfo(float).eps * np.abs(J * v).sum()
+    if spring_time <= dashpot_time:
+        return _ContactTerm("spring", contact.spring, spring_time, delta, damping, False, release, round_off)
+    holds = abs(rate) <= np.abs(J) @ (solver.atol + solver.rtol * np.abs(v)) and release < round_off
+    return _ContactTerm("dashpot", contact.dashpot, dashpot_time, delta, damping, holds, release, round_off)
+
+
+def _held_message(case: BeamCase, term: _ContactTerm, t: float) -> str:
+    """The message of a dashpot that holds the stop point and lets it go only below the round-off of the gap
+    rate (:func:`_pacing_term`), named by the key that removes the dashpot, which alone sets that speed
+    (√δ/(¾c) of ``hertz``, v₀/D of the power laws)."""
+    contact, key = case.contact, next(iter(term.keys))
+    return (f"contact.{key} = {getattr(contact, key):g}: the contact phase cannot go on at t = {t:.9g} s: its dashpot "
+            f"({term.damping_N_s_m:.2g} N·s/m at a penetration of {term.delta_m:.2g} m) holds the stop point and would "
+            f"let it go only at a separation speed of {term.release_m_s:.2g} m/s, below the round-off of the gap rate "
+            f"({term.round_off_m_s:.2g} m/s), so the end of the contact is left to round-off; {term.keys[key]} it")
+
+
+def _check_release(run: _Run, case: BeamCase, mode: _Mode, t: float, y: np.ndarray) -> None:
+    """Stop the run at a release or re-engagement of a compliant contact whose dashpot holds the stop point
+    and would let it go only below the round-off of the gap rate (:func:`_pacing_term`): the event fired on
+    round-off, as would each after it, and the restarts on them ask for steps shorter than the time resolves."""
+    term = _pacing_term(run, case, mode, t, y)
+    if term.holds:
+        raise SimulationError(_held_message(case, term, t))
+
+
+def _contact_failure(run: _Run, case: BeamCase, mode: _Mode, status: int, t: float, y: np.ndarray) -> str:
+    """The message of a compliant contact phase that the steps could not follow (``STEP_UNDERFLOW``) or that
+    spent the step budget (``TOO_MANY_STEPS``) at (t, y): the ``[contact]`` keys of the term of the force that
+    sets its pace (:func:`_pacing_term`), and what it does."""
+    contact, solver = case.contact, case.solver
+    term = _pacing_term(run, case, mode, t, y)
+    keys = ", ".join(f"contact.{key} = {getattr(contact, key):g}" for key in term.keys)
+    softer = " or ".join(f"{way} contact.{key}" for key, way in term.keys.items())
+    pace = (f"{term.name} moves the stop point on a time scale of {term.time_s:.2g} s at a penetration of "
+            f"{term.delta_m:.2g} m")
+    if status == TOO_MANY_STEPS:
+        return (f"more than solver.max_steps = {solver.max_steps} steps by t = {t:.9g} s, in a contact phase whose "
+                f"{pace} ({keys}); raise solver.max_steps, or {softer}")
+    if term.holds:
+        return _held_message(case, term, t)
+    return (f"{keys}: the contact phase cannot go on at t = {t:.9g} s: its {pace}, and the steps that follow it to "
+            f"solver.rtol = {solver.rtol:g} fell below the solver's least step there "
+            f"({least_step(run.control, t):.2g} s); {softer}")
 
 
 def _impulse(model: BeamModel, y: np.ndarray) -> float:
@@ -406,6 +506,8 @@ def simulate(case: BeamCase) -> Result:
         sc[IN_CONTACT] = mode.code()
         event, t, y = _integrate_segment(run, case, mode, sc, t, t_seg, y)
         run.n_restarts += 1
+        if event in ("release", "reengage"):
+            _check_release(run, case, mode, t, y)
         if event == "strike":
             v_app = float(-model.gap_rate(y))
             if law.impulsive:

@@ -25,8 +25,8 @@ from numba import njit
 class StepControl(NamedTuple):
     """The step control of one run: the error norm's tolerances ``rtol``, ``atol`` and the
     budget ``max_steps`` of accepted steps in the whole run (the case's ``solver`` table),
-    and the controller's constants (module docstring); a step below ``underflow`` ·
-    max(|t|, 1) is a failure."""
+    and the controller's constants (module docstring); a rejected step shrunk below :func:`least_step`, or a
+    step that would not advance the time, is a failure."""
 
     rtol: float
     atol: float
@@ -44,3 +44,10 @@ def next_step(control, h, err):
     """The step after one of size h whose scaled error was ``err`` (module docstring)."""
     return h * min(control.max_factor, max(control.min_factor, control.safety * max(err, control.error_floor)
                                            ** control.exponent))
+
+
+@njit(cache=True, inline="always")
+def least_step(control, t):
+    """The least step the control shrinks a rejected step to at time t, ``underflow`` · max(|t|, 1): at
+    least four units in the last place of t (2.2e-16 |t|), so that the step still advances the time."""
+    return control.underflow * max(abs(t), 1.0)
