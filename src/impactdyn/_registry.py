@@ -54,7 +54,7 @@ class Registry(Generic[T]):
         known = self._find(name)
         if known is not None:
             if not replace:
-                raise InputError(f"{self.what} {name!r}: {known!r} is registered under this name; choose another")
+                raise InputError(f"{self.what} {name!r} is already registered (as {known!r}); choose another name")
             del self._items[known]
         self._items[name] = plugin
         return plugin
