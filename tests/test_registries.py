@@ -6,6 +6,8 @@ import pytest
 
 from impactdyn._errors import InputError
 from impactdyn._registry import Registry
+from impactdyn.beam import CONTACT_LAWS
+from impactdyn.ble import EQUATIONS
 from impactdyn.debris import INTEGRATORS
 from impactdyn.io import FORMATS
 from impactdyn.materials import MATERIALS
@@ -14,7 +16,8 @@ from impactdyn.wall import FAILURE_LAWS, MODELS
 #: Each registry and the case key that names one of its plug-ins (None: the registry says no key).
 REGISTRIES = {"materials": (MATERIALS, None), "wall material models": (MODELS, "material_model"),
               "wall failure laws": (FAILURE_LAWS, "spall_law"), "debris integrators": (INTEGRATORS, "method"),
-              "grid formats": (FORMATS, "format")}
+              "grid formats": (FORMATS, "format"), "beam contact laws": (CONTACT_LAWS, "model"),
+              "ballistic-limit equations": (EQUATIONS, "equation")}
 
 
 @pytest.fixture(params=sorted(REGISTRIES))
