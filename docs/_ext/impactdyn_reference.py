@@ -117,6 +117,16 @@ def type_name(annotation: Any) -> str:
     return {str: "string", float: "number", int: "integer", bool: "boolean"}.get(annotation, str(annotation))
 
 
+def registered_names(info: FieldInfo) -> str:
+    """'a registered wall failure law: "tuler_butcher", "cutoff"' for a key typed ``REGISTRY.name_type()``
+    (:class:`impactdyn._registry.Registry`), else ''."""
+    for m in info.metadata:
+        registry = getattr(getattr(m, "func", None), "registry", None)
+        if registry is not None:
+            return f"a registered {registry.what}: " + ", ".join(f'"{n}"' for n in registry.names())
+    return ""
+
+
 def bounds_of(info: FieldInfo) -> str:
     """Bounds of the value (and, for a list, of each item)."""
     found = [_BOUNDS[type(m)].format(*dataclasses.astuple(m)) for m in info.metadata if type(m) in _BOUNDS]
@@ -174,7 +184,7 @@ def case_keys(model: type[BaseModel], prefix: str = "", variant: str = "") -> li
         description = info.description or described.get(name, "")
         if variant:
             description = f"({variant}) {description}"
-        keys.append(Key(dotted, type_name(info.annotation), unit_of(name), default_of(info), bounds_of(info),
+        keys.append(Key(dotted, registered_names(info) or type_name(info.annotation), unit_of(name), default_of(info), bounds_of(info),
                         _plain(description.strip())))
     return keys
 

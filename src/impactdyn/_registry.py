@@ -85,6 +85,7 @@ class Registry(Generic[T]):
                 raise ValueError(self.unknown(name, key=""))
             return self.check(name)
 
+        registered.registry = self  # the docs' reference lists the registered names (docs/_ext)
         return Annotated[str, AfterValidator(registered)]
 
     def unknown(self, name: object, key: str | None = None) -> str:
