@@ -57,7 +57,7 @@ from impactdyn.debris._case import hand_off_grid
 from impactdyn.io import formats, write_grid
 from impactdyn.materials import MATERIALS
 from impactdyn.shield import BinningMethod
-from impactdyn.wall import MODELS
+from impactdyn.wall import FAILURE_LAWS, MODELS
 from impactdyn.wall._options import HOURGLASS_FORMS, SPREADS
 from impactdyn.ble import read_database
 from impactdyn.whipple import (SelectionRule, WhippleCase, load_rule, load_whipple_case, rule_hash, select_shots,
@@ -151,7 +151,7 @@ KINDS = {
 #: so that a new plug-in is drawn too.
 CHOICES: dict[str, list[str]] = {
     "material": list(MATERIALS), "method": list(INTEGRATORS) + list(typing.get_args(BinningMethod)),
-    "material_model": list(MODELS), "hourglass": list(HOURGLASS_FORMS), "spread": list(SPREADS),
+    "material_model": list(MODELS), "spall_law": list(FAILURE_LAWS), "hourglass": list(HOURGLASS_FORMS), "spread": list(SPREADS),
     "format": list(formats()), "model": list(CONTACT_LAWS), "restitution_law": ["listing", "constant"],
 }
 

@@ -132,6 +132,16 @@ def bound_number(value: Any) -> str:
     return str(value)
 
 
+def registered_names(info: FieldInfo) -> str:
+    """'a registered wall failure law: "tuler_butcher", "cutoff"' for a key typed ``REGISTRY.name_type()``
+    (:class:`impactdyn._registry.Registry`), else ''."""
+    for m in info.metadata:
+        registry = getattr(getattr(m, "func", None), "registry", None)
+        if registry is not None:
+            return f"a registered {registry.what}: " + ", ".join(f'"{n}"' for n in registry.names())
+    return ""
+
+
 def bounds_of(info: FieldInfo) -> str:
     """Bounds of the value (and, for a list, of each item), each once."""
     found = [_BOUNDS[type(m)].format(*map(bound_number, dataclasses.astuple(m)))
@@ -210,7 +220,7 @@ def case_keys(model: type[BaseModel], prefix: str = "", variant: str = "", discr
         description = info.description or described.get(name, "")
         if variant:
             description = f"({variant}) {description}"
-        keys.append(Key(dotted, type_name(info.annotation), unit_of(name), default_of(info), bounds_of(info),
+        keys.append(Key(dotted, registered_names(info) or type_name(info.annotation), unit_of(name), default_of(info), bounds_of(info),
                         _plain(description.strip())))
     return keys
 

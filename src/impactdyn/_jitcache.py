@@ -24,6 +24,7 @@ import hashlib
 import importlib.abc
 import importlib.util
 import sys
+import types
 import warnings
 from functools import lru_cache
 from pathlib import Path
@@ -49,6 +50,19 @@ def in_package(py_file: str) -> bool:
     except (ValueError, OSError):
         return False
     return True
+
+
+def bind_globals(template, suffix: str, **names):
+    """A copy of the function ``template`` that sees ``names`` in place of its module's globals of
+    those names, with the qualified name ``template.__qualname__ + "[" + suffix + "]"`` (numba's
+    cache file is named by it): how a compiled template takes a plug-in's kernel (a wall model's update,
+    a failure law's increment) as a global of its code rather than an argument or a closure's cell,
+    whose dispatcher would defeat numba's cache (:func:`impactdyn.wall._step.step_kernels`)."""
+    fn = types.FunctionType(template.__code__, {**template.__globals__, **names}, template.__name__)
+    fn.__qualname__ = f"{template.__qualname__}[{suffix}]"
+    fn.__module__ = template.__module__
+    fn.__doc__ = template.__doc__
+    return fn
 
 
 def _package_locator(base: type) -> type:

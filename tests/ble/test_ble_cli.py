@@ -87,7 +87,7 @@ def test_plot_written_atomically_and_not_overwritten(tmp_path, capsys):
     (["--projectile-density", "0"], "--projectile-density: projectile_density = 0.0"),
     (["--bumper-density", "0"], "--bumper-density: bumper_density_g_cm3 = 0.0"),
     (["--diameter-cm", "0"], "--diameter-cm: diameter_cm = 0.0"),
-    (["--equation", "jsc1994"], "--equation: equation = 'jsc1994': unknown; choose one of jsc1993, jsc2011"),
+    (["--equation", "jsc1994"], "--equation: equation: unknown Whipple equation 'jsc1994'; choose one of jsc1993, jsc2011"),
     (["--plot", "curve.xyz"], "--plot: curve.xyz: unknown plot format"),
     (["--plot", "no/such/folder/curve.png"], "does not exist"),
 ])
@@ -187,7 +187,7 @@ def test_validate_configuration_and_plot(capsys, tmp_path):
 
 
 @pytest.mark.parametrize("args, message", [
-    (["--equation", "nasa"], "--equation: equation = 'nasa': unknown"),
+    (["--equation", "nasa"], "--equation: equation: unknown Whipple equation 'nasa'"),
     (["--bumper-cm", "0.1"], "--bumper-cm, --wall-cm and --spacing-cm describe one configuration"),
     (["--bumper-cm", "0", "--wall-cm", "0.3", "--spacing-cm", "10"], "--bumper-cm: bumper_thickness_cm = 0.0"),
     (["--bumper-cm", "0.1", "--wall-cm", "-0.3", "--spacing-cm", "10"], "--wall-cm: wall_thickness_cm = -0.3"),

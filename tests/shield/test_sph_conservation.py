@@ -89,7 +89,7 @@ def test_binning_of_a_uniform_block():
 @pytest.mark.parametrize("change, message", [
     (dict(obliquity_deg=90.0), "obliquity_deg"),
     (dict(diameter_cm=0.0), "diameter_cm"),
-    (dict(projectile="unobtainium"), "known materials"),
+    (dict(projectile="unobtainium"), "unknown material .unobtainium.; choose one of"),
     (dict(spacing_cm=0.2), "spacing_cm"),
     (dict(velocity_km_s=float("nan")), "velocity_km_s"),
     (dict(plate_radius_cm=0.1), "plate_radius_cm"),

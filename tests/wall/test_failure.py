@@ -18,7 +18,7 @@ from impactdyn._errors import InputError
 from impactdyn.constitutive import fracture_strain, tuler_butcher_increment
 from impactdyn.materials import AL_6061_T6_JC_DAMAGE, MATERIALS, TB_STRESS_RATE, TulerButcher
 from impactdyn.units import gpa_to_mbar as _gpa
-from impactdyn.wall._johnson_cook import FAILURE_STRAIN_FLOOR, FRACTURE_STRAIN_FLOORS, SPALL_LAWS
+from impactdyn.wall._johnson_cook import FAILURE_STRAIN_FLOOR, FRACTURE_STRAIN_FLOORS
 from impactdyn.wall._state import DAMAGE, DT_E, EPS_P, FAILED, P, SPALL_DAMAGE
 from impactdyn.wallgrid import WallDeposition, WallGrid
 
@@ -85,14 +85,14 @@ def expand(model, stress_rate, dt):
 
     drive(s, np.eye(3) * rate, steps=20000, dt=dt, stop=record)
     sigma = np.array(tension)
-    above = sigma > model.tuler_butcher.sigma0
+    above = sigma > model.spall_constants.sigma0
     return s, sigma, np.polyfit(np.flatnonzero(above) * dt, sigma[above], 1)[0]
 
 
 @pytest.mark.parametrize("stress_rate_gpa_us", [10.0, 100.0])
 def test_tuler_butcher_spall_stress_follows_the_closed_form(stress_rate_gpa_us):
     model = wall.wall_model("johnson_cook", "al6061-t6", damage=None)
-    tb = model.tuler_butcher
+    tb = model.spall_constants
     dt = 0.001 * 10.0 / stress_rate_gpa_us
     s, sigma, sigma_dot = expand(model, _gpa(stress_rate_gpa_us), dt)
     assert s.failed[0] and cause_of(s) == "spall_damage"
@@ -111,7 +111,7 @@ def test_spall_stress_rises_with_the_loading_rate_as_the_law_says():
     # library's fallback constants give, at their reference rate of 10 GPa/µs, the stress they were
     # scaled to: 1.7 GPa, the top of Kanel et al.'s range for aluminium alloys (impactdyn.materials)
     model = wall.wall_model("johnson_cook", "al6061-t6", damage=None)
-    tb = model.tuler_butcher
+    tb = model.spall_constants
     over, rates = [], []
     for factor in (1.0, 10.0):
         _, sigma, sigma_dot = expand(model, factor * TB_STRESS_RATE, 0.001 / factor)
@@ -135,7 +135,7 @@ def test_tuler_butcher_increment_integrates_a_ramp_exactly_enough():
 
 
 def test_library_constants_and_switches():
-    assert SPALL_LAWS == ("tuler_butcher", "cutoff") and FRACTURE_STRAIN_FLOORS == ("library", "unbounded")
+    assert wall.FAILURE_LAWS.names() == ("tuler_butcher", "cutoff") and FRACTURE_STRAIN_FLOORS == ("library", "unbounded")
     for name, tb in ((name, m.tuler_butcher) for name, m in MATERIALS.items() if m.tuler_butcher is not None):
         m = wall.wall_model("johnson_cook", name)
         assert tb.sigma0 == m.material.spall_strength and "uncertain" in tb.source
@@ -146,7 +146,7 @@ def test_library_constants_and_switches():
     with pytest.raises(InputError, match="fracture_strain_floor"):
         wall.wall_model("johnson_cook", "al6061-t6", fracture_strain_floor="none")
     with pytest.raises(InputError, match="spall_law"):
-        wall.wall_model("johnson_cook", "al6061-t6", tuler_butcher=None)
+        wall.wall_model("johnson_cook", "al6061-t6", spall_constants=None)
 
 
 #: Kanel's measured strain rates of spall, 1/s ([K04]: 10⁴–10⁶), and the strain at fracture ε_c of aluminium

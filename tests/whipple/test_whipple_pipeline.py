@@ -517,7 +517,7 @@ def test_the_debris_case_carries_the_wall_material(tmp_path, make_case):
     (dict(wall_solver__element_size_cm=0.0), "wall_solver.element_size_cm: must be greater than 0"),
     (dict(wall_solver__element_size_cm=50.0), "wall_solver.element_size_cm: must be in (0, "),
     (dict(wall_solver__max_element_size_cm=50.0), "wall_solver.max_element_size_cm: must be in (0, "),
-    (dict(wall_solver__spall_law="instant"), "wall_solver.spall_law: must be 'tuler_butcher' or 'cutoff'"),
+    (dict(wall_solver__spall_law="instant"), "wall_solver.spall_law: unknown wall failure law 'instant'; choose one of tuler_butcher, cutoff"),
     (dict(wall_solver__fracture_strain_floor="none"), "wall_solver.fracture_strain_floor: must be"),
 ])
 def test_bad_wall_solver_settings_exit_2_before_any_work(tmp_path, capsys, make_case, changes, message):

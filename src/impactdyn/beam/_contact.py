@@ -25,7 +25,10 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
-CONTACT_LAWS: dict[str, type["ContactLaw"]] = {}
+from impactdyn._registry import Registry
+
+#: Registered contact laws by name (the case key ``model``; :class:`impactdyn._registry.Registry`).
+CONTACT_LAWS: Registry[type["ContactLaw"]] = Registry("contact law", "model")
 # kernel ids: compiled code dispatches on an integer (a first-class function
 # argument would be re-typed by numba on every call from Python)
 NO_FORCE, HERTZ, POWER_LAW = 0, 1, 2
@@ -33,12 +36,11 @@ NO_FORCE, HERTZ, POWER_LAW = 0, 1, 2
 
 
 def register_contact(name: str):
-    """Class decorator adding a contact law to :data:`CONTACT_LAWS`."""
+    """Class decorator: ``CONTACT_LAWS.register(name, cls)``."""
 
     def deco(cls):
         cls.name = name
-        CONTACT_LAWS[name] = cls
-        return cls
+        return CONTACT_LAWS.register(name, cls)
 
     return deco
 

@@ -1,16 +1,17 @@
 """The Whipple-shield ballistic limit equations by name.
 
 Each equation module registers its :class:`~impactdyn.ble._equation.WhippleEquation` with
-a call to :func:`register` at its bottom; :func:`get_equation` selects one by name.
+a call to :func:`register` at its bottom (``EQUATIONS.register``, :class:`impactdyn._registry.Registry`,
+the package's one plug-in idiom); :func:`get_equation` selects one by name.
 """
 
 from __future__ import annotations
 
-from impactdyn._errors import InputError
+from impactdyn._registry import Registry
 from impactdyn.ble._equation import WhippleEquation
 
-#: Registered equations by name, in registration order.
-EQUATIONS: dict[str, WhippleEquation] = {}
+#: Registered equations by name, in registration order (the key ``equation``).
+EQUATIONS: Registry[WhippleEquation] = Registry("Whipple equation", "equation")
 
 #: The equation used when none is named: the 2011 form, chosen on the 1135-shot test
 #: database because it calls more shots right and, above all, far fewer perforations safe
@@ -19,16 +20,10 @@ DEFAULT_EQUATION = "jsc2011"
 
 
 def register(equation: WhippleEquation) -> WhippleEquation:
-    """Add ``equation`` under its name (a second equation of the same name is an error)."""
-    if equation.name in EQUATIONS:
-        raise ValueError(f"a Whipple equation named {equation.name!r} is registered already")
-    EQUATIONS[equation.name] = equation
-    return equation
+    """``EQUATIONS.register(equation.name, equation)`` (a second equation of the same name is an error)."""
+    return EQUATIONS.register(equation.name, equation)
 
 
 def get_equation(name: str | None = None) -> WhippleEquation:
     """The registered equation ``name`` (``None``: :data:`DEFAULT_EQUATION`)."""
-    key = DEFAULT_EQUATION if name is None else name
-    if not isinstance(key, str) or key not in EQUATIONS:
-        raise InputError(f"equation = {name!r}: unknown; choose one of {', '.join(EQUATIONS)}")
-    return EQUATIONS[key]
+    return EQUATIONS.get(DEFAULT_EQUATION if name is None else name)

@@ -153,8 +153,8 @@ class IntegratorOptions(Section):
     @classmethod
     def _registered(cls, method: str) -> str:
         if method not in INTEGRATORS:
-            raise ValueError(f"unknown integrator {method!r}; available: {sorted(INTEGRATORS)}")
-        return method
+            raise ValueError(INTEGRATORS.unknown(method, key=""))
+        return INTEGRATORS.check(method)
 
     @model_validator(mode="before")
     @classmethod

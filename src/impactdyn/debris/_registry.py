@@ -1,8 +1,8 @@
 """The integrator interface and registry: what an integrator receives and returns (docs/theory/debris.md, eq. (3)).
 
 An integrator is a function ``(batch, control) -> (states, t_reached, counts)``
-(:data:`IntegratorFn`) registered under a name in :data:`INTEGRATORS`
-(:func:`register_integrator`); :func:`impactdyn.debris.propagate` checks the
+(:data:`IntegratorFn`) registered under a name in :data:`INTEGRATORS` (a
+:class:`impactdyn._registry.Registry`, the package's one plug-in idiom; :func:`register_integrator`); :func:`impactdyn.debris.propagate` checks the
 particles into a :class:`ParticleBatch`, builds the :class:`StepControl` from
 its :class:`~impactdyn.debris.IntegratorOptions` and calls it.  The built-in
 integrators register themselves at the bottom of their modules
@@ -18,6 +18,7 @@ from typing import Callable
 import numpy as np
 
 from impactdyn._errors import InputError
+from impactdyn._registry import Registry
 from impactdyn.debris._failure import Failure
 from impactdyn.debris._particle import STATE_SIZE, ParticleMaterial, inline_kernel, rates_into
 
@@ -151,7 +152,8 @@ def _each(name: str, values: np.ndarray, ok: np.ndarray, rule: str) -> None:
 IntegratorFn = Callable[[ParticleBatch, StepControl], tuple[np.ndarray, np.ndarray, np.ndarray]]
 """(batch, control) -> (states ``(N, 33)``, t_reached ``(N,)``, counts ``(N, 3)``: steps, rejected, code)."""
 
-INTEGRATORS: dict[str, IntegratorFn] = {}
+#: Registered integrators by name (the case key ``method``).
+INTEGRATORS: Registry[IntegratorFn] = Registry("integrator", "method")
 
 DEFAULT_STEPS_PER_PERIOD: dict[str, float] = {}
 """Steps per 2π/ω̂ of each splitting integrator when none is given."""
@@ -163,12 +165,10 @@ shrinks, and are checked against the averaged motion instead."""
 
 
 def register_integrator(name: str, averaging: bool = False):
-    """Decorator adding an :data:`IntegratorFn` to :data:`INTEGRATORS` under ``name``
-    (``averaging``: it belongs to :data:`AVERAGING`)."""
+    """Decorator: ``INTEGRATORS.register(name, fn)`` (:class:`impactdyn._registry.Registry`), and
+    ``averaging``: ``fn`` belongs to :data:`AVERAGING`."""
     def add(fn: IntegratorFn) -> IntegratorFn:
-        if name in INTEGRATORS:
-            raise ValueError(f"integrator {name!r} is already registered")
-        INTEGRATORS[name] = fn
+        INTEGRATORS.register(name, fn)
         if averaging:
             AVERAGING.add(name)
         return fn

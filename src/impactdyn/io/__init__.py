@@ -8,7 +8,7 @@ dependencies (h5py, meshio) are imported by the format modules only when used.
 """
 
 from impactdyn._runfolder import atomic_output
-from impactdyn.io._registry import formats, load_builtin_formats, open_hdf5, read_grid, register_format, write_grid
+from impactdyn.io._registry import FORMATS, formats, load_builtin_formats, open_hdf5, read_grid, register_format, write_grid
 from impactdyn.io._cell_block import CellBlock
 from impactdyn.io._legacy_avs import AvsLayout, read_avsout, write_avsout
 from impactdyn.io._legacy_dc3din import Dc3dInput, RunType, read_dc3din
@@ -18,7 +18,7 @@ from impactdyn.io._cth import read_cth_packages, write_cth_packages
 from impactdyn.io._vtk import write_mesh
 
 __all__ = [
-    "AvsLayout", "CellBlock", "Dc3dInput", "RunType", "atomic_output", "formats", "load_builtin_formats", "open_hdf5",
+    "AvsLayout", "CellBlock", "FORMATS", "Dc3dInput", "RunType", "atomic_output", "formats", "load_builtin_formats", "open_hdf5",
     "read_avsout", "read_cth_packages", "read_dc3din", "read_grid", "read_lsdyna_deck", "register_format",
     "write_avsout", "write_cth_packages", "write_dyna3d_deck", "write_grid", "write_lsdyna_deck", "write_mesh",
 ]

@@ -1,6 +1,7 @@
 """Registry of HydroGrid file formats, and atomic output.
 
-Each format module registers itself by a call at its bottom (as meshio does)::
+Each format module registers itself by a call at its bottom (as meshio does; :data:`FORMATS` is a
+:class:`impactdyn._registry.Registry`, the package's one plug-in idiom)::
 
     register_format("hdf5", (".h5", ".hdf5"), reader=read_hdf5, writer=write_hdf5)
 
@@ -22,6 +23,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from impactdyn._errors import InputError
+from impactdyn._registry import Registry
 from impactdyn._runfolder import atomic_output
 from impactdyn.hydrogrid import HydroGrid
 
@@ -39,25 +41,26 @@ class GridFormat:
     writer: Writer | None
 
 
-_FORMATS: dict[str, GridFormat] = {}
-
-
-def register_format(name: str, extensions: tuple[str, ...] | list[str],
-                    reader: Reader | None = None, writer: Writer | None = None) -> None:
-    """Register (or replace) the grid format ``name``."""
-    _FORMATS[name] = GridFormat(name, tuple(e.lower() for e in extensions), reader, writer)
-
-
 def load_builtin_formats() -> None:
     """Import the built-in format modules, which register themselves."""
     for mod in _BUILTIN:
         importlib.import_module(f"impactdyn.io.{mod}")
 
 
+#: Registered grid formats by name (the case key ``format``); the built-ins are imported at the first lookup.
+FORMATS: Registry[GridFormat] = Registry("grid format", "format", load=load_builtin_formats)
+
+
+def register_format(name: str, extensions: tuple[str, ...] | list[str],
+                    reader: Reader | None = None, writer: Writer | None = None) -> GridFormat:
+    """``FORMATS.register(name, GridFormat(...))``, replacing a format of that name."""
+    return FORMATS.register(name, GridFormat(name, tuple(e.lower() for e in extensions), reader, writer),
+                            replace=True)
+
+
 def formats() -> dict[str, GridFormat]:
     """The registered formats by name (built-ins loaded)."""
-    load_builtin_formats()
-    return dict(_FORMATS)
+    return dict(FORMATS.items())
 
 
 def read_grid(path: str | os.PathLike, format: str | None = None) -> HydroGrid:

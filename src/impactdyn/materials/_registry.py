@@ -15,21 +15,25 @@ from typing import Annotated
 from pydantic import AfterValidator
 
 from impactdyn._errors import InputError
+from impactdyn._registry import Registry
 from impactdyn.materials._records import Material
-
-#: Registered materials by name; look names up with :func:`get_material` (case and separators ignored).
-MATERIALS: dict[str, Material] = {}
-#: Names a later registration may redefine: a case file's materials (the case validated last
-#: defines them), never the library's.
-_REPLACEABLE: set[str] = set()
 
 
 def _key(name: str) -> str:
     return "".join(ch for ch in name.lower() if ch.isalnum())
 
 
+#: Registered materials by name (a :class:`impactdyn._registry.Registry`, the package's one plug-in idiom);
+#: look names up with :func:`get_material` (case and separators ignored).
+MATERIALS: Registry[Material] = Registry(
+    "material", normalize=_key, hint="a case file defines its own in a [materials.NAME] table")
+#: Names a later registration may redefine: a case file's materials (the case validated last
+#: defines them), never the library's.
+_REPLACEABLE: set[str] = set()
+
+
 def _registered_name(name: str) -> str | None:
-    return next((known for known in MATERIALS if _key(known) == _key(name)), None)
+    return MATERIALS.check(name) if name in MATERIALS else None
 
 
 def register_material(material: Material, *, replaceable: bool = False) -> Material:
@@ -49,9 +53,8 @@ def register_material(material: Material, *, replaceable: bool = False) -> Mater
         raise InputError(f"material {material.name!r}: {what} {known!r} is registered under this name; "
                          "choose another name")
     if known is not None:
-        del MATERIALS[known]
         _REPLACEABLE.discard(known)
-    MATERIALS[material.name] = material
+    MATERIALS.register(material.name, material, replace=True)
     if replaceable:
         _REPLACEABLE.add(material.name)
     return material
@@ -65,12 +68,7 @@ def get_material(name: str | Material) -> Material:
     """
     if isinstance(name, Material):
         return name
-    if isinstance(name, str):
-        known = _registered_name(name)
-        if known is not None:
-            return MATERIALS[known]
-    raise InputError(f"unknown material {name!r}; known materials: {', '.join(MATERIALS)} (a case file "
-                     "defines its own in a [materials.NAME] table)")
+    return MATERIALS.get(name)
 
 
 def _known_material(name: str) -> str:

@@ -7,7 +7,8 @@ the element Courant step, bulk viscosity, Jaumann stress rate with radial return
 parallel kernels (:mod:`._step`: the step; :mod:`._hex`, :mod:`._kinematics`, :mod:`._hourglass`: the
 element; :mod:`._settle`: bringing the wall to rest); material models in one registry
 (:data:`MODELS`: the report's type-13 card ``"mat13"``, and ``"johnson_cook"`` with the
-Mie–Grüneisen EOS, JC damage, spall and erosion); the solver mesh, the report's refined grid or one graded
+Mie–Grüneisen EOS, JC damage, spall and erosion), its failure laws in another (:data:`FAILURE_LAWS`, one
+module each in :mod:`impactdyn.wall.failure_laws`); the solver mesh, the report's refined grid or one graded
 to resolve the debris load (:mod:`._mesh`, :mod:`._grading`); the deposition records as nodal velocity
 jumps (:mod:`._load`); a verdict and measures (:mod:`._verdict`); ParaView and PNG writers
 (:mod:`._output`).  Units cm, g, µs, Mbar.
@@ -22,6 +23,7 @@ Typical use::
 
 from impactdyn.wall._options import HOURGLASS_FORMS, LSDYNA_HOURGLASS_TYPE, WallOptions, WallSolverError
 from impactdyn.wall._models import MODELS, WallModel, register_model, wall_model
+from impactdyn.wall._failure_law import FAILURE_LAWS, J_LAW, FailureLaw
 from impactdyn.wall._mat13 import Mat13Model
 from impactdyn.wall._johnson_cook import JohnsonCookModel
 from impactdyn.wall._mesh import MESH_KINDS, SUPPORTS, WallMesh, build_mesh
@@ -35,7 +37,7 @@ from impactdyn.wall._verdict import (
 from impactdyn.wall._output import write_wall_outputs
 
 __all__ = [
-    "DETACHED_SPALL", "ENDINGS", "FAILURE_CAUSES", "HISTORY_KEYS", "HOURGLASS_FORMS", "JohnsonCookModel", "LSDYNA_HOURGLASS_TYPE", "MESH_KINDS", "MODELS", "Mat13Model",
+    "DETACHED_SPALL", "ENDINGS", "FAILURE_CAUSES", "FAILURE_LAWS", "FailureLaw", "J_LAW", "HISTORY_KEYS", "HOURGLASS_FORMS", "JohnsonCookModel", "LSDYNA_HOURGLASS_TYPE", "MESH_KINDS", "MODELS", "Mat13Model",
     "NO_PERFORATION", "NodalLoad", "PERFORATION", "SPREADS", "SUPPORTS", "VERDICTS", "WallFrame", "WallMesh",
     "FRAGMENT_DIAMETER_CM", "WallModel", "WallOptions", "WallResult", "WallSolver", "WallSolverError", "build_mesh", "check_deposition_depth", "check_end_times", "check_mesh_sizes", "classify", "core_element_size",
     "default_depth", "depth_weights", "failed_mass_by_cause", "graded_nodes", "measures", "nodal_load",

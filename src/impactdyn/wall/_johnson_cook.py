@@ -42,7 +42,9 @@ the material's :attr:`~impactdyn.materials.Material.johnson_cook_damage` (6061-T
 2001; 2024-T351 as widely quoted; OFHC copper: Johnson & Cook 1985); a material without them runs without
 ductile damage and fails by spall alone (``failure_criteria`` in :meth:`describe` says which apply).
 
-Spall (``spall_law``): ``"tuler_butcher"`` (the default; Tuler & Butcher, Int. J. Fract. Mech. 4
+Spall (``spall_law``): a registered wall failure law (:data:`impactdyn.wall.FAILURE_LAWS`, one module
+each in :mod:`impactdyn.wall.failure_laws`, bound into this model's update by :func:`jc_kernel`).
+``"tuler_butcher"`` (the default; Tuler & Butcher, Int. J. Fract. Mech. 4
 (1968) 431, :func:`impactdyn.constitutive.tuler_butcher_increment`)::
 
     ∫ max(0, σ_t − σ₀)^λ dt ≥ K,   σ_t = −p (the mean tension)
@@ -86,6 +88,7 @@ Sound speed: c² = c_b² + 4G/(3ρ), c_b the isentropic bulk sound speed of the 
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -96,23 +99,24 @@ from numba import njit
 
 from impactdyn._errors import InputError
 from impactdyn.constitutive import (
-    C0, GAMMA0, JC_TMELT, JC_TROOM, JC_RATE0, P_SPALL, RHO0, SHEAR, SLOPE, flow_stress, flow_stress_floor,
+    C0, GAMMA0, JC_TMELT, JC_TROOM, JC_RATE0, RHO0, SHEAR, SLOPE, flow_stress, flow_stress_floor,
     fracture_strain, jaumann_rate, pack_materials, pressure, radial_return, sound_speed, temperature,
-    temperature_bound, tuler_butcher_increment, von_mises)
-from impactdyn.materials import JohnsonCookDamage, Material, TulerButcher, get_material
-from impactdyn.wall._models import WallModel, register_model
+    temperature_bound, von_mises)
+from impactdyn._jitcache import bind_globals
+from impactdyn.materials import JohnsonCookDamage, Material, get_material
+from impactdyn.wall import failure_laws  # noqa: F401  (the built-in failure laws register themselves)
+from impactdyn.wall._failure_law import FAILURE_LAWS, J_LAW, FailureLaw
+from impactdyn.wall._models import MODELS, WallModel
 from impactdyn.wall._state import (
-    DAMAGE, EPS_P, FAIL_DAMAGE, FAIL_DAMAGE_FLOOR, FAIL_SPALL, FAIL_TENSION, FAILED, IE, P, RATE, SPALL_DAMAGE,
-    stress_power)
+    DAMAGE, EPS_P, FAIL_DAMAGE, FAIL_DAMAGE_FLOOR, FAILED, FAILURE_CAUSES, IE, P, RATE, stress_power)
 
-(J_DAMAGE, J_D1, J_D2, J_D3, J_D4, J_D5, J_EFMIN, J_SPALL, J_FLOOR, J_TB_SIGMA0, J_TB_LAMBDA, J_TB_K) = range(12)
+#: The model's own parameters (:meth:`JohnsonCookModel.kernel_params`); its failure law's constants follow,
+#: from ``J_LAW`` (:mod:`impactdyn.wall._failure_law`).  ``J_SPALL``: 1 to apply the failure law, 0 not.
+(J_DAMAGE, J_D1, J_D2, J_D3, J_D4, J_D5, J_EFMIN, J_SPALL, J_FLOOR) = range(J_LAW)
 
 #: Numerical floor on the JC fracture strain, so that ε_f > 0 (module docstring); not a material constant.
 FAILURE_STRAIN_FLOOR = 1.0e-6
 
-#: The spall laws (``spall_law``) and their codes in the kernel's parameters (0: no spall criterion).
-SPALL_LAWS = ("tuler_butcher", "cutoff")
-SPALL_TB, SPALL_CUTOFF = 1, 2
 #: The fracture-strain floors (``fracture_strain_floor``): the library's, or the fit unbounded.
 FRACTURE_STRAIN_FLOORS = ("library", "unbounded")
 
@@ -120,26 +124,27 @@ FRACTURE_STRAIN_FLOORS = ("library", "unbounded")
 #: lower bound, so that round-off in the bound can never skip a plastic step.
 ELASTIC_MARGIN = 1.0 - 1.0e-12
 
-#: Marker for "take the library's damage constants" (None means no ductile damage).
+#: Marker for "take the library's damage (or failure-law) constants" (None means none).
 LIBRARY = "library"
 
 
-@register_model
 @dataclass(frozen=True)
-class JohnsonCookModel(WallModel):
+class JohnsonCookModel(WallModel):  # registered at the bottom of the module
     """Johnson–Cook / Mie–Grüneisen model of a library material (module docstring).
 
     material : Material with Johnson–Cook constants.
     damage : JohnsonCookDamage or None (no ductile damage).
-    spall : apply a spall criterion (needs the material's spall strength, or its Tuler–Butcher constants).
+    spall : apply the failure law (the spall criterion; a law the material has no constants for is off or
+        refused, as the law says).
     erosion : erode failed elements at once (False, the default: they keep compressive pressure and
         are removed by the solver's geometric criteria only; module docstring).
     damage_at_floor : accumulate damage on steps where the fit's fracture strain is at the floor
         (True, the default); False: no ductile damage there, tension left to the spall criterion
         (the study in docs/vv/convergence.md, "Why the defaults are what they are"; not a case key).
-    spall_law : one of :data:`SPALL_LAWS`: "tuler_butcher" (default) or "cutoff".
+    spall_law : a name of :data:`impactdyn.wall.FAILURE_LAWS`: "tuler_butcher" (default) or "cutoff".
     fracture_strain_floor : one of :data:`FRACTURE_STRAIN_FLOORS`: "library" (default) or "unbounded".
-    tuler_butcher : the Tuler–Butcher constants (None: none known; required by that spall law).
+    spall_constants : the failure law's constants ("library", the default: the material's, as the law
+        finds them, :attr:`impactdyn.wall.FailureLaw.library_constants`; None: none).
     """
 
     material: Material
@@ -149,7 +154,7 @@ class JohnsonCookModel(WallModel):
     damage_at_floor: bool = True
     spall_law: str = "tuler_butcher"
     fracture_strain_floor: str = "library"
-    tuler_butcher: TulerButcher | None = None
+    spall_constants: Any = LIBRARY
 
     name = "johnson_cook"
     option_keys = ("spall_law", "fracture_strain_floor")
@@ -157,14 +162,15 @@ class JohnsonCookModel(WallModel):
     def __post_init__(self) -> None:
         if self.material.johnson_cook is None:
             raise InputError(f"johnson_cook: material {self.material.name!r} has no Johnson-Cook constants")
-        if self.spall_law not in SPALL_LAWS:
-            raise InputError(f"spall_law: {self.spall_law!r} is not one of {', '.join(SPALL_LAWS)}")
+        law = FAILURE_LAWS.get(self.spall_law)
+        if isinstance(self.spall_constants, str) and self.spall_constants == LIBRARY:
+            object.__setattr__(self, "spall_constants", law.library_constants(self.material))
         if self.fracture_strain_floor not in FRACTURE_STRAIN_FLOORS:
             raise InputError(f"fracture_strain_floor: {self.fracture_strain_floor!r} is not one of "
                              f"{', '.join(FRACTURE_STRAIN_FLOORS)}")
-        if self.spall and self.spall_law == "tuler_butcher" and self.tuler_butcher is None:
-            raise InputError(f"spall_law: no Tuler-Butcher constants for material {self.material.name!r}; "
-                             f"use 'cutoff' or pass tuler_butcher=")
+        if self.spall and law.required and self.spall_constants is None:
+            raise InputError(f"spall_law: {law.name!r} needs {law.needs}, which material {self.material.name!r} "
+                             f"lacks; choose another law ({', '.join(FAILURE_LAWS.names())}) or pass spall_constants=")
 
     @property
     def density(self) -> float:
@@ -183,8 +189,13 @@ class JohnsonCookModel(WallModel):
         return math.sqrt(m.c0 ** 2 + 4.0 * m.shear_modulus / (3.0 * m.rho0))
 
     @property
+    def failure_law(self) -> FailureLaw:
+        """The registered failure law ``spall_law``."""
+        return FAILURE_LAWS.get(self.spall_law)
+
+    @property
     def update_kernel(self) -> Callable:
-        return jc_element_update
+        return jc_kernel(self.failure_law)
 
     def reference_moduli(self) -> tuple[float, float]:
         t = self.kernel_table()[0]
@@ -202,24 +213,21 @@ class JohnsonCookModel(WallModel):
             return d.efmin
         return FAILURE_STRAIN_FLOOR
 
-    def _spall_code(self) -> int:
-        if not self.spall:
-            return 0
-        if self.spall_law == "tuler_butcher":
-            return SPALL_TB
-        return SPALL_CUTOFF if self.material.spall_strength is not None else 0
+    @property
+    def spalls(self) -> bool:
+        """Whether the failure law applies (``spall`` on and the law's constants known)."""
+        return self.spall and self.spall_constants is not None
 
     def kernel_params(self) -> np.ndarray:
         d = self.damage
-        prm = np.zeros(12)
+        constants = self.failure_law.kernel_constants(self.spall_constants) if self.spalls else ()
+        prm = np.zeros(J_LAW + len(constants))
         if d is not None:
             prm[[J_DAMAGE, J_D1, J_D2, J_D3, J_D4, J_D5]] = (1.0, d.D1, d.D2, d.D3, d.D4, d.D5)
         prm[J_EFMIN] = self.efmin
-        prm[J_SPALL] = self._spall_code()
+        prm[J_SPALL] = 1.0 if self.spalls else 0.0
         prm[J_FLOOR] = 1.0 if self.damage_at_floor else 0.0
-        if prm[J_SPALL] == SPALL_TB:
-            tb = self.tuler_butcher
-            prm[[J_TB_SIGMA0, J_TB_LAMBDA, J_TB_K]] = (tb.sigma0, tb.lam, tb.K)
+        prm[J_LAW:] = constants
         return prm
 
     def kernel_table(self) -> np.ndarray:
@@ -227,12 +235,10 @@ class JohnsonCookModel(WallModel):
 
     def failure_criteria(self) -> tuple[str, ...]:
         ductile = () if self.damage is None else ("ductile_damage", "ductile_damage_at_floor")
-        spall = {0: (), SPALL_TB: ("spall_damage",), SPALL_CUTOFF: ("tensile_pressure",)}[self._spall_code()]
-        return ductile + spall
+        return ductile + ((self.failure_law.cause,) if self.spalls else ())
 
     def describe(self) -> dict[str, Any]:
-        m, jc, d, tb = self.material, self.material.johnson_cook, self.damage, self.tuler_butcher
-        spall_code = self._spall_code()
+        m, jc, d, law = self.material, self.material.johnson_cook, self.damage, self.failure_law
         floor_source = (d.efmin_source if d is not None and self.efmin != FAILURE_STRAIN_FLOOR
                         else "numerical floor (the fit unbounded)")
         return {"model": self.name, "material": m.name, "source": m.source,
@@ -246,44 +252,55 @@ class JohnsonCookModel(WallModel):
                                                   "fracture_strain_floor": self.fracture_strain_floor,
                                                   "failure_strain_floor": self.efmin,
                                                   "failure_strain_floor_source": floor_source},
-                "spall_law": None if spall_code == 0 else self.spall_law,
-                "spall_strength_Mbar": m.spall_strength if spall_code == SPALL_CUTOFF else None,
-                "tuler_butcher": None if spall_code != SPALL_TB else {
-                    "sigma0_Mbar": tb.sigma0, "lambda": tb.lam, "K_Mbar_lambda_us": tb.K, "source": tb.source},
+                "spall_law": self.spall_law if self.spalls else None,
+                # each registered law's constants under its own key (None but the law in use)
+                **{other.describe_key: None for other in FAILURE_LAWS.values()},
+                **({law.describe_key: law.describe(self.spall_constants)} if self.spalls else {}),
                 "erosion": self.erosion, "damage_at_floor": self.damage_at_floor,
                 "failure_criteria": list(self.failure_criteria())}
 
     @classmethod
     def from_material(cls, material: Any = "al6061-t6", damage: Any = LIBRARY, spall: bool = True,
                       erosion: bool = False, damage_at_floor: bool = True, spall_law: str = "tuler_butcher",
-                      fracture_strain_floor: str = "library", tuler_butcher: Any = LIBRARY) -> "JohnsonCookModel":
-        """The model of a library material; ``damage`` and ``tuler_butcher`` default to the library's
+                      fracture_strain_floor: str = "library", spall_constants: Any = LIBRARY) -> "JohnsonCookModel":
+        """The model of a library material; ``damage`` and ``spall_constants`` default to the library's
         constants (or none)."""
         if not isinstance(material, (str, Material)):
             raise InputError(f"johnson_cook: material must be a library name or Material, got {material!r}")
         m = get_material(material)
         if isinstance(damage, str) and damage == LIBRARY:
             damage = m.johnson_cook_damage
-        if isinstance(tuler_butcher, str) and tuler_butcher == LIBRARY:
-            tuler_butcher = m.tuler_butcher
         return cls(m, damage=damage, spall=spall, erosion=erosion, damage_at_floor=damage_at_floor,
-                   spall_law=spall_law, fracture_strain_floor=fracture_strain_floor, tuler_butcher=tuler_butcher)
+                   spall_law=spall_law, fracture_strain_floor=fracture_strain_floor, spall_constants=spall_constants)
 
 
-@njit(cache=True, inline="always")
+@functools.cache
+def jc_kernel(law: FailureLaw) -> Callable:
+    """The model's element update with the failure law ``law`` bound in: :func:`jc_element_update` and
+    :func:`jc_update` compiled with the law's kernels as their globals ``law_accumulate``, ``law_fails`` and
+    its cause as ``LAW_CAUSE`` (:func:`impactdyn._jitcache.bind_globals`), once per process and law; cached on
+    disk for the package's own laws."""
+    cache = law.in_package
+    update = njit(cache=cache, inline="always")(bind_globals(
+        jc_update, law.name, law_accumulate=law.accumulate, law_fails=law.fails,
+        LAW_CAUSE=1 + FAILURE_CAUSES.index(law.cause)))
+    element = njit(cache=cache, inline="always")(bind_globals(jc_element_update, law.name, jc_update=update))
+    element.cacheable = cache
+    return element
+
+
 def jc_element_update(e, L, dt, vbar, mass, rho, vratio, q, S, es, flags, table, prm):
     """:func:`jc_update` in the element pass's convention (:func:`impactdyn.wall._step.material_update`):
-    the EOS takes the density, not the volume ratio."""
+    the EOS takes the density, not the volume ratio.  A template: :func:`jc_kernel` compiles it per law."""
     return jc_update(e, L, dt, vbar, mass, rho, q, S, es, flags, table, prm)
 
 
-@njit(cache=True, inline="always")
 def jc_update(e, L, dt, vbar, mass, rho, q, S, es, flags, table, prm):
     """Stress, pressure, energy and damage update of element e over Δt (module docstring).
 
     Arguments as :func:`impactdyn.wall._mat13.mat13_update`; ``table`` the packed material
     (row 0), ``prm`` the damage and spall constants and switches (:meth:`JohnsonCookModel.kernel_params`).
-    Returns (c, ΔW_σ, ΔW_p).
+    Returns (c, ΔW_σ, ΔW_p).  A template: the failure law's kernels are bound in by :func:`jc_kernel`.
     """
     wfac = vbar * dt
     G = table[0, SHEAR]
@@ -325,17 +342,14 @@ def jc_update(e, L, dt, vbar, mass, rho, q, S, es, flags, table, prm):
                                               prm[J_EFMIN])
             if prm[J_FLOOR] != 0.0 or not at_floor:
                 es[e, DAMAGE] += dep / eps_f
-        spall = prm[J_SPALL]
-        if spall == SPALL_TB:  # σ_t = −p, the mean tension
-            es[e, SPALL_DAMAGE] += tuler_butcher_increment(-p_old, -p_new, prm[J_TB_SIGMA0], prm[J_TB_LAMBDA], dt)
+        spall = prm[J_SPALL] != 0.0
+        if spall:  # the failure law's state over the step (its module)
+            law_accumulate(e, p_old, p_new, dt, es, table, prm)  # noqa: F821  (bound by jc_kernel)
         if es[e, DAMAGE] >= 1.0:
             flags[e, FAILED] = FAIL_DAMAGE_FLOOR if at_floor else FAIL_DAMAGE
             failed = True
-        elif spall == SPALL_TB and es[e, SPALL_DAMAGE] >= prm[J_TB_K]:
-            flags[e, FAILED] = FAIL_SPALL
-            failed = True
-        elif spall == SPALL_CUTOFF and p_new < -table[0, P_SPALL]:
-            flags[e, FAILED] = FAIL_TENSION
+        elif spall and law_fails(e, p_new, es, table, prm):  # noqa: F821
+            flags[e, FAILED] = LAW_CAUSE  # noqa: F821
             failed = True
     if failed and p_new < 0.0:  # a failed element carries no tension
         p_new = 0.0
@@ -348,3 +362,6 @@ def jc_update(e, L, dt, vbar, mass, rho, q, S, es, flags, table, prm):
     es[e, P] = p_new
     cb = sound_speed(rho, p_new, rho0, c0, slope, g0)
     return math.sqrt(cb * cb + 4.0 * G / (3.0 * rho)), dw, yld * dep * vbar
+
+
+MODELS.register(JohnsonCookModel.name, JohnsonCookModel)

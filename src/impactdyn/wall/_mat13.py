@@ -43,13 +43,12 @@ from numba import njit
 from impactdyn._errors import InputError
 from impactdyn.constitutive import jaumann_rate, radial_return, von_mises
 from impactdyn.materials import Mat13Card, Material, get_material, mat13_card
-from impactdyn.wall._models import WallModel, register_model
+from impactdyn.wall._models import MODELS, WallModel
 from impactdyn.wall._state import DAMAGE, EPS_P, FAIL_STRAIN, FAIL_TENSION, FAILED, IE, P, RATE, stress_power
 
 (M_RHO, M_G, M_K, M_SIGY, M_EH, M_EPSF, M_PCUT) = range(7)
 
 
-@register_model
 @dataclass(frozen=True)
 class Mat13Model(WallModel):
     """DYNA3D type 13 with the constants of ``card`` (module docstring); ``source`` names them."""
@@ -168,3 +167,6 @@ def mat13_element_update(e, L, dt, vbar, mass, rho, vratio, q, S, es, flags, tab
     """:func:`mat13_update` in the element pass's convention (:func:`impactdyn.wall._step.material_update`):
     the type-13 card has no EOS table."""
     return mat13_update(e, L, dt, vbar, mass, rho, vratio, q, S, es, flags, prm)
+
+
+MODELS.register(Mat13Model.name, Mat13Model)

@@ -1,7 +1,8 @@
 """The registry of wall material models.
 
-A model is a frozen dataclass deriving from :class:`WallModel`; its module registers it
-with :func:`register_model` (a class decorator) and brings its own compiled stress update,
+A model is a frozen dataclass deriving from :class:`WallModel`; its module registers it at its
+bottom, ``MODELS.register(name, cls)`` (:class:`impactdyn._registry.Registry`, the package's one plug-in
+idiom; :func:`register_model` is the same call, usable as a class decorator), and brings its own compiled stress update,
 :attr:`WallModel.update_kernel`, which :func:`._step.step_kernels` compiles into the element
 pass (a class without one is abstract and cannot be built).  Registered models:
 
@@ -22,10 +23,10 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from impactdyn._errors import InputError
+from impactdyn._registry import Registry
 
-#: Registered models by name (filled by the model modules at import).
-MODELS: dict[str, type["WallModel"]] = {}
+#: Registered models by name (filled by the model modules at import; the case key ``material_model``).
+MODELS: Registry[type["WallModel"]] = Registry("wall material model", "material_model")
 
 
 class WallModel(ABC):
@@ -103,18 +104,13 @@ class WallModel(ABC):
 
 
 def register_model(cls: type[WallModel]) -> type[WallModel]:
-    """Class decorator: enter ``cls`` in :data:`MODELS` under ``cls.name``."""
-    if not cls.name or cls.name in MODELS:
-        raise ValueError(f"wall model name {cls.name!r} empty or registered twice")
-    MODELS[cls.name] = cls
-    return cls
+    """``MODELS.register(cls.name, cls)``, returning ``cls`` (also a class decorator)."""
+    return MODELS.register(cls.name, cls)
 
 
 def check_model_name(name: str, key: str = "material_model") -> str:
-    """``name`` if it is a registered model, else an :class:`InputError` naming ``key``."""
-    if name not in MODELS:
-        raise InputError(f"{key}: unknown wall material model {name!r}; known: {', '.join(sorted(MODELS))}")
-    return name
+    """``name`` if it is a registered model, else an :class:`InputError` naming ``key`` and the choices."""
+    return MODELS.check(name, key)
 
 
 def wall_model(name: str, material: Any = "al6061-t6", **kwargs) -> WallModel:
@@ -123,4 +119,4 @@ def wall_model(name: str, material: Any = "al6061-t6", **kwargs) -> WallModel:
     ``kwargs`` go to the model's :meth:`WallModel.from_material` (e.g. ``damage=None``
     for the Johnson–Cook model).  Unknown names raise :class:`InputError`.
     """
-    return MODELS[check_model_name(name)].from_material(material, **kwargs)
+    return MODELS.get(name).from_material(material, **kwargs)

@@ -5,15 +5,16 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import Field, field_validator
+from pydantic import Field
 
 from impactdyn._config import NonNegative, Positive, Section
-from impactdyn._errors import InputError, SimulationError
+from impactdyn._errors import SimulationError
 from impactdyn.wall._grading import GRADING_RATIO, MAX_GRADING_RATIO
-from impactdyn.wall._johnson_cook import FRACTURE_STRAIN_FLOORS, SPALL_LAWS
+from impactdyn.wall._failure_law import FAILURE_LAWS
+from impactdyn.wall._johnson_cook import FRACTURE_STRAIN_FLOORS
 from impactdyn.wall._load import SPREADS
 from impactdyn.wall._mesh import MESH_KINDS, SUPPORTS
-from impactdyn.wall._models import check_model_name
+from impactdyn.wall._models import MODELS
 
 HOURGLASS_FORMS = ("viscous", "stiffness", "assumed_strain")
 #: LS-DYNA's hourglass type (IHQ) of each form: Flanagan–Belytschko viscous 2 and stiffness 4,
@@ -123,9 +124,10 @@ class WallOptions(Section):
         nodes below this fraction of the element forces that balance there (Euclidean norms;
         1e-3: the 7a bulge to 0.01 %, benchmarks/BENCHMARKS.md, "Settling").
     max_settle_steps : the most steps the settling may take; if reached, ``settled`` is false.
-    spall_law : the Johnson–Cook wall's spall law (:mod:`._johnson_cook`, docs/wall.md): "tuler_butcher"
-        (default: Tuler–Butcher cumulative damage of the mean tension over a threshold, a failure
-        with a time scale) or "cutoff" (the instantaneous pressure cut-off p < −p_spall).
+    spall_law : the Johnson–Cook wall's failure law, a registered name (:data:`impactdyn.wall.FAILURE_LAWS`,
+        :mod:`impactdyn.wall.failure_laws`, docs/wall.md): "tuler_butcher" (default: Tuler–Butcher
+        cumulative damage of the mean tension over a threshold, a failure with a time scale) or "cutoff"
+        (the instantaneous pressure cut-off p < −p_spall).
     fracture_strain_floor : the Johnson–Cook wall's floor on the fracture strain: "library" (default:
         the alloy's ε_f,min (:attr:`impactdyn.materials.JohnsonCookDamage.efmin`), where its fit falls
         to zero beyond its data) or "unbounded" (the fit as published, an extrapolation: any plastic
@@ -155,7 +157,7 @@ class WallOptions(Section):
     max_element_size_cm: Positive | None = None
     refinement_thickness: Annotated[int, Field(ge=1)] = 1
     refinement_plane: Annotated[int, Field(ge=1)] = 1
-    material_model: str = "johnson_cook"
+    material_model: MODELS.name_type() = "johnson_cook"
     supports: Literal[SUPPORTS] = "dyngen"
     hourglass: Literal[HOURGLASS_FORMS] = "assumed_strain"
     hourglass_coefficient: NonNegative = 0.1
@@ -173,19 +175,11 @@ class WallOptions(Section):
     settle: bool = False
     settle_tolerance: Fraction = 1.0e-3
     max_settle_steps: Annotated[int, Field(ge=1)] = 200_000
-    spall_law: Literal[SPALL_LAWS] = "tuler_butcher"
+    spall_law: FAILURE_LAWS.name_type() = "tuler_butcher"
     fracture_strain_floor: Literal[FRACTURE_STRAIN_FLOORS] = "library"
     escape_velocity_km_s: Positive = 1.0
     erosion_step_fraction: Annotated[float, Field(ge=0, le=1)] = 0.25
     min_step_fraction: Fraction = 1.0e-3
-
-    @field_validator("material_model")
-    @classmethod
-    def _registered(cls, name: str) -> str:
-        try:
-            return check_model_name(name)
-        except InputError as err:
-            raise ValueError(str(err).removeprefix("material_model: ")) from None
 
     def grid_settings(self) -> dict:
         """The keywords of :func:`impactdyn.wall.solver_grid` these options set (the mesh's nodes)."""

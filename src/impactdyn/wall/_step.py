@@ -77,13 +77,12 @@ from __future__ import annotations
 
 import functools
 import math
-import types
 from typing import Any, NamedTuple
 
 import numpy as np
 from numba import get_thread_id, njit, prange
 
-from impactdyn._jitcache import in_package
+from impactdyn._jitcache import bind_globals, in_package
 from impactdyn.constitutive import von_mises
 from impactdyn.wall._blocks import (
     R_B, R_BV, R_C, R_DTE, R_F, R_FLOW, R_G, R_LE, R_LM, R_OK, R_P1, R_P2, R_Q, R_QD, R_QN, R_RATIO, R_SHG, R_SIG,
@@ -509,23 +508,14 @@ def step_kernels(update) -> StepKernels:
     its own globals is keyed by its code alone; its qualified name, which names numba's cache
     file, carries the update's module and name, so each update kernel has a file of its own.  The cache is stamped with the digest of every impactdyn source
     (:mod:`impactdyn._jitcache`), so an edit of a model's update recompiles its pass; a kernel
-    from outside the package would not be covered by that stamp, so its pass is not cached.
+    from outside the package would not be covered by that stamp, so its pass is not cached (nor that of an
+    update whose ``cacheable`` attribute is false: a package kernel with a plug-in's code bound in,
+    :func:`impactdyn.wall._johnson_cook.jc_kernel`).
     """
-    cache = in_package(update.py_func.__code__.co_filename)
+    cache = in_package(update.py_func.__code__.co_filename) and getattr(update, "cacheable", True)
     # fastmath 'contract' only: fused multiply-adds (5 % faster), no change to NaN/inf semantics
     name = f"{update.py_func.__module__}.{update.py_func.__qualname__}"
     element_pass = njit(parallel=True, cache=cache, fastmath={"contract"}, error_model="numpy")(
-        _bound(_element_pass, name, material_update=update))
-    advance = njit(cache=cache)(_bound(_advance, name, _element_pass=element_pass))
+        bind_globals(_element_pass, name, material_update=update))
+    advance = njit(cache=cache)(bind_globals(_advance, name, _element_pass=element_pass))
     return StepKernels(element_pass, advance)
-
-
-def _bound(template, suffix: str, **names):
-    """A copy of the function ``template`` that sees ``names`` in place of its module's globals of
-    those names, with the qualified name ``template.__qualname__ + "[" + suffix + "]"`` (numba's
-    cache file is named by it)."""
-    fn = types.FunctionType(template.__code__, {**template.__globals__, **names}, template.__name__)
-    fn.__qualname__ = f"{template.__qualname__}[{suffix}]"
-    fn.__module__ = template.__module__
-    fn.__doc__ = template.__doc__
-    return fn
