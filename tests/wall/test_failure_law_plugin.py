@@ -54,7 +54,13 @@ def test_a_registered_law_is_accepted_by_the_options_and_runs(threshold_law):
     s, result, _ = flyer_plate(model, 0.06)
     ref, ref_result, _ = flyer_plate(cutoff, 0.06)
     assert s.failed.any() and result.verdict == wall.DETACHED_SPALL
-    assert np.array_equal(s.flags, ref.flags) and np.array_equal(s.S, ref.S) and np.array_equal(s.es, ref.es)
+    # the same failures, element for element; the states to round-off: the two laws' kernels are compiled
+    # separately, and numba's machine code for one source differs in the last bits between a fresh compile and
+    # one loaded from its cache (measured on the 7a wall: 4e-16 per step, 2e-12 in the bulge after 1720 steps)
+    assert np.array_equal(s.flags, ref.flags)
+    for mine, theirs in ((s.S, ref.S), (s.es, ref.es)):    # each column to 1e-9 of its own scale
+        scale = np.abs(theirs.reshape(-1, theirs.shape[-1])).max(axis=0)
+        assert np.all(np.abs(mine - theirs) <= 1e-9 * np.maximum(np.abs(theirs), scale))
     assert result.measures["failed_mass_by_cause_g"] == ref_result.measures["failed_mass_by_cause_g"]
 
 

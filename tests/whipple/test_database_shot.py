@@ -179,7 +179,9 @@ def test_a_run_prints_the_tests_outcome_beside_the_verdicts(tmp_path, capsys, mo
         return {"ble": {"equation": "jsc2011", "threshold_cm": 0.6, "regime": "shatter", "verdict": "perforation"},
                 "cloud": {},
                 "deposition": {"peak_areal_momentum_N_s_cm2": 0.1, "impulse_on_wall_normal_N_s_full_model": 0.3},
-                "wall_time_s": 1.0, "wall": {"verdict": "detached spall", "criterion": "spall"}}
+                "wall_time_s": 1.0, "wall": {"verdict": "detached spall", "criterion": "spall"},
+                "draws": {"n_draws": 1, "draws": [{"seed": 1, "verdict": "detached spall", "perforated": True}],
+                          "perforated": 1, "probability": 1.0, "wilson_95": [0.21, 1.0]}}
 
     monkeypatch.setattr(impactdyn.whipple, "run_whipple", pipeline)
     out = tmp_path / "run"

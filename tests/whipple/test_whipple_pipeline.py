@@ -63,7 +63,7 @@ def test_run_folder_holds_every_stage(run):
     # the fragments' plot is drawn where the debris holds solid fragments; without, the report says so
     assert (out / "plots/fragments.png").is_file() == bool(s["stages"]["shield"]["fragments"]["n_fragments"])
     assert s["keep"] == "all"
-    assert set(s["timings_s"]) == {"shield", "binning", "debris", "wall", "decks"}
+    assert set(s["timings_s"]) == {"shield", "binning", "debris", "wall", "draws", "decks"}
     assert s["wall_time_s"] == pytest.approx(sum(s["timings_s"].values()))
     assert not list(out.parent.glob(".run.*"))  # no staging folder left
 
