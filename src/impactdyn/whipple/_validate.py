@@ -131,7 +131,9 @@ def _row(shot: DatabaseShot, case: WhippleCase, summary: dict) -> dict:
             "jsc_limit_cm": limit, "d_over_limit": shot.diameter_cm / limit if limit else None,
             "test_perforated": shot.perforated, "jsc_perforated": jsc_called, "simulated_verdict": wall["verdict"],
             "simulated_perforated": called, "simulated_right": called == shot.perforated,
-            "n_draws": summary["draws"]["n_draws"], "p_perforation": summary["draws"]["probability"],
+            # a shot run before the draws stage (a resumed folder) has no P: its forecast is not scored
+            "n_draws": summary.get("draws", {}).get("n_draws"),
+            "p_perforation": summary.get("draws", {}).get("probability"),
             "jsc_right": jsc_called == shot.perforated, "caution": wall.get("caution") or "",
             "run": f"runs/{_run_name(shot)}"}
 
