@@ -60,10 +60,9 @@ def spall_shell(initial, state, spacing_cm: float) -> tuple[float, float]:
     return float(pieces.mass[0] / mass.sum()), float(state.mass[cap].sum() / state.mass[projectile].sum())
 
 
-def largest_to_wall(initial, state, problem, speed_km_s: float) -> float:
-    """The heaviest debris fragment the chain finds (the example's fragment options), more than half
-    projectile by mass, over the projectile's (full) mass; 0 if none."""
-    options = load_whipple_case(EXAMPLE).fragment_options
+def largest_to_wall(initial, state, problem, speed_km_s: float, options) -> float:
+    """The heaviest debris fragment the chain finds (``options``: the example's fragment options), more than
+    half projectile by mass, over the projectile's (full) mass; 0 if none."""
     fragments = shield.debris_fragments(state, problem, options, km_s_to_cm_us(speed_km_s))
     projectile = initial.velocity[:, 1] > 0
     from_projectile = shield.origin_masses(fragments, state.mass, projectile)
@@ -74,16 +73,17 @@ def largest_to_wall(initial, state, problem, speed_km_s: float) -> float:
 
 def run_point(test: str, ratio: float, speed: float, intact: bool, spacing: float) -> dict:
     problem = shield.sphere_on_plate(PROJECTILE, BUMPER, DIAMETER_CM, speed, 0.0, ratio * DIAMETER_CM, spacing)
-    options = load_whipple_case(EXAMPLE).shield.sph_options()
+    example = load_whipple_case(EXAMPLE)
     tick = time.perf_counter()
-    state = shield.run(problem, handoff_us(speed), options=options).state
+    state = shield.run(problem, handoff_us(speed), options=example.shield.sph_options()).state
     seconds = time.perf_counter() - tick
     piece, cap = spall_shell(problem.particles, state, spacing)
     return {"test": test, "t_over_d": ratio, "speed_km_s": speed, "radiograph_intact": intact,
             "spacing_cm": spacing, "time_us": handoff_us(speed), "n_particles": len(state),
             "largest_cap_piece": piece, "cap_mass_share": cap, "simulated_intact": piece >= INTACT_SHARE,
             "agrees": (piece >= INTACT_SHARE) == intact,
-            "largest_projectile_fragment_to_wall": largest_to_wall(problem.particles, state, problem, speed),
+            "largest_projectile_fragment_to_wall": largest_to_wall(problem.particles, state, problem, speed,
+                                                                    example.fragment_options),
             "sph_seconds": seconds,
             "commit": subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True
                                      ).stdout.strip()}
