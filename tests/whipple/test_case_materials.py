@@ -64,6 +64,22 @@ def test_the_example_runs_end_to_end_and_the_equations_take_its_density(tmp_path
     assert debris["material"]["rho_ref_g_cm3"] == 4.419 and debris["material"]["mu_Mbar"] == pytest.approx(0.419)
 
 
+def test_the_equations_take_the_wall_materials_tensile_yield_when_the_case_gives_none(tmp_path):
+    """σ_y of the JSC equations: ``wall.yield_stress_ksi`` when given, else the wall material's tensile
+    yield (a case's own material, or the library's 6061-T6 at its 40 ksi)."""
+    titanium = _example(**{"wall.material": "ti6al4v", "wall_solver.spall_law": "cutoff"})
+    del titanium["wall"]["yield_stress_ksi"]
+    case = load_whipple_case(_write(tmp_path, titanium))
+    assert case.wall_yield_ksi == pytest.approx(880.0 / 6.894757293168361)
+    assert ble_shield(case).wall_yield_ksi == case.wall_yield_ksi
+    given = load_whipple_case(_write(tmp_path, _example(**{"wall.material": "ti6al4v", "wall_solver.spall_law": "cutoff"}),
+                                     "given.toml"))
+    assert given.wall_yield_ksi == 40.0
+    del titanium["wall"]["material"]
+    library = load_whipple_case(_write(tmp_path, titanium, "library.toml"))
+    assert library.wall.material == "al6061-t6" and library.wall_yield_ksi == 40.0
+
+
 BAD = [
     ({"materials.ti6al4v.strength": None}, "materials.ti6al4v.strength: missing key"),
     ({"materials.ti6al4v.eos.c0_m_s": 5130.0}, "materials.ti6al4v.eos.c0_m_s: unknown key"),
@@ -75,6 +91,8 @@ BAD = [
     ({"materials.al6061-t6": {"eos": {}, "strength": {}}}, "materials.al6061-t6.eos.density_g_cm3: missing key"),
     ({"materials.ti6al4v.phase.boiling_K": 1000.0}, "materials.ti6al4v.phase: needs solidus_K <= liquidus_K"),
     ({"shield.failure_model": "fragmentation"}, "needs the Weibull flaws"),
+    ({"wall.material": "cu-ofhc", "wall.yield_stress_ksi": None},
+     "wall.yield_stress_ksi: not given, and the wall's material 'cu-ofhc' has no tensile yield"),
     ({"shield.failure_model": "fragmentation", "shield.failed_fragments": "grady"},
      "no fracture toughness for projectile.material = 'ti6al4v'"),
 ]

@@ -19,7 +19,7 @@ app = typer.Typer(help="The material library and a case's own materials, every c
 
 #: The unit of each field of a material and its sub-records (package units).
 UNITS = {"rho0": "g/cm³", "c0": "cm/µs", "shear_modulus": "Mbar", "yield_stress": "Mbar",
-         "specific_heat": "cm²/(µs²·K)", "spall_strength": "Mbar", "A": "Mbar", "B": "Mbar", "t_melt": "K",
+         "specific_heat": "cm²/(µs²·K)", "spall_strength": "Mbar", "tensile_yield": "Mbar", "A": "Mbar", "B": "Mbar", "t_melt": "K",
          "t_room": "K", "reference_strain_rate": "1/µs", "solidus": "K", "liquidus": "K", "boiling": "K",
          "latent_fusion": "cm²/µs²", "latent_vaporisation": "cm²/µs²", "sigma0": "Mbar", "K": "Mbar^λ·µs",
          "k": "1/cm³", "K_Ic": "Mbar·cm^½"}

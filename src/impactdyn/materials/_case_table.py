@@ -71,11 +71,15 @@ class StrengthGroup(Section):
     shear_modulus_GPa : the shear modulus (G) of the elastic response to a change of shape.
     yield_stress_GPa : the yield stress at zero plastic strain (Y₀); 0: the material flows like a
         fluid.
+    tensile_yield_MPa : the handbook's typical tensile yield stress (0.2 % offset), which the NASA JSC
+        ballistic-limit equations take as the wall's σ_y when the case leaves ``wall.yield_stress_ksi``
+        out (optional).
     source : the published reference these constants come from, one a reader can find.
     """
 
     shear_modulus_GPa: Positive
     yield_stress_GPa: NonNegative
+    tensile_yield_MPa: Positive | None = None
     source: Source
 
 
@@ -280,6 +284,7 @@ class MaterialTable(Section):
             specific_heat=e.specific_heat_J_gK * CM2_US2_PER_J_G,
             spall_strength=gpa_to_mbar(sp.strength_GPa) if sp else None,
             failure_strain=pf.strain if pf else None,
+            tensile_yield=None if st.tensile_yield_MPa is None else st.tensile_yield_MPa * MBAR_PER_MPA,
             johnson_cook=None if jc is None else JohnsonCook(
                 A=jc.A_MPa * MBAR_PER_MPA, B=jc.B_MPa * MBAR_PER_MPA, n=jc.n, C=jc.C, m=jc.m,
                 t_melt=jc.melt_temperature_K, t_room=jc.room_temperature_K,

@@ -57,7 +57,11 @@ Sources
 [ASM]  ASM Handbook vol. 2 (aluminium, copper) and vol. 1 (steel): specific heat,
        elongation at break, and the alloys' melting ranges (solidus–liquidus: 6061 582–652 °C,
        2024 502–638 °C, 7075 477–635 °C, 304 stainless steel 1400–1455 °C). The elongation is used as the plastic-strain
-       failure limit — a simple, conservative (early-failing) choice.
+       failure limit — a simple, conservative (early-failing) choice.  Typical tensile yield
+       stresses (0.2 % offset), the σ_y of the JSC ballistic-limit equations: 6061-T6 40 ksi
+       (276 MPa, also the equations' nominal wall), 2024-T4 47 ksi (324 MPa), 7075-T6 73 ksi
+       (503 MPa); copper and steel have none here (their yield depends on the temper: a case with
+       such a wall gives ``wall.yield_stress_ksi``).
 [CRC]  *CRC Handbook of Chemistry and Physics*, 97th ed. (2016), §6 "Enthalpy of fusion" and
        "Enthalpy of vaporization" and §4 "Melting, boiling … points of the elements": aluminium
        T_m 933.47 K, ΔH_fus 10.71 kJ/mol (397 J/g), T_b 2792 K, ΔH_vap 294 kJ/mol (10.9 kJ/g); copper
@@ -76,7 +80,7 @@ from impactdyn.materials._records import (
     FractureToughness, JohnsonCook, JohnsonCookDamage, Material, PhaseChange, TulerButcher, WeibullFlaws)
 from impactdyn.materials._registry import register_material
 from impactdyn.units import (CM2_US2_PER_J_G, MBAR_PER_MPA, MBAR_SQRT_CM_PER_MPA_SQRT_M, gpa_to_mbar, km_s_to_cm_us,
-                             mbar_to_gpa)
+                             ksi_to_mbar, mbar_to_gpa)
 
 
 def _phase(solidus_c: float, liquidus_c: float, fusion_j_g: float, boiling_k: float, vaporisation_j_g: float,
@@ -244,7 +248,8 @@ _AL_6061_T6_WITHOUT_FLAWS = Material(
     spall_strength=ALUMINIUM_SPALL_STRENGTH, failure_strain=0.12,
     johnson_cook=_jc(324.0, 114.0, 0.42, 0.002, 1.34, 925.0, source="[L01]"),
     phase=_phase(582.0, 652.0, **_ALUMINIUM_LATENT, source=_ALUMINIUM_PHASE_SOURCE),
-    source="[S91] EOS, G, Y0; [L01] Johnson-Cook; [K04] spall; [ASM] c_v, elongation 12 %",
+    source="[S91] EOS, G, Y0; [L01] Johnson-Cook; [K04] spall; [ASM] c_v, elongation 12 %, tensile yield 40 ksi",
+    tensile_yield=ksi_to_mbar(40.0),
     johnson_cook_damage=AL_6061_T6_JC_DAMAGE,
     tuler_butcher=_tuler_butcher_from_spall(ALUMINIUM_SPALL_STRENGTH, ALUMINIUM_SPALL_RANGE[1], "aluminium alloys"),
     fracture_toughness=_mpa_sqrt_m(29.0, "6061-T651 as commonly tabulated (ASM/Aluminum Association typical "
@@ -268,7 +273,9 @@ AL_2024_T4 = Material(
     spall_strength=ALUMINIUM_SPALL_STRENGTH, failure_strain=0.20,
     johnson_cook=_jc(265.0, 426.0, 0.34, 0.015, 1.0, 775.0, source="[JC83] 2024-T351"),
     phase=_phase(502.0, 638.0, **_ALUMINIUM_LATENT, source=_ALUMINIUM_PHASE_SOURCE),
-    source="[S91] EOS, G, Y0; [JC83] Johnson-Cook of 2024-T351; [K04] spall; [ASM] c_v, elongation 20 %",
+    source="[S91] EOS, G, Y0; [JC83] Johnson-Cook of 2024-T351; [K04] spall; [ASM] c_v, elongation 20 %, "
+           "tensile yield 47 ksi",
+    tensile_yield=ksi_to_mbar(47.0),
     johnson_cook_damage=AL_2024_T351_JC_DAMAGE,
     tuler_butcher=_tuler_butcher_from_spall(ALUMINIUM_SPALL_STRENGTH, ALUMINIUM_SPALL_RANGE[1], "aluminium alloys"),
     weibull_flaws=AL_WEIBULL,
@@ -279,7 +286,8 @@ AL_7075_T6 = Material(
     shear_modulus=gpa_to_mbar(26.7), yield_stress=gpa_to_mbar(0.42), specific_heat=0.960 * CM2_US2_PER_J_G,
     spall_strength=ALUMINIUM_SPALL_STRENGTH, failure_strain=0.11,
     phase=_phase(477.0, 635.0, **_ALUMINIUM_LATENT, source=_ALUMINIUM_PHASE_SOURCE),
-    source="[S91] EOS, G, Y0; [K04] spall; [ASM] c_v, elongation 11 %",
+    source="[S91] EOS, G, Y0; [K04] spall; [ASM] c_v, elongation 11 %, tensile yield 73 ksi",
+    tensile_yield=ksi_to_mbar(73.0),
     weibull_flaws=AL_WEIBULL,
     fracture_toughness=_mpa_sqrt_m(24.0, "[C07] 7075-T651; " + _ALUMINIUM_KIC_SOURCE),
 )

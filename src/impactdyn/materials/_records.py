@@ -213,6 +213,10 @@ class Material:
         p_spall > 0, Mbar: the particle fails when p < −p_spall. None: no spall.
     failure_strain : float | None
         Plastic-strain limit εₚ,f: the particle fails when εₚ > εₚ,f. None: none.
+    tensile_yield : float | None
+        The handbook's typical tensile yield stress (0.2 % offset), Mbar: the wall's σ_y in the NASA
+        JSC ballistic-limit equations when a case does not give it (``wall.yield_stress_ksi``), a
+        quasi-static coupon value unlike the shock-fitted Y₀.  None: the case must give it.
     johnson_cook : JohnsonCook | None
     phase : PhaseChange | None
         Melting range, boiling point and latent heats; None: melt is not judged (never melted).
@@ -246,6 +250,7 @@ class Material:
     tuler_butcher: TulerButcher | None = None
     weibull_flaws: WeibullFlaws | None = None
     fracture_toughness: FractureToughness | None = None
+    tensile_yield: float | None = None
 
     def __post_init__(self) -> None:
         for field in ("rho0", "c0", "s", "gamma0", "shear_modulus", "specific_heat"):
@@ -254,7 +259,7 @@ class Material:
                 raise InputError(f"material {self.name!r}: {field} must be a positive number, got {value!r}")
         if not (math.isfinite(self.yield_stress) and self.yield_stress >= 0):
             raise InputError(f"material {self.name!r}: yield_stress must be ≥ 0, got {self.yield_stress!r}")
-        for field in ("spall_strength", "failure_strain"):
+        for field in ("spall_strength", "failure_strain", "tensile_yield"):
             value = getattr(self, field)
             if value is not None and not (math.isfinite(value) and value > 0):
                 raise InputError(f"material {self.name!r}: {field} must be positive or None, got {value!r}")

@@ -83,7 +83,9 @@ class WallSection(Section):
     yield_stress_ksi : the wall's yield stress σ_y in the NASA JSC ballistic-limit equation
         (the verdict the simulation is compared with); the simulated wall's strength comes from
         ``material``.  It enters the equations' yield-stress terms, (σ_y/40)^½ in the ballistic
-        regime; 40 ksi is the nominal yield stress of 6061-T6, the report's wall.
+        regime; 40 ksi is the nominal yield stress of 6061-T6, the report's wall.  Left out: the
+        typical tensile yield of the wall's material (its record's ``tensile_yield``; a case's own
+        material gives it as ``strength.tensile_yield_MPa``), refused if the material has none.
     x_cm, z_cm : the wall's extent in x and z, cm, in the shield's coordinates (x = 0 is the
         symmetry plane, the projectile touches the bumper at x = z = 0); the report's wall
         (App. C) is x ∈ [0, 8], z ∈ [−4, 12] cm, which oblique debris, flying to +z, needs.
@@ -103,7 +105,7 @@ class WallSection(Section):
     material: MaterialName = REPORT_MATERIAL
     thickness_cm: Positive
     spacing_cm: Positive
-    yield_stress_ksi: Positive = 40.0
+    yield_stress_ksi: Positive | None = None
     x_cm: Range = [0.0, 8.0]
     z_cm: Range = [-4.0, 12.0]
     nodes: Annotated[list[NodeCount], Field(min_length=3, max_length=3)] = [51, 5, 101]
@@ -281,6 +283,10 @@ class WhippleCase(Section):
                                                                       "= \"fragmentation\"")
                 except InputError as err:
                     raise ValueError(str(err)) from None
+        if w.yield_stress_ksi is None and get_material(w.material).tensile_yield is None:
+            raise ValueError(f"wall.yield_stress_ksi: not given, and the wall's material {w.material!r} has no "
+                             "tensile yield stress to take it from (strength.tensile_yield_MPa of a case's "
+                             "material); give one of them")
         coarse = spacing_too_coarse(s.spacing_cm, p.diameter_cm, b.thickness_cm, plate="bumper")
         if coarse:
             raise ValueError(f"shield.spacing_cm = {s.spacing_cm} is too coarse {coarse}")
@@ -328,6 +334,13 @@ class WhippleCase(Section):
         check_fits(f"shield.spacing_cm = {dx:g} for the {p.diameter_cm:g} cm projectile and the {R:g} cm "
                    f"radius, {b.thickness_cm:g} cm bumper", n, SPH_PARTICLE_BYTES, "SPH particles")
         return self
+
+    @property
+    def wall_yield_ksi(self) -> float:
+        """σ_y of the JSC equations, ksi: ``wall.yield_stress_ksi``, or the wall material's tensile yield."""
+        if self.wall.yield_stress_ksi is not None:
+            return self.wall.yield_stress_ksi
+        return get_material(self.wall.material).tensile_yield / units.MBAR_PER_KSI
 
     @property
     def wall_front_y(self) -> float:
@@ -418,5 +431,5 @@ def ble_shield(case: WhippleCase):
     from impactdyn.ble import WhippleShield
 
     return WhippleShield(bumper_thickness_cm=case.bumper.thickness_cm, wall_thickness_cm=case.wall.thickness_cm,
-                         spacing_cm=case.wall.spacing_cm, wall_yield_ksi=case.wall.yield_stress_ksi)
+                         spacing_cm=case.wall.spacing_cm, wall_yield_ksi=case.wall_yield_ksi)
 

@@ -225,7 +225,7 @@ def write_report(folder: FolderWriter, case: WhippleCase, keep: str = "all") -> 
         "title": case.title,
         "shot": {"projectile": case.projectile.model_dump(), "bumper": case.bumper.model_dump(),
                  "wall": {k: v for k, v in case.wall.model_dump().items() if k in (
-                     "material", "thickness_cm", "spacing_cm", "yield_stress_ksi")}},
+                     "material", "thickness_cm", "spacing_cm")} | {"yield_stress_ksi": case.wall_yield_ksi}},
         "ble": ble,
         "cloud": cloud,
         "deposition": deposition,
@@ -280,7 +280,7 @@ def _plot_ble(path, case: WhippleCase, ble: dict) -> None:
     plot_ballistic_limit([curve], path, shot=(p.velocity_km_s, p.diameter_cm, ble["verdict"] == "perforation"),
                          shots=nearby_shots(shield, p.obliquity_deg),
                          title=f"Whipple shield t_b = {b.thickness_cm:g} cm, t_w = {w.thickness_cm:g} cm, "
-                               f"S = {w.spacing_cm:g} cm, σ = {w.yield_stress_ksi:g} ksi, θ = {p.obliquity_deg:g}°")
+                               f"S = {w.spacing_cm:g} cm, σ = {case.wall_yield_ksi:g} ksi, θ = {p.obliquity_deg:g}°")
 
 
 def _plot_conservation(path, history) -> None:
@@ -467,7 +467,7 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
                        f"{p.obliquity_deg:g}° from the normal"),
         ("bumper", f"{case.bumper.material}, {case.bumper.thickness_cm:g} cm"),
         ("rear wall", f"{case.wall.material}, {case.wall.thickness_cm:g} cm, {case.wall.spacing_cm:g} cm behind "
-                      f"the bumper, σ = {case.wall.yield_stress_ksi:g} ksi"),
+                      f"the bumper, σ = {case.wall_yield_ksi:g} ksi"),
     ])
     verdict = _rows([
         ("regime", ble["regime"]),
