@@ -80,6 +80,22 @@ def test_the_equations_take_the_wall_materials_tensile_yield_when_the_case_gives
     assert library.wall.material == "al6061-t6" and library.wall_yield_ksi == 40.0
 
 
+def test_the_debris_case_of_a_run_carries_the_materials_its_wall_names(tmp_path):
+    """A Whipple run's debris case (its ``config.resolved.toml``) reruns alone in a fresh process: with a
+    wall of the case's own alloy, the alloy's table goes with it."""
+    from impactdyn._config import dump_toml
+    from impactdyn.debris import load_debris_case
+    from impactdyn.whipple._case import debris_case
+
+    data = _example(**{"wall.material": "ti6al4v", "wall_solver.spall_law": "cutoff"})
+    case = load_whipple_case(_write(tmp_path, data))
+    config = tmp_path / "config.resolved.toml"
+    config.write_text(dump_toml(debris_case(case, str(tmp_path / "grid.h5"))))
+    MATERIALS.unregister("ti6al4v")          # as in a fresh process
+    again = load_debris_case(config)
+    assert again.wall.material == "ti6al4v" and get_material("ti6al4v").rho0 == 4.419
+
+
 BAD = [
     ({"materials.ti6al4v.strength": None}, "materials.ti6al4v.strength: missing key"),
     ({"materials.ti6al4v.eos.c0_m_s": 5130.0}, "materials.ti6al4v.eos.c0_m_s: unknown key"),

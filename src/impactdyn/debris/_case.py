@@ -33,7 +33,7 @@ from impactdyn.debris._deposit import MomentumTransfer
 from impactdyn.debris._propagate import ArrivalWindow, ComputeOptions, DepositionOptions, check_window
 from impactdyn.debris._seed import SeedFilter, SeedOptions, check_particle_count, seed_cells
 from impactdyn.io import formats, read_grid, write_lsdyna_deck
-from impactdyn.materials import REPORT_MATERIAL, MaterialName
+from impactdyn.materials import REPORT_MATERIAL, MaterialName, MaterialsTable
 
 # TOML arrays are lists; strict validation does not turn them into tuples.
 Vector = Annotated[list[float], Field(min_length=3, max_length=3)]
@@ -322,9 +322,12 @@ class DebrisCase(Section):
     """A complete debris case (every table of the TOML file).
 
     title : a name for the case, written as the decks' title.
+    materials : the case's own alloys, ``[materials.NAME]`` tables (:class:`impactdyn.materials.MaterialTable`),
+        which ``[wall]`` may then name like the library's (a Whipple run's debris case carries its case's).
     """
 
     title: str = ""
+    materials: MaterialsTable | None = None  # before the wall that may name one: validated (registered) first
     grid: GridSection
     material: MaterialSection
     filter: FilterSection = FilterSection()

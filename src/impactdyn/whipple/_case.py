@@ -419,7 +419,8 @@ def debris_case(case: WhippleCase, grid_file: str) -> DebrisCase:
     y0 = case.wall_front_y
     shared = {name: getattr(case, name).model_dump() for name in ("filter", "integrator", "compute", "output",
                                                                   "legacy")}
-    return validate(DebrisCase, shared | {
+    own = {"materials": case.model_dump(mode="json")["materials"]} if case.materials else {}
+    return validate(DebrisCase, shared | own | {
         "title": case.title, "grid": {"file": grid_file}, "material": debris_material_constants(case),
         "wall": {"x_cm": list(w.x_cm), "y_cm": [y0, y0 + w.thickness_cm], "z_cm": list(w.z_cm),
                  "nodes": list(w.nodes), "clamped_edges": w.clamped_edges, "material": w.material,
