@@ -209,3 +209,73 @@ def test_the_limit_fitted_to_the_tests_of_the_configuration_is_drawn_where_it_ex
     _limit.run_limit(raw, [7.0], tmp_path / "fitted", tolerance_cm=0.05, scheduler="serial")
     v, low, d50, high, half_band = drawn["tested"]
     assert (v, low, d50, high, half_band) == ((6.5,), (0.0,), (0.4,), (0.5,), (0.5,))
+
+
+def _fake_draws(monkeypatch, probability):
+    """Replace the shot runner: of its N draws, round(N P(d)) perforate (a deterministic stand-in for the
+    partition's draws); records the shots taken."""
+    taken = []
+
+    def run_shot(shot):
+        p, n = shot.case.projectile, shot.case.shield.fragment_draws
+        k = round(n * probability(p.diameter_cm))
+        taken.append((p.diameter_cm, k, n))
+        shot.folder.mkdir(parents=True)
+        return {"wall": {"verdict": "perforation" if 2 * k >= n else "no perforation"},
+                "draws": {"perforated": k, "n_draws": n}}
+
+    monkeypatch.setattr(_limit, "run_shot", run_shot)
+    return taken
+
+
+def _grady(tmp_path, make_case):
+    from impactdyn._config import set_dotted
+
+    raw = set_dotted(load_toml(make_case(tmp_path)), "shield.failure_model", "fragmentation")
+    return set_dotted(raw, "shield.failed_fragments", "grady")
+
+
+def test_with_draws_the_search_closes_on_half_and_the_logistic_gives_the_band(tmp_path, make_case, monkeypatch):
+    """Draws from a known logistic in ln d (d50 = 0.5 cm, slope 12): the bisection on k/N ≥ 1/2 closes on
+    d50, and the fit over every draw finds d50 and the band d50 exp(∓ln 9 / 12) = 0.4167–0.6000 cm."""
+    import math
+
+    d50, slope = 0.5, 12.0
+    taken = _fake_draws(monkeypatch, lambda d: 1.0 / (1.0 + math.exp(-slope * math.log(d / d50))))
+    rows = _limit.run_limit(_grady(tmp_path, make_case), [7.0], tmp_path / "limit", tolerance_cm=0.005,
+                            brackets={7.0: (0.3, 0.8)}, draws=64, scheduler="serial")
+    r = rows[0]
+    assert r["status"] == "converged" and all(n == 64 for *_, n in taken)
+    assert r["largest_safe_cm"] <= d50 + 0.005 and r["smallest_failed_cm"] >= d50 - 0.005
+    assert r["draws_d50_cm"] == pytest.approx(d50, rel=0.02)
+    assert r["draws_d50_low_cm"] < r["draws_d50_cm"] < r["draws_d50_high_cm"]
+    spread = math.exp(math.log(9.0) / slope)
+    assert r["p10_diameter_cm"] == pytest.approx(d50 / spread, rel=0.03)
+    assert r["p90_diameter_cm"] == pytest.approx(d50 * spread, rel=0.03)
+    shots = list(csv.DictReader((tmp_path / "limit" / "shots.csv").open()))
+    assert [(float(s["diameter_cm"]), int(s["perforated_draws"]), int(s["n_draws"])) for s in shots] == taken
+
+
+def test_draws_that_never_disagree_give_no_band_and_say_why(tmp_path, make_case, monkeypatch):
+    _fake_draws(monkeypatch, lambda d: float(d > 0.5))
+    rows = _limit.run_limit(_grady(tmp_path, make_case), [7.0], tmp_path / "limit", tolerance_cm=0.02,
+                            brackets={7.0: (0.3, 0.8)}, draws=4, scheduler="serial")
+    r = rows[0]
+    assert r["status"] == "converged" and r["largest_safe_cm"] <= 0.5 < r["smallest_failed_cm"]
+    assert r["p10_diameter_cm"] is None and r["draws_d50_cm"] is None
+    assert "separable" in r["band_note"]
+
+
+def test_one_draw_a_shot_gives_no_band(tmp_path, make_case, monkeypatch):
+    _fake_shots(monkeypatch, lambda v: 0.5)
+    rows = _limit.run_limit(load_toml(make_case(tmp_path)), [7.0], tmp_path / "limit", tolerance_cm=0.02,
+                            brackets={7.0: (0.3, 0.8)}, scheduler="serial")
+    assert rows[0]["band_note"] is None and rows[0]["p10_diameter_cm"] is None
+
+
+@pytest.mark.parametrize("draws", [0, -3, 65])
+def test_a_bad_number_of_draws_is_refused_naming_the_key(tmp_path, make_case, monkeypatch, draws):
+    taken = _fake_draws(monkeypatch, lambda d: 0.5)
+    with pytest.raises(InputError, match="fragment_draws"):
+        _limit.run_limit(_grady(tmp_path, make_case), [7.0], tmp_path / "limit", draws=draws, scheduler="serial")
+    assert taken == [] and not (tmp_path / "limit").exists()

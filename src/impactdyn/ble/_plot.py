@@ -68,7 +68,7 @@ def _draw_shots(ax, shots: ShotDatabase, x: np.ndarray, y: np.ndarray, what: str
 
 
 def _draw_curves(ax, curves: list[BallisticLimitCurve], shot=None, outcomes=None,
-                 shots: ShotDatabase | None = None, simulated=None, limit=None, tested=None) -> None:
+                 shots: ShotDatabase | None = None, simulated=None, limit=None, tested=None, band=None) -> None:
     main = curves[0]
     v = main.velocity_km_s
     if main.regime_boundaries_km_s is not None:
@@ -113,6 +113,11 @@ def _draw_curves(ax, curves: list[BallisticLimitCurve], shot=None, outcomes=None
         vl, dl, half, label = limit
         ax.errorbar(vl, dl, yerr=half, fmt="D-", color="tab:purple", ms=7, capsize=5, lw=1.5, zorder=7, label=label)
         tops.append(float(np.max(np.asarray(dl) + np.asarray(half))))
+    if band is not None and len(band[0]):
+        vb, p10, p50, p90 = (np.asarray(a, dtype=float) for a in band)
+        ax.errorbar(vb, p50, yerr=[p50 - p10, p90 - p50], fmt="s", mfc="none", color="tab:purple", ms=9,
+                    capsize=8, lw=3, alpha=0.6, zorder=6,
+                    label="simulated P = 0.5, band P = 0.1–0.9 (logistic over the draws)")
     if tested is not None and len(tested[0]):
         vt, low, d50, high, v_band = (np.asarray(a, dtype=float) for a in tested)
         ax.errorbar(vt, d50, xerr=v_band, yerr=[d50 - low, high - d50], fmt="o", color="tab:orange", ms=8,
@@ -130,7 +135,7 @@ def plot_ballistic_limit(curves: list[BallisticLimitCurve], path: str | os.PathL
                          shot: tuple[float, float, bool] | None = None, title: str | None = None,
                          outcomes: tuple | None = None, shots: ShotDatabase | None = None,
                          simulated: tuple | None = None, limit: tuple | None = None,
-                         tested: tuple | None = None) -> Path:
+                         tested: tuple | None = None, band: tuple | None = None) -> Path:
     """Draw d_c(V) curves into ``path`` (written under a temporary name, then renamed).
 
     The first curve's regimes, if it has them, are shaded, with the boundaries marked;
@@ -145,11 +150,13 @@ def plot_ballistic_limit(curves: list[BallisticLimitCurve], path: str | os.PathL
     it failed and dark green squares where not.  ``limit`` = (V (m,), d (m,), half width (m,),
     label): a limit found by bisection, drawn with its brackets as error bars.  ``tested`` = (V (k,),
     d low (k,), d50 (k,), d high (k,), half band (k,)): limits fitted to test shots
-    (:func:`impactdyn.ble.derived_limits`), an open interval end drawn to the plot's edge.
+    (:func:`impactdyn.ble.derived_limits`), an open interval end drawn to the plot's edge.  ``band`` =
+    (V (j,), d at P = 0.1 (j,), d at P = 0.5 (j,), d at P = 0.9 (j,)): a simulated limit over the fragments'
+    draws, its 50 % diameter with the band 10–90 %.
     """
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(8.5, 5.8), constrained_layout=True)
-    _draw_curves(ax, curves, shot, outcomes, shots, simulated, limit, tested)
+    _draw_curves(ax, curves, shot, outcomes, shots, simulated, limit, tested, band)
     main = curves[0]
     ax.set_title(title or f"Ballistic limit, θ = {main.obliquity_deg:g}°, "
                           f"ρ_p = {main.projectile_density:g} g/cm³", fontsize=10)

@@ -201,6 +201,9 @@ def limit(
     workers: Optional[int] = typer.Option(None, "--workers", help="Shots run at once (default: all cores)."),
     dask: Optional[str] = typer.Option(None, "--dask", help="'local' for a LocalCluster, or a scheduler address."),
     keep_all: bool = typer.Option(False, "--keep-all", help="Keep every file of each shot."),
+    draws: Optional[int] = typer.Option(None, "--draws", metavar="N",
+                                        help=DRAWS_HELP + " The search closes on P = 0.5; a logistic over every "
+                                             "draw gives the band P = 0.1-0.9."),
 ):
     """Find, for each velocity, the diameter where the simulated wall verdict changes (bisection)."""
     from rich.progress import Progress
@@ -217,12 +220,17 @@ def limit(
         task = bar.add_task("shots", total=None)
         rows = run_limit(raw, velocities, out, source=str(case), tolerance_cm=tolerance, bracket_ratio=bracket_ratio,
                          brackets=brackets, force=force, resume=resume, scheduler="dask" if dask else "processes",
-                         workers=workers, address=dask, keep_all=keep_all,
+                         workers=workers, address=dask, keep_all=keep_all, draws=draws,
                          progress=lambda n: bar.update(task, completed=n))
     for r in rows:
         d = "–" if r["limit_diameter_cm"] is None else f"{r['limit_diameter_cm']:.4f} ± {r['half_width_cm']:.4f} cm"
         typer.echo(f"V = {r['velocity_km_s']:g} km/s: simulated limit {d} ({r['status']}, {r['n_shots']} shots); "
                    f"JSC {r['jsc_critical_diameter_cm']:.4f} cm")
+        if r["p10_diameter_cm"] is not None:
+            typer.echo(f"  over the draws: P = 0.5 at {r['draws_d50_cm']:.4f} cm, P = 0.1–0.9 from "
+                       f"{r['p10_diameter_cm']:.4f} to {r['p90_diameter_cm']:.4f} cm ({r['band_note']})")
+        elif r["band_note"]:
+            typer.echo(f"  {r['band_note']}")
         if r["caution"]:
             typer.echo(f"  caution: {r['caution']}")
     typer.echo(f"table in {out / 'limit.csv'}, plot in {out / 'limit.png'}")

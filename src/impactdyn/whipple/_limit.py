@@ -18,6 +18,19 @@ the case's particles per projectile diameter (``shield.spacing_cm`` scaled by d/
 a larger one keeps the case's spacing, so no shot is resolved more coarsely than the
 case itself.
 
+With the fragments' draws (``draws`` = N, ``shield.fragment_draws``), each shot runs N partitions of
+the fragments and its verdict is a fraction k/N; the bisection counts a shot as failed when
+k/N ≥ 1/2, so it closes on the diameter where P(perforation) = 0.5.  The band P = 0.1–0.9 is then
+the logistic in ln d fitted by maximum likelihood to every draw the search made (each draw one
+trial at its shot's diameter: :func:`impactdyn.ble.fit_limit`, the fit of the test-derived
+limits, so the simulated band and the tests' own limit are one measure): d_q = d50 ·
+exp(logit(q)/b).  Why not bisect to P = 0.1 and 0.9 as well: three searches cost three times
+the shots, and a fraction near 0.1 read from N = 8 draws is 0 in 43 % of shots (binomial), so
+such a bisection wanders; the fit pools N × (shots) trials, and the bisection's shots lie where a
+logistic's d50 is best determined.  Its price: the band's width rests on the spread of outcomes
+about d50, and where every shot's draws are unanimous (separable outcomes) the fit does not
+exist and no band is given (``band_note`` says why; the bracket still bounds the 50 % diameter).
+
 The limit reported is the bracket's midpoint ± half its width.  The search assumes one
 change of verdict along d at fixed V (a thicker projectile does not do less damage);
 every shot is kept in ``shots.csv``, so a non-monotone result is there to see.  Each
@@ -35,12 +48,13 @@ to them (:func:`tested_limits`); drawn when the search ends) and ``runs/V<v>_d<d
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from impactdyn._config import validate
+from impactdyn._config import set_dotted, validate
 from impactdyn._errors import InputError
 from impactdyn._family import FamilyFolder, run_members
 from impactdyn._sweep import case_variants
@@ -51,8 +65,12 @@ from impactdyn.whipple._shots import run_shot, shot_name, shot_tasks, shot_varia
 from impactdyn.whipple._database_shot import ALLOYS
 
 LIMIT_HEADER = ["velocity_km_s", "limit_diameter_cm", "half_width_cm", "largest_safe_cm", "smallest_failed_cm",
-                "jsc_critical_diameter_cm", "n_shots", "status", "caution"]
-SHOTS_HEADER = ["velocity_km_s", "diameter_cm", "simulated_verdict", "failed", "jsc_verdict", "run"]
+                "jsc_critical_diameter_cm", "n_shots", "status", "caution", "draws_d50_cm", "draws_d50_low_cm",
+                "draws_d50_high_cm", "p10_diameter_cm", "p90_diameter_cm", "band_note"]
+SHOTS_HEADER = ["velocity_km_s", "diameter_cm", "simulated_verdict", "failed", "jsc_verdict", "run",
+                "perforated_draws", "n_draws"]
+#: logit(0.9) = ln 9: the band P = 0.1–0.9 is d50 · exp(∓ln 9 / b).
+_BAND_LOGIT = math.log(9.0)
 
 
 
@@ -111,8 +129,11 @@ def run_limit(raw: dict, velocities: list[float], outdir: str | Path, *, source:
               tolerance_cm: float = 0.02, bracket_ratio: float = 1.25, max_expansions: int = 4,
               brackets: dict[float, tuple[float, float]] | None = None, force: bool = False, resume: bool = False,
               scheduler: str = "processes", workers: int | None = None, address: str | None = None,
-              keep_all: bool = False, progress=None) -> list[dict]:
+              keep_all: bool = False, draws: int | None = None, progress=None) -> list[dict]:
     """Search the simulated limit at each velocity (module docstring); returns the ``limit.csv`` rows.
+
+    ``draws``: N draws of the fragments' partition per shot (``shield.fragment_draws``; the module
+    docstring says what the search and the band then are); None: the case's own.
 
     ``brackets`` maps a velocity (km/s, one of ``velocities``) to the diameters (low, high) (cm)
     its search starts from instead of the JSC bracket.  The tables are rewritten after each
@@ -127,6 +148,8 @@ def run_limit(raw: dict, velocities: list[float], outdir: str | Path, *, source:
     if not (np.isfinite(bracket_ratio) and bracket_ratio > 1):
         raise InputError(f"--bracket-ratio {bracket_ratio}: must be > 1")
     brackets = _check_brackets(brackets or {}, velocities)
+    if draws is not None:
+        raw, source = set_dotted(raw, "shield.fragment_draws", draws), f"{source} (--draws {draws})"
     base = validate(WhippleCase, raw, source)
     bases = limit_velocities(raw, velocities, source)
     searches = []
@@ -141,9 +164,12 @@ def run_limit(raw: dict, velocities: list[float], outdir: str | Path, *, source:
                       resume=resume) as family:
         def record(search: _Search, d: float, case: WhippleCase, summary: dict) -> None:
             verdict = summary["wall"]["verdict"]
-            failed = verdict in FAILED_VERDICTS
+            # a shot run before the draws stage existed has no draws record: its one verdict is its draw
+            k, n = ((summary["draws"]["perforated"], summary["draws"]["n_draws"]) if "draws" in summary
+                    else (int(verdict in FAILED_VERDICTS), 1))
+            failed = 2 * k >= n
             search.shots.append((d, verdict, failed, ble_verdict(case)["verdict"],
-                                 f"runs/{shot_name(search.velocity, d)}"))
+                                 f"runs/{shot_name(search.velocity, d)}", k, n))
             search.record(d, failed)
             family.finished += 1
             _write_tables(family, searches, tolerance_cm, bracket_ratio)
@@ -200,7 +226,27 @@ def _limit_row(s: _Search) -> dict:
             "half_width_cm": 0.5 * abs(s.failed - s.safe) if both else None,
             "largest_safe_cm": s.safe, "smallest_failed_cm": s.failed,
             "jsc_critical_diameter_cm": s.jsc, "n_shots": len(s.shots), "status": s.status,
-            "caution": wall_caution(s.case, 0.5 * (s.safe + s.failed), s.velocity) if both else None}
+            "caution": wall_caution(s.case, 0.5 * (s.safe + s.failed), s.velocity) if both else None} | _band(s)
+
+
+def _band(s: _Search) -> dict:
+    """The logistic over every draw of the search's shots (module docstring): its 50 % diameter with the
+    profile-likelihood 95 % interval and the diameters at P = 0.1 and 0.9; all None with one draw a shot,
+    and with ``band_note`` saying why where the fit does not exist."""
+    from impactdyn.ble import fit_limit
+
+    band = dict.fromkeys(LIMIT_HEADER[LIMIT_HEADER.index("draws_d50_cm"):])
+    if not s.shots or max(n for *_, n in s.shots) == 1:
+        return band
+    diameters = [d for d, *_, k, n in s.shots for _ in range(n)]
+    outcomes = [j < k for d, *_, k, n in s.shots for j in range(n)]
+    fit = fit_limit(diameters, outcomes)
+    if fit.refused is not None:
+        return band | {"band_note": f"no logistic over the {len(outcomes)} draws: {fit.refused}"}
+    spread = math.exp(_BAND_LOGIT / fit.slope)
+    return band | {"draws_d50_cm": fit.d50_cm, "draws_d50_low_cm": fit.low_cm, "draws_d50_high_cm": fit.high_cm,
+                   "p10_diameter_cm": fit.d50_cm / spread, "p90_diameter_cm": fit.d50_cm * spread,
+                   "band_note": f"logistic in ln d over {len(outcomes)} draws of {len(s.shots)} shots"}
 
 
 def tested_limits(case: WhippleCase) -> list:
@@ -238,7 +284,9 @@ def _plot(path: Path, case: WhippleCase, searches: list[_Search], rows: list[dic
     vmax = max(15.0, 1.1 * max(s.velocity for s in searches))
     shield = ble_shield(case)
     curve = ballistic_limit_curve(shield, np.linspace(1.0, vmax, 281), p.obliquity_deg, get_material(p.material).rho0)
-    shots = [(s.velocity, d, failed) for s in searches for d, _, failed, _, _ in s.shots]
+    shots = [(s.velocity, d, failed) for s in searches for d, _, failed, *_ in s.shots]
+    banded = [r for r in rows if r["p10_diameter_cm"] is not None]
+    drawn = any(n > 1 for s in searches for *_, n in s.shots)
     done = [r for r in rows if r["limit_diameter_cm"] is not None]
     tested = [(0.5 * (t.velocity_low_km_s + t.velocity_high_km_s), t.fit.low_cm or 0.0, t.fit.d50_cm,
                t.fit.high_cm or 2.0 * t.fit.d50_cm, 0.5 * (t.velocity_high_km_s - t.velocity_low_km_s))
@@ -247,7 +295,10 @@ def _plot(path: Path, case: WhippleCase, searches: list[_Search], rows: list[dic
         [curve], path, shots=nearby_shots(shield, p.obliquity_deg),
         simulated=tuple(np.array(c) for c in zip(*shots)) if shots else None,
         limit=([r["velocity_km_s"] for r in done], [r["limit_diameter_cm"] for r in done],
-               [r["half_width_cm"] for r in done], f"simulated limit (bisection to {tolerance:g} cm)"),
+               [r["half_width_cm"] for r in done],
+               f"simulated limit (bisection to {tolerance:g} cm{' on P ≥ 1/2 of the draws' if drawn else ''})"),
         tested=tuple(zip(*tested)) if tested else None,
+        band=tuple(zip(*[(r["velocity_km_s"], r["p10_diameter_cm"], r["draws_d50_cm"], r["p90_diameter_cm"])
+                         for r in banded])) if banded else None,
         title=f"Simulated ballistic limit: t_b = {b.thickness_cm:g} cm, t_w = {w.thickness_cm:g} cm, "
               f"S = {w.spacing_cm:g} cm, θ = {p.obliquity_deg:g}°, wall model {case.wall_solver.material_model}")
