@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from impactdyn.ble import brier_score, database_logistic, forecast_scores, log_loss
+from impactdyn.ble import brier_score, database_logistic, forecast_scores, log_loss, plot_reliability, reliability
 from impactdyn.whipple import score_validation
 
 
@@ -59,3 +59,24 @@ def test_validation_scores_carry_the_forecasts_only_with_the_draws():
     assert forecast["jsc"]["brier"] == pytest.approx(1.0 / 3.0)
     older = [{k: v for k, v in r.items() if k not in ("n_draws", "p_perforation")} for r in rows]
     assert score_validation(older)["forecast"] is None
+
+
+def test_the_reliability_bins_of_known_forecasts():
+    """Shots at P = 0.125 (two, one perforated), 0.5 (one held) and 1.0 (three perforated): three bins, each
+    with its shots, mean P and observed frequency; P = 1 falls in the last, closed bin."""
+    p = [0.125, 0.125, 0.5, 1.0, 1.0, 1.0]
+    y = [True, False, False, True, True, True]
+    bins = reliability(p, y)
+    assert [b["bin"] for b in bins] == [[0.0, 0.2], [0.4, 0.6], [0.8, 1.0]]
+    assert [b["shots"] for b in bins] == [2, 1, 3]
+    assert [b["mean_p"] for b in bins] == [0.125, 0.5, 1.0]
+    assert [b["observed"] for b in bins] == [0.5, 0.0, 1.0]
+    assert all(lo <= b["observed"] <= hi for b in bins for lo, hi in [b["observed_95"]])
+    assert bins[2]["observed_95"][1] == pytest.approx(1.0) and bins[2]["observed_95"][0] < 1.0
+
+
+def test_the_reliability_diagram_is_drawn_from_the_scores(tmp_path):
+    scores = forecast_scores([0.125, 0.5, 1.0], [8, 8, 8], [False, True, True], {"jsc": np.array([0.0, 1.0, 1.0])})
+    assert sum(b["shots"] for b in scores["jsc"]["reliability"]) == 3
+    path = plot_reliability(scores, tmp_path / "reliability.png")
+    assert path.stat().st_size > 10_000

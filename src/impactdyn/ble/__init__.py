@@ -15,7 +15,7 @@ the packaged test database of 1135 shots (:func:`read_database`).
 
 from impactdyn.ble import _jsc, _jsc2011  # noqa: F401  (each registers its equation)
 from impactdyn.ble._curve import DEFAULT_VELOCITIES_KM_S, BallisticLimitCurve
-from impactdyn.ble._forecast import brier_score, database_logistic, forecast_scores, log_loss
+from impactdyn.ble._forecast import brier_score, database_logistic, forecast_scores, log_loss, reliability
 from impactdyn.ble._database import DATABASE_PATH, ShotDatabase, nearby_shots, read_database
 from impactdyn.ble._scoring import (
     DISTANCE_BANDS,
@@ -35,7 +35,7 @@ from impactdyn.ble._equation import (
     Regime,
     WhippleEquation,
 )
-from impactdyn.ble._plot import check_plot_path, plot_ballistic_limit, plot_validation
+from impactdyn.ble._plot import check_plot_path, plot_ballistic_limit, plot_reliability, plot_validation
 from impactdyn.ble._check import positive as check_positive
 from impactdyn.ble._check import scalar_obliquity as check_obliquity
 from impactdyn.ble._registry import DEFAULT_EQUATION, EQUATIONS, get_equation
@@ -86,6 +86,7 @@ __all__ = [
     "check_plot_path", "check_positive",
     "DISTANCE_BANDS", "BandScore", "McNemar", "Proportion", "VerdictScore", "mcnemar", "mcnemar_exact",
     "score_by_distance", "wilson_interval", "brier_score", "database_logistic", "forecast_scores", "log_loss",
+    "reliability", "plot_reliability",
     "CONFIGURATION_OBLIQUITY_DEG", "CONFIGURATION_TOLERANCE", "MIN_EACH", "MIN_SHOTS", "VELOCITY_BAND_KM_S",
     "Configuration", "DerivedLimit", "LimitFit", "configurations", "derived_limits", "fit_limit",
     "one_record_per_firing",

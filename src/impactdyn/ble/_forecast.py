@@ -14,6 +14,11 @@ sure a verdict was.  A forecast P of each shot's perforation is scored instead b
 Each score's 95 % interval is a percentile bootstrap over the shots (:data:`BOOTSTRAP_SAMPLES` resamples,
 a fixed seed so a rescoring gives the same interval; Efron & Tibshirani 1993, ch. 13).
 
+The reliability diagram (Murphy & Winkler 1977, Appl. Statist. 26:41; Bröcker & Smith 2007, Weather
+Forecast. 22:651) asks whether the forecast P means what it says: the shots are put in bins of P
+(:data:`RELIABILITY_EDGES`) and each bin's observed frequency of perforation, with its Wilson 95 % interval,
+is set against the bin's mean P; a reliable forecast lies on the diagonal within the intervals.
+
 Two baselines on the same shots: the JSC 2011 verdict as P = 0 or 1 (clipped as the simulation's), and
 the test database's own logistic in d/d_c (:func:`database_logistic`): perforation against ln(d/d_c) fitted,
 as :func:`impactdyn.ble.fit_limit` fits one configuration, to the database's Al-on-Al shots at normal
@@ -32,6 +37,9 @@ BOOTSTRAP_SAMPLES = 2000
 BOOTSTRAP_SEED = 20261204
 #: The database's shots behind the logistic baseline: normal incidence and this speed range (the validation
 #: sets' 3–7.57 km/s, to the 7.2 km/s where the packaged database's normal shots thin out): 575 shots.
+#: Bin edges of P in the reliability diagram: five bins, since a validation set holds a dozen or a few dozen
+#: shots and finer bins would hold one or two each (the last bin closed: P = 1 falls in it).
+RELIABILITY_EDGES = (0.0, 0.2, 0.4, 0.6, 0.8, 1.0)
 LOGISTIC_OBLIQUITY_DEG = 0.0
 LOGISTIC_VELOCITY_KM_S = (3.0, 7.2)
 
@@ -77,6 +85,24 @@ def database_logistic(exclude_lines=()) -> Callable[[np.ndarray], np.ndarray] | 
     return lambda r: special.expit(slope * (np.log(np.asarray(r, float)) - centre))
 
 
+def reliability(p, y, edges=RELIABILITY_EDGES) -> list[dict]:
+    """The reliability diagram's bins (module docstring): for each bin of ``p`` holding shots, their number,
+    mean P, the observed frequency of perforation among them (``y``) and its Wilson 95 % interval."""
+    from impactdyn.ble._scoring import wilson_interval
+
+    p, y = np.asarray(p, float), np.asarray(y, bool)
+    index = np.clip(np.searchsorted(edges, p, side="right") - 1, 0, len(edges) - 2)
+    rows = []
+    for b in range(len(edges) - 1):
+        inside = index == b
+        n, k = int(inside.sum()), int(y[inside].sum())
+        if n:
+            low, high = wilson_interval(k, n)
+            rows.append({"bin": [edges[b], edges[b + 1]], "shots": n, "mean_p": float(p[inside].mean()),
+                         "observed": k / n, "observed_95": [low, high]})
+    return rows
+
+
 def forecast_scores(p, draws, perforated, forecasts: dict[str, np.ndarray]) -> dict:
     """Brier and log-loss with their bootstrap intervals of the simulation's P (``p``, each from ``draws``
     draws) and of each baseline in ``forecasts`` (name → P per shot; clipped as the simulation's), against
@@ -89,5 +115,6 @@ def forecast_scores(p, draws, perforated, forecasts: dict[str, np.ndarray]) -> d
             "brier": brier_score(q, y),
             "brier_95": list(bootstrap_interval(lambda i: brier_score(q[i], y[i]), len(y))),
             "log_loss": log_loss(q, y, n),
-            "log_loss_95": list(bootstrap_interval(lambda i: log_loss(q[i], y[i], n[i]), len(y)))}
+            "log_loss_95": list(bootstrap_interval(lambda i: log_loss(q[i], y[i], n[i]), len(y))),
+            "reliability": reliability(q, y)}
     return out

@@ -207,3 +207,35 @@ def plot_validation(validations: list[Validation], path: str | os.PathLike,
         _draw_curves(ax, curves, shots=shots)
         ax.set_title(title or "configuration", fontsize=9)
     return save_figure(fig, path, dpi=120)
+
+
+#: Names of the forecasts in the reliability diagram's legend (keys of :func:`impactdyn.ble.forecast_scores`).
+FORECAST_LABELS = {"simulated": "simulation, k of N draws", "jsc": "JSC 2011 verdict (0 or 1)",
+                   "database_logistic": "the database's logistic in d/d_c"}
+
+
+def plot_reliability(forecasts: dict, path: str | os.PathLike, title: str | None = None) -> Path:
+    """The reliability diagram of :func:`impactdyn.ble.forecast_scores`' result ``forecasts`` (name → its
+    scores with ``reliability`` bins): each bin's observed frequency of perforation (Wilson 95 % interval)
+    against its mean forecast P, the marker's area growing with the bin's shots, over the diagonal of a
+    reliable forecast."""
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(6.0, 5.6), constrained_layout=True)
+    ax.plot([0, 1], [0, 1], color="0.6", lw=1, ls="--", label="reliable: observed = forecast")
+    for (name, scores), marker, offset in zip(forecasts.items(), "osD^v", (0.0, -0.012, 0.012, -0.024, 0.024)):
+        bins = scores["reliability"]
+        mean_p = np.array([b["mean_p"] for b in bins]) + offset     # side by side where bins coincide
+        observed = np.array([b["observed"] for b in bins])
+        low, high = (np.array([b["observed_95"][i] for b in bins]) for i in (0, 1))
+        shots = np.array([b["shots"] for b in bins])
+        ax.errorbar(mean_p, observed, yerr=[observed - low, high - observed], fmt="none", capsize=3, lw=1,
+                    color=f"C{list(forecasts).index(name)}")
+        ax.scatter(mean_p, observed, s=25 + 12 * shots, marker=marker, color=f"C{list(forecasts).index(name)}",
+                   alpha=0.8, label=f"{FORECAST_LABELS.get(name, name)} (Brier {scores['brier']:.3f})", zorder=3)
+        for x, y, n in zip(mean_p, observed, shots):
+            ax.annotate(str(n), (x, y), textcoords="offset points", xytext=(6, -10), fontsize=7)
+    ax.set(xlim=(-0.05, 1.05), ylim=(-0.05, 1.05), xlabel="forecast P(perforation), bin mean",
+           ylabel="observed frequency of perforation (95 % interval)")
+    ax.legend(loc="upper left", fontsize=8)
+    ax.set_title(title or "Reliability of the forecasts (numbers: shots in the bin)", fontsize=10)
+    return save_figure(fig, path, dpi=120)

@@ -79,6 +79,10 @@ def run_validation(shots: list[DatabaseShot], outdir: str | Path, *, selection: 
         scores = score_validation(rows) | {"selection": selection}
         family.write_json("scores.json", scores)
         _plot(family.path / "validation.png", rows)
+        if scores["forecast"]:
+            from impactdyn.ble import plot_reliability
+
+            plot_reliability(scores["forecast"], family.path / "reliability.png")
         family.write_text("validation.html", _page(rows, scores))
     return scores
 
@@ -184,7 +188,9 @@ def _forecast_table(forecast: dict | None) -> str:
                     f"{f['brier_95'][1]:.3f})</td><td>{f['log_loss']:.3f} ({f['log_loss_95'][0]:.3f}–"
                     f"{f['log_loss_95'][1]:.3f})</td></tr>" for k, f in forecast.items())
     return ("<h2>The verdicts as forecasts (lower is better; 95 % bootstrap intervals)</h2><table><tr><th>forecast"
-            "</th><th>Brier score</th><th>log-loss (P clipped to [1/2N, 1 − 1/2N])</th></tr>" + cells + "</table>")
+            "</th><th>Brier score</th><th>log-loss (P clipped to [1/2N, 1 − 1/2N])</th></tr>" + cells + "</table>"
+            '<img src="reliability.png" alt="reliability diagram: observed frequency of perforation against the '
+            'forecast P">')
 
 
 def _page(rows: list[dict], scores: dict) -> str:
