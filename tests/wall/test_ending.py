@@ -145,13 +145,19 @@ def test_a_breakdown_while_settling_loses_only_the_permanent_bulge(monkeypatch):
     assert wall_permanent_bulge(m).startswith("not measured: wall solver broke down at t = 6.5 us")
 
 
-def _holed_wall(hold_us):
+def _holed_wall(hold_us, late=()):
     """A 1 × 0.2 × 1-cm clamped wall of 20 × 4 × 20 bricks whose central 4 × 4 patch of face elements
-    is each hit by four impulses of 5e-5 g·cm/µs over 0.75 µs: holed within 0.5 µs."""
+    is each hit by four impulses of 5e-5 g·cm/µs over 0.75 µs: holed within 0.5 µs.  ``late``: (time µs,
+    impulse g·cm/µs) of further records on a corner face element, as a late compact fragment lands."""
     grid = WallGrid.uniform((0.0, 1.0), (0.0, 0.2), (0.0, 1.0), (21, 5, 21))
     face = np.array([k * 20 + i for k in range(8, 12) for i in range(8, 12)])
     elements, times = np.repeat(face, 4), np.tile([0.0, 0.25, 0.5, 0.75], face.size)
-    dep = WallDeposition(element=elements, time=times, impulse=np.array([[0.0, 5e-5, 0.0]] * elements.size))
+    impulse = np.array([[0.0, 5e-5, 0.0]] * elements.size)
+    if late:
+        elements = np.concatenate([elements, np.full(len(late), 2 * 20 + 2)])
+        times = np.concatenate([times, [t for t, _ in late]])
+        impulse = np.concatenate([impulse, [[0.0, j, 0.0] for _, j in late]])
+    dep = WallDeposition(element=elements, time=times, impulse=impulse)
     return wall.run_wall(grid, dep, "al6061-t6", wall.WallOptions(mesh="report", output_interval_us=None,
                                                                   max_time_us=20.0, perforation_hold_us=hold_us))
 
@@ -165,6 +171,27 @@ def test_a_holed_wall_ends_when_its_path_has_held_after_the_last_arrival():
     # the hold counts from the later of the path and the last arrival (0.75 µs), to a history sample
     assert 1.75 <= m["end_time_us"] < 1.75 + wall.WallOptions().history_interval_us + 1e-9
     assert m["impulse_applied"][1] == pytest.approx(m["impulse_deposited"][1], rel=1e-12)
+
+
+def test_a_late_record_does_not_hold_a_settled_perforation_open():
+    """A record arriving long after the hole has settled (a slow compact fragment at 15 µs) is not
+    waited for: the run ends 1 µs after the last record so far, and counts the late one unapplied."""
+    held = _holed_wall(1.0, late=[(15.0, 1e-6)])
+    m = held.measures
+    assert held.verdict == wall.PERFORATION and m["ended_by"] == "perforated"
+    assert 1.75 <= m["end_time_us"] < 1.75 + wall.WallOptions().history_interval_us + 1e-9
+    assert m["unapplied_records"] == 1
+    assert m["impulse_unapplied"][1] == pytest.approx(1e-6, rel=1e-12)
+    assert m["impulse_applied"][1] + m["impulse_unapplied"][1] == pytest.approx(m["impulse_deposited"][1], rel=1e-12)
+
+
+def test_a_record_arriving_during_the_hold_starts_it_again():
+    """The hold counts from the last record so far: one at 1.5 µs (inside the first hold, which would
+    end at 1.75 µs) moves the end to 2.5 µs, and every record is applied."""
+    m = _holed_wall(1.0, late=[(1.5, 1e-6)]).measures
+    assert m["ended_by"] == "perforated"
+    assert 2.5 <= m["end_time_us"] < 2.5 + wall.WallOptions().history_interval_us + 1e-9
+    assert m["unapplied_records"] == 0 and m["impulse_unapplied"] == [0.0, 0.0, 0.0]
 
 
 def test_without_a_hold_a_holed_wall_runs_on_to_the_same_verdict():

@@ -91,10 +91,12 @@ class WallOptions(Section):
     decay_fraction : the fraction of the peak kinetic energy that ends a run (0.05).
     perforation_hold_us : a run without ``end_time_us`` ends (``ended_by`` "perforated") this long
         after a through-thickness path of failed or eroded elements has formed and the last
-        record has arrived, whichever is later; None: never on that account.  Failure is for good,
-        so the verdict is "perforation" from the path's first appearance (``perforated_at_us``, to a
-        history sample); the hold only lets the hole and the failed mass that the report shows
-        grow on for a stated time, and they are those of the end of the run, not of a wall at rest.
+        record so far has arrived, whichever is later; None: never on that account.  Failure is
+        for good, so the verdict is "perforation" from the path's first appearance
+        (``perforated_at_us``, to a history sample); the hold only lets the hole and the failed mass
+        that the report shows grow on for a stated time, and they are those of the end of the run,
+        not of a wall at rest.  Records arriving after that end (a late compact fragment) are not
+        applied; the measures count them (``unapplied_records``, ``impulse_unapplied``).
     max_time_us : ceiling of the run's end time (absolute time, µs).
     output_interval_us : time between output frames (ParaView series); None: the first and last frames
         only.  2 µs: 51 frames of a 100-µs run; each frame of the graded 7a wall is 5 MB (71,280
