@@ -468,6 +468,13 @@ def test_a_wall_run_cut_off_at_the_ceiling_is_said_to_be_not_at_rest():
     assert "not at rest" not in wall_ending(record | {"ended_by": "decay"})
 
 
+def test_a_perforation_that_ended_the_run_before_late_records_says_how_much_it_left_out():
+    record = {"ended_by": "perforated", "end_time_us": 35.82, "kinetic_left_fraction": 0.05, "perforated_at_us": 15.71,
+              "unapplied_records": 3, "impulse_unapplied": [0.0, 3e-4, 4e-4], "impulse_deposited": [0.0, 0.06, 0.08]}
+    assert wall_ending(record).endswith("; 3 records arriving later (0.50% of the deposited momentum) not applied")
+    assert "not applied" not in wall_ending(record | {"unapplied_records": 0})
+
+
 def test_a_settled_wall_reports_its_permanent_bulge_and_progress(run, tmp_path, make_case, capsys):
     """``settle = true`` from the wall stage on: the settling shows as a stage of its own in the
     progress, and the permanent bulge reaches summary.json and the report."""

@@ -136,7 +136,7 @@ def wall_figures(wall: dict, ble: dict) -> dict:
             "peak_rear_bulge_time_us", "peak_rear_velocity_km_s", "failed_mass_g", "eroded_mass_g", "spall_mass_g",
             "failed_mass_by_cause_g", "failed_elements", "eroded_elements", "hourglass_to_internal", "end_time_us", "ended_by",
             "perforated_at_us", "kinetic_left_fraction", "steps", "permanent_rear_bulge_cm", "settled", "settle_steps",
-            "settle_error")
+            "settle_error", "unapplied_records", "impulse_unapplied", "impulse_deposited")
     return {"verdict": wall["verdict"], "criterion": wall["evidence"].get("criterion"),
             "agrees_with_equation": (wall["verdict"] != "no perforation") == (ble["verdict"] == "perforation"),
             "material_model": wall["model"].get("model"), "failure_criteria": wall["model"].get("failure_criteria"),
@@ -407,7 +407,7 @@ def wall_ending(wall: dict) -> str:
         return "–"
     text = {"decay": "the wall's kinetic energy decayed", "end_time": "the end time asked for",
             "ceiling": "the max_time_us ceiling",
-            "perforated": "a through-thickness path of failed material held after the last arrival"}[how]
+            "perforated": "a through-thickness path of failed material held after the last record so far"}[how]
     text += f" at {wall['end_time_us']:.4g} µs, {wall['kinetic_left_fraction']:.0%} of its peak kinetic energy left"
     if how == "ceiling":
         text += ("; the wall is not at rest: the failed mass and the verdict stand if the damage has stopped "
@@ -415,6 +415,10 @@ def wall_ending(wall: dict) -> str:
     if how == "perforated":
         text += (f"; perforated from {wall['perforated_at_us']:.4g} µs on (failure is for good, so the verdict "
                  "cannot change): the hole, the failed mass and the bulge are those of the end of the run")
+    if wall.get("unapplied_records"):
+        share = np.linalg.norm(wall["impulse_unapplied"]) / np.linalg.norm(wall["impulse_deposited"])
+        text += (f"; {wall['unapplied_records']} record{'s' if wall['unapplied_records'] > 1 else ''} arriving "
+                 f"later ({share:.2%} of the deposited momentum) not applied")
     return text
 
 
