@@ -50,8 +50,10 @@ def ble_scores_table() -> str:
 
 
 def limit_paragraph() -> str:
-    """The limit of the simulated verdict, as the README words its heading, for the top of a page."""
-    return f"**The limit: read this before the simulated verdict.** {whipple.limit_statement()}\n"
+    """The limit of the simulated verdict under the README's heading for it, for the top of a page: a warning
+    box, as the report puts its caution."""
+    return ("```{admonition} The limit: read this before the simulated verdict\n:class: warning\n\n"
+            f"{whipple.limit_statement()}\n```\n")
 
 
 def _outcome(perforated: bool) -> str:
