@@ -440,14 +440,17 @@ def _without_metadata(annotation: Any) -> Any:
     return annotation
 
 
-def _carries_metadata(annotation: Any) -> bool:
-    return typing.get_origin(annotation) is Annotated or any(_carries_metadata(a) for a in typing.get_args(annotation))
+def _for_people(annotation: Any) -> bool:
+    """Whether ``annotation`` holds what :func:`annotation_for_people` words: pydantic's metadata or a ``Literal``."""
+    return typing.get_origin(annotation) in (Annotated, Literal) or any(
+        _for_people(a) for a in typing.get_args(annotation) if typing.get_origin(annotation) is not Literal)
 
 
 def annotation_for_people(annotation: Any) -> str:
     """A type with pydantic's metadata as a reader wants it: the Python type, then its bounds as the case-file
     reference writes them (:func:`bounds_of`: ``float ≥ 0``, ``float > 0, ≤ 1``, ``float > 0 or None``),
-    or the names a registry accepts (:func:`registered_names`)."""
+    the names a registry accepts (:func:`registered_names`), or a ``Literal``'s choices (:func:`type_name`:
+    ``one of "graded", "report"``)."""
     from sphinx.util.typing import stringify_annotation
 
     info = FieldInfo.from_annotation(annotation)
@@ -458,7 +461,8 @@ def annotation_for_people(annotation: Any) -> str:
     optional = _is_union(bare) and type(None) in typing.get_args(bare)
     if optional:
         bare = Union[tuple(a for a in typing.get_args(bare) if a is not type(None))]  # noqa: UP007
-    words = " ".join(filter(None, [stringify_annotation(bare, "smart"), bounds_of(info)]))
+    typed = type_name(bare) if typing.get_origin(bare) is Literal else stringify_annotation(bare, "smart")
+    words = " ".join(filter(None, [typed, bounds_of(info)]))
     return f"{words} or None" if optional else words
 
 
@@ -474,10 +478,10 @@ def _parameters(app: Any, obj: Any) -> list[inspect.Parameter]:
 
 
 def _types_for_people(app: Any, what: str, name: str, obj: Any, options: Any, lines: list[str]) -> None:
-    """A ``:type:`` field in users' words for each parameter typed with pydantic's metadata: autodoc adds
-    the types it finds only where the docstring gives none."""
+    """A ``:type:`` field in users' words for each parameter typed with pydantic's metadata or a ``Literal``:
+    autodoc adds the types it finds only where the docstring gives none."""
     typed = [f":type {p.name}: {annotation_for_people(p.annotation)}"
-             for p in (_parameters(app, obj) if callable(obj) else []) if _carries_metadata(p.annotation)]
+             for p in (_parameters(app, obj) if callable(obj) else []) if _for_people(p.annotation)]
     if typed:
         lines += ["", *typed]
 
