@@ -61,28 +61,33 @@ def _outcome(perforated: bool) -> str:
 
 
 def validation_shots_table() -> str:
-    """The recorded validation sets' shots in Markdown, from the packaged database: every column filled,
-    the JSC verdict in bold where it is not the test's outcome, and a legend."""
+    """The recorded validation sets' shots in Markdown, a compact table per set, from the packaged database:
+    every column filled, the JSC verdict in bold where it is not the test's outcome, and a legend."""
     db = ble.read_database()
-    lines = ["| set | line | source, shot | test | d (cm) | V (km/s) | θ (°) | t_b / t_w / S (cm) | JSC 2011 (d_c, cm) |",
-             "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    lines = []
     for entry in whipple.validation_record().sets:
+        # the caption names the rule without backticks: a backtick ends a fence's info string
+        lines += [f"```{{table}} Validation set {entry.name.removeprefix('set-')} (rule {entry.name})",
+                  ":class: compact", "",
+                  "| line | source, shot | test | d (cm) | V (km/s) | θ (°) | t_b / t_w / S (cm) | JSC 2011 (d_c, cm) |",
+                  "| --- | --- | --- | --- | --- | --- | --- | --- |"]
         for i in whipple.select_shots(whipple.load_rule(entry.name), db):
             shot = whipple.database_shot(int(db.line[i]), db)
             jsc = whipple.ble_verdict(whipple.WhippleCase.model_validate(whipple.database_shot_case(shot)))
             called = jsc["verdict"] == "perforation"
             verdict = _outcome(called) if called == shot.perforated else f"**{_outcome(called)}**"
             lines.append(
-                f"| {entry.name.removeprefix('set-')} | {shot.line} | {shot.source}, {shot.shot_id} | "
-                f"{_outcome(shot.perforated)} | {shot.diameter_cm:.3f} | {shot.velocity_km_s:.2f} | "
-                f"{shot.obliquity_deg:g} | {shot.bumper_thickness_cm:g} / {shot.wall_thickness_cm:g} / "
-                f"{shot.spacing_cm:g} | {verdict} ({jsc['threshold_cm']:.3f}) |")
+                f"| {shot.line} | {shot.source}, {shot.shot_id} | {_outcome(shot.perforated)} | "
+                f"{shot.diameter_cm:.3f} | {shot.velocity_km_s:.2f} | {shot.obliquity_deg:g} | "
+                f"{shot.bumper_thickness_cm:g} / {shot.wall_thickness_cm:g} / {shot.spacing_cm:g} | "
+                f"{verdict} ({jsc['threshold_cm']:.3f}) |")
+        lines += ["```", ""]
     legend = ("P: the rear wall perforated or spalled; NP: it held. t_b, t_w: bumper and wall thickness; "
               "S: stand-off. The JSC 2011 column gives the equation's verdict and the diameter above which "
               "it calls perforation (its critical diameter d_c at the shot's speed and obliquity), with the "
               "projectile density of the library material that models the shot's alloy, as `whipple validate` "
               "scores it; **bold**: the equation's verdict is not the test's outcome.")
-    return "\n".join(lines) + "\n\n" + legend + "\n"
+    return "\n".join(lines) + legend + "\n"
 
 
 def generated_texts() -> dict[str, str]:
