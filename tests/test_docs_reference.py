@@ -151,3 +151,29 @@ def test_the_key_that_chooses_a_member_of_a_union_of_tables_is_listed_once_with_
 ])
 def test_bounds_are_printed_for_people(model, key, bounds):
     assert next(k for k in impactdyn_reference.case_keys(model) if k.dotted == key).bounds == bounds
+
+
+@pytest.mark.parametrize("model, parameter, words", [
+    ("impactdyn.wall.WallOptions", "q1", "float ≥ 0"),  # not Annotated[float, Ge(ge=0), AfterValidator(...)]
+    ("impactdyn.wall.WallOptions", "courant", "float > 0, ≤ 1"),
+    ("impactdyn.wall.WallOptions", "end_time_us", "float > 0 or None"),
+    ("impactdyn.wall.WallOptions", "spall_law", 'a registered wall failure law: "tuler_butcher", "cutoff"'),
+    ("impactdyn.debris.IntegratorOptions", "steps_per_period", "float > π or None"),
+    ("impactdyn.wall.WallOptions", "mesh", 'one of "graded", "report"'),  # not Literal['graded', 'report']
+])
+def test_an_api_parameter_reads_as_its_type_and_bounds(model, parameter, words):
+    import importlib
+    import types
+
+    module, _, name = model.rpartition(".")
+    obj = getattr(importlib.import_module(module), name)
+    app = types.SimpleNamespace(config=types.SimpleNamespace(autodoc_type_aliases={}))
+    lines: list[str] = []
+    impactdyn_reference._types_for_people(app, "class", model, obj, None, lines)
+    assert f":type {parameter}: {words}" in lines
+    assert not any(internal in line for line in lines for internal in ("Annotated", "Validator", "Literal"))
+
+
+def test_the_api_pages_leave_out_pydantic_settings():
+    assert impactdyn_reference._skip_model_config(None, "attribute", "model_config", {}, False, None) is True
+    assert impactdyn_reference._skip_model_config(None, "attribute", "courant", 0.9, False, None) is None

@@ -6,7 +6,9 @@
 * a citation of a BENCHMARKS.md section by its title, in the hand-written docs, names a section
   that exists;
 * MathJax is served with the site and smart quotes are off (they made "--vary" read "–vary");
-* the equations' scores that the docs include are generated from the package.
+* the equations' scores that the docs include are generated from the package;
+* the pages that lead to the simulated verdict open with its limit, generated from the package's record;
+* the validation shots' table is generated from the packaged database, every cell filled.
 """
 
 import re
@@ -64,16 +66,52 @@ def test_mathjax_is_served_with_the_site_and_smart_quotes_are_off():
     assert conf["smartquotes"] is False
 
 
-def test_the_included_scores_are_the_packages():
+def _impactdyn_vv():
     sys.path.insert(0, str(DOCS / "_ext"))
     try:
         import impactdyn_vv
     finally:
         sys.path.remove(str(DOCS / "_ext"))
+    return impactdyn_vv
+
+
+def test_the_included_scores_are_the_packages():
     from impactdyn import ble
 
-    table = impactdyn_vv.ble_scores_table()
+    table = _impactdyn_vv().ble_scores_table()
     s = ble.validate("jsc2011").overall
     assert f"| jsc2011 | all shots | {s.shots} | {100 * s.correct / s.shots:.1f} % |" in table
     for page in ("ble.md", "vv/test-shots.md"):
         assert "_generated/ble-scores.md" in (DOCS / page).read_text(encoding="utf-8")
+
+
+@pytest.mark.parametrize("page", ["verification-and-validation.md", "getting-started.md", "whipple.md"])
+def test_the_pages_before_the_verdict_open_with_its_limit(page):
+    text = (DOCS / page).read_text(encoding="utf-8")
+    included = text.find("```{include} vv/_generated/limit.md")
+    assert included >= 0, f"{page} does not include the limit"
+    assert "\n## " not in text[:included] and "{toctree}" not in text[:included], f"{page}: the limit is not at its top"
+
+
+def test_the_limit_paragraph_is_the_records():
+    from impactdyn.whipple import limit_statement
+
+    assert limit_statement() in _impactdyn_vv().limit_paragraph()
+
+
+def test_the_validation_shots_table_fills_every_cell_from_the_database():
+    from impactdyn.whipple import validation_record
+
+    table = _impactdyn_vv().validation_shots_table()
+    sets = validation_record().sets
+    rows = [line for line in table.splitlines() if line.startswith("| ") and not line.startswith(("| ---", "| line "))]
+    assert len(rows) == sum(s.shots for s in sets)
+    assert all(f"(rule {s.name})" in table for s in sets)  # one table per set, named
+    for row in rows:
+        cells = [c.strip() for c in row.strip("|").split("|")]
+        assert len(cells) == 8 and all(cells), row
+        source, _, shot_id = cells[1].partition(", ")
+        assert source and shot_id, row  # the report and the shot, never a shot ID alone
+        assert len(cells[6].split(" / ")) == 3, row
+    assert "**bold**" in table  # the legend says what bold marks
+    assert "_generated/validation-shots.md" in (DOCS / "vv" / "test-shots.md").read_text(encoding="utf-8")

@@ -9,7 +9,10 @@ drift from the code; ``tests/test_docs_reference.py`` checks the case reference 
 
 The docstrings write maths in plain text (``|p|``, ``a*b``) and document settings as
 ``name : text`` lines; :func:`as_rest` escapes the one and turns the other into a definition
-list before autodoc parses them.
+list before autodoc parses them.  On the API pages a parameter typed with pydantic's metadata
+(``Annotated[float, Ge(ge=0), AfterValidator(...)]``) reads as its type and bounds in the case-file
+reference's words (``float ≥ 0``, :func:`annotation_for_people`), and a model's ``model_config``,
+pydantic's settings rather than the model's, is left out.
 """
 
 from __future__ import annotations
@@ -425,11 +428,76 @@ def as_rest(lines: list[str]) -> list[str]:
     return out
 
 
+def _without_metadata(annotation: Any) -> Any:
+    """``annotation`` with every ``Annotated[T, ...]`` in it reduced to ``T``."""
+    if typing.get_origin(annotation) is Annotated:
+        return _without_metadata(typing.get_args(annotation)[0])
+    args = typing.get_args(annotation)
+    if _is_union(annotation):
+        return Union[tuple(_without_metadata(a) for a in args)]  # noqa: UP007 (built from a tuple)
+    if args and typing.get_origin(annotation) in (list, tuple, dict):
+        return typing.get_origin(annotation)[tuple(_without_metadata(a) for a in args)]
+    return annotation
+
+
+def _for_people(annotation: Any) -> bool:
+    """Whether ``annotation`` holds what :func:`annotation_for_people` words: pydantic's metadata or a ``Literal``."""
+    return typing.get_origin(annotation) in (Annotated, Literal) or any(
+        _for_people(a) for a in typing.get_args(annotation) if typing.get_origin(annotation) is not Literal)
+
+
+def annotation_for_people(annotation: Any) -> str:
+    """A type with pydantic's metadata as a reader wants it: the Python type, then its bounds as the case-file
+    reference writes them (:func:`bounds_of`: ``float ≥ 0``, ``float > 0, ≤ 1``, ``float > 0 or None``),
+    the names a registry accepts (:func:`registered_names`), or a ``Literal``'s choices (:func:`type_name`:
+    ``one of "graded", "report"``)."""
+    from sphinx.util.typing import stringify_annotation
+
+    info = FieldInfo.from_annotation(annotation)
+    registered = registered_names(info)
+    if registered:
+        return registered
+    bare = _without_metadata(annotation)
+    optional = _is_union(bare) and type(None) in typing.get_args(bare)
+    if optional:
+        bare = Union[tuple(a for a in typing.get_args(bare) if a is not type(None))]  # noqa: UP007
+    typed = type_name(bare) if typing.get_origin(bare) is Literal else stringify_annotation(bare, "smart")
+    words = " ".join(filter(None, [typed, bounds_of(info)]))
+    return f"{words} or None" if optional else words
+
+
+def _parameters(app: Any, obj: Any) -> list[inspect.Parameter]:
+    """The parameters of ``obj`` with the annotations autodoc reads (Sphinx's own signature: the type hints
+    evaluated, pydantic's ``Annotated`` kept)."""
+    from sphinx.util.inspect import signature
+
+    try:
+        return list(signature(obj, type_aliases=app.config.autodoc_type_aliases).parameters.values())
+    except (TypeError, ValueError):  # a builtin or an object without a signature: nothing to type
+        return []
+
+
+def _types_for_people(app: Any, what: str, name: str, obj: Any, options: Any, lines: list[str]) -> None:
+    """A ``:type:`` field in users' words for each parameter typed with pydantic's metadata or a ``Literal``:
+    autodoc adds the types it finds only where the docstring gives none."""
+    typed = [f":type {p.name}: {annotation_for_people(p.annotation)}"
+             for p in (_parameters(app, obj) if callable(obj) else []) if _for_people(p.annotation)]
+    if typed:
+        lines += ["", *typed]
+
+
 def _rest_docstring(app: Any, what: str, name: str, obj: Any, options: Any, lines: list[str]) -> None:
     lines[:] = as_rest(lines)
+
+
+def _skip_model_config(app: Any, what: str, name: str, obj: Any, skip: bool, options: Any) -> bool | None:
+    """Leave out a pydantic model's ``model_config``: how pydantic validates, not what the model holds."""
+    return True if name == "model_config" else None
 
 
 def setup(app: Any) -> dict[str, Any]:
     app.connect("builder-inited", write_pages)
     app.connect("autodoc-process-docstring", _rest_docstring)
+    app.connect("autodoc-process-docstring", _types_for_people)
+    app.connect("autodoc-skip-member", _skip_model_config)
     return {"parallel_read_safe": True}
