@@ -80,3 +80,17 @@ def test_a_step_budget_spent_in_a_contact_names_its_keys(make_case):
     with pytest.raises(SimulationError, match="more than solver.max_steps = 100 steps") as err:
         simulate(case)
     assert "contact.damping_s_m = 0.006, contact.stiffness_N_m1_5 = 3.2e+09" in str(err.value), err.value
+
+
+@pytest.mark.parametrize("method, key", [("Radau", "stiffness_N_m1_5"), ("BDF", "stiffness_N_m1_5"),
+                                         ("LSODA", "stiffness_N_m1_5"), ("BDF", "damping_s_m"),
+                                         ("LSODA", "damping_s_m")])
+def test_a_scipy_method_on_a_contact_force_that_overflows_names_the_contact_keys(make_case, method, key):
+    """A key at 1e300 makes the contact force overflow: SciPy's steppers then raise ValueError (Radau, BDF:
+    the Jacobian holds infinities) or take a step of no length (LSODA); each ends as one SimulationError
+    naming the contact's keys, never another exception."""
+    table = {"model": "hertz", "stiffness_N_m1_5": 3.2e9, "damping_s_m": 0.006} | {key: 1e300}
+    case = make_case("impactb_sample.toml", contact=table, **STRIKE | {"solver": {"method": method}})
+    with pytest.raises(SimulationError, match="the contact phase cannot go on") as err:
+        simulate(case)
+    assert f"contact.{key} = 1e+300" in str(err.value) and f'solver.method = "{method}" failed' in str(err.value)

@@ -317,7 +317,14 @@ def _integrate_segment(run: "_Run", case: BeamCase, mode: _Mode, sc, t, t_seg, y
                                               atol=case.solver.atol, first_step=h0)
         event = False
         while solver.status == "running" and not event:
-            msg = solver.step()
+            try:
+                msg = solver.step()
+            except (ArithmeticError, ValueError) as err:   # SciPy's steppers on a force that overflows
+                msg, solver.status = f"{type(err).__name__}: {err}", "failed"
+            if solver.status != "failed" and not (solver.t > solver.t_old and np.isfinite(solver.y).all()):
+                msg, solver.status = "a step of no length or to a state that is not finite", "failed"   # LSODA's
+            if solver.status == "failed" and mode.kind == CONTACT:
+                raise SimulationError(_contact_failure(run, case, mode, STEP_UNDERFLOW, solver.t, solver.y, msg))
             if solver.status == "failed":
                 raise SimulationError(f"integrator failed at t = {solver.t:.9g} s: {msg}")
             f1 = seg.rhs(solver.t, solver.y)
@@ -415,10 +422,12 @@ def _check_release(run: _Run, case: BeamCase, mode: _Mode, t: float, y: np.ndarr
         raise SimulationError(_held_message(case, term, t))
 
 
-def _contact_failure(run: _Run, case: BeamCase, mode: _Mode, status: int, t: float, y: np.ndarray) -> str:
-    """The message of a compliant contact phase that the steps could not follow (``STEP_UNDERFLOW``) or that
-    spent the step budget (``TOO_MANY_STEPS``) at (t, y): the ``[contact]`` keys of the term of the force that
-    sets its pace (:func:`_pacing_term`), and what it does."""
+def _contact_failure(run: _Run, case: BeamCase, mode: _Mode, status: int, t: float, y: np.ndarray,
+                     scipy_failure: str | None = None) -> str:
+    """The message of a compliant contact phase that the steps could not follow (``STEP_UNDERFLOW``; with
+    ``scipy_failure``, what a SciPy method said when it failed there) or that spent the step budget
+    (``TOO_MANY_STEPS``) at (t, y): the ``[contact]`` keys of the term of the force that sets its pace
+    (:func:`_pacing_term`), and what it does."""
     contact, solver = case.contact, case.solver
     term = _pacing_term(run, case, mode, t, y)
     keys = ", ".join(f"contact.{key} = {getattr(contact, key):g}" for key in term.keys)
@@ -430,6 +439,9 @@ def _contact_failure(run: _Run, case: BeamCase, mode: _Mode, status: int, t: flo
                 f"{pace} ({keys}); raise solver.max_steps, or {softer}")
     if term.holds:
         return _held_message(case, term, t)
+    if scipy_failure is not None:
+        return (f"{keys}: the contact phase cannot go on at t = {t:.9g} s: its {pace}, and SciPy's "
+                f"solver.method = \"{solver.method}\" failed on it ({scipy_failure}); {softer}")
     return (f"{keys}: the contact phase cannot go on at t = {t:.9g} s: its {pace}, and the steps that follow it to "
             f"solver.rtol = {solver.rtol:g} fell below the solver's least step there "
             f"({least_step(run.control, t):.2g} s); {softer}")
