@@ -28,7 +28,7 @@ from impactdyn._plotting import pyplot, save_figure
 from impactdyn._runfolder import FolderWriter
 from impactdyn.units import KM_S_PER_CM_US, N_S_PER_G_CM_US
 from impactdyn.whipple._case import WhippleCase, ble_shield
-from impactdyn.whipple._stages import STAGES, read_stage
+from impactdyn.whipple._stages import FAILED_VERDICTS, STAGES, read_stage
 from impactdyn.whipple._validation_record import limit_statement, perforations_called_safe, validation_record
 
 
@@ -129,6 +129,23 @@ def draws_statement(draws: dict) -> str:
             f"seed{'s' if len(seeds) > 1 else ''} {', '.join(map(str, seeds))})")
 
 
+def test_shot_record(case: WhippleCase) -> dict | None:
+    """The summary's record of the test shot the case reproduces (its ``[test_shot]`` table, the shot's name and
+    the outcome in words), or None where the case is no test shot."""
+    test = case.test_shot
+    return None if test is None else test.model_dump() | {"name": test.name, "outcome": test.outcome}
+
+
+def test_shot_statement(test: dict, simulated: str, equation: str) -> str:
+    """The test's outcome, and whether the simulated verdict and the equation's agree with it (a detached spall
+    is a failed wall, as in the test: :data:`FAILED_VERDICTS`)."""
+    def agrees(failed: bool) -> str:
+        return "agrees" if failed == test["perforated"] else "disagrees"
+
+    return (f"{test['outcome']}: the simulated verdict {agrees(simulated in FAILED_VERDICTS)}, "
+            f"the equation's {agrees(equation == 'perforation')}")
+
+
 def wall_figures(wall: dict, ble: dict) -> dict:
     """The wall stage's verdict beside the equation's, and its headline measures."""
     m = wall["measures"]
@@ -223,6 +240,7 @@ def write_report(folder: FolderWriter, case: WhippleCase, keep: str = "all") -> 
                                    f"(failure model: {case.shield.failure_model})")
     summary = {
         "title": case.title,
+        "test_shot": test_shot_record(case),
         "shot": {"projectile": case.projectile.model_dump(), "bumper": case.bumper.model_dump(),
                  "wall": {k: v for k, v in case.wall.model_dump().items() if k in (
                      "material", "thickness_cm", "spacing_cm", "yield_stress_ksi")}},
@@ -418,6 +436,14 @@ def wall_ending(wall: dict) -> str:
     return text
 
 
+def _test_shot_rows(test: dict | None, simulated: str, equation: str) -> list[tuple[str, str]]:
+    """The verdict table's row of the test's outcome (:func:`test_shot_statement`); none where the case is no
+    test shot."""
+    if test is None:
+        return []
+    return [(f"test shot {test['name']}", test_shot_statement(test, simulated, equation))]
+
+
 def _crater(wall: dict) -> str:
     """The crater depth over the wall's thickness, and whether the mesh resolves it (one element layer deep)."""
     text = _fmt(wall.get("crater_depth_ratio"))
@@ -499,6 +525,7 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
         ("simulated verdict", f"{wall['verdict']} ({wall['criterion']})"),
         ("perforation over the partition's draws", draws_statement(s["draws"])),
         ("equation's verdict", f"{ble['verdict']} ({ble['equation']})"),
+        *_test_shot_rows(s.get("test_shot"), wall["verdict"], ble["verdict"]),
         ("caution", wall["caution"]),
         ("crater depth / wall thickness", _crater(wall)),
         ("rear-face bulge at the end; its peak (when)", _bulge(wall)),

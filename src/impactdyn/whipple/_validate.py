@@ -60,7 +60,9 @@ def run_validation(shots: list[DatabaseShot], outdir: str | Path, *, selection: 
     cases = [validate(WhippleCase, raw, source=f"test shot {shot.name}" + ("" if draws is None else f" (--draws {draws})"))
              for shot, raw in zip(shots, raws)]
     settings = {"selection": selection, "keep_all": keep_all,
-                "cases": {_run_name(s): c.model_dump(mode="json") for s, c in zip(shots, cases)}}
+                # the [test_shot] table restates the selection's shot and changes no result: without it a folder
+                # started before the cases carried it resumes
+                "cases": {_run_name(s): c.model_dump(mode="json", exclude={"test_shot"}) for s, c in zip(shots, cases)}}
     rows: list = [None] * len(shots)
     with FamilyFolder(outdir, "whipple validate", settings, table="validation.csv", member="shot", force=force,
                       resume=resume) as family:
