@@ -26,7 +26,7 @@ import numpy as np
 
 from impactdyn._plotting import pyplot, save_figure
 from impactdyn._runfolder import FolderWriter
-from impactdyn.units import KM_S_PER_CM_US, N_S_PER_G_CM_US
+from impactdyn.units import AREAL_MOMENTUM_UNIT, KM_S_PER_CM_US, N_S_PER_G_CM_US
 from impactdyn.whipple._case import WhippleCase, ble_shield
 from impactdyn.whipple._stages import FAILED_VERDICTS, STAGES, read_stage
 from impactdyn.whipple._validation_record import limit_statement, perforations_called_safe, validation_record
@@ -454,7 +454,7 @@ def _crater(wall: dict) -> str:
 
 def _mesh_peak(dep: dict) -> str:
     """The peak areal momentum on the wall mesh's own face cells, and their size."""
-    return f"{_fmt(dep['peak_areal_momentum_mesh_N_s_cm2'], 'N·s/cm²')} ({_fmt(dep['mesh_face_cell_cm'], 'cm', 2)} cells)"
+    return f"{_fmt(dep['peak_areal_momentum_mesh_N_s_cm2'], AREAL_MOMENTUM_UNIT)} ({_fmt(dep['mesh_face_cell_cm'], 'cm', 2)} cells)"
 
 
 def _ledger(ledger: dict) -> str:
@@ -512,7 +512,7 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
     state_rows = _rows(_debris_state_rows(st["shield"].get("debris_state")))
     loading_rows = _rows([
         ("peak areal momentum on the wall: on the case grid's cells (the load); on the wall mesh's face cells",
-         _fmt(dep["peak_areal_momentum_N_s_cm2"], "N·s/cm²") + "; " + _mesh_peak(dep)),
+         _fmt(dep["peak_areal_momentum_N_s_cm2"], AREAL_MOMENTUM_UNIT) + "; " + _mesh_peak(dep)),
         ("the debris's normal momentum (full model): on the wall, outside the arrival window (compact fragments: "
          "the wall run), off the face grid, never reaching the wall, failed flights",
          _ledger(dep["momentum_ledger_g_cm_us"])),
