@@ -142,12 +142,17 @@ def test_a_case_at_the_package_defaults_says_so():
 
 
 def test_the_case_options_are_the_settings_off_the_package_defaults_the_shots_own_left_out():
-    from impactdyn._config import non_defaults
+    from impactdyn._config import set_dotted
     from impactdyn.whipple import WhippleCase, database_shot, database_shot_case
-    from impactdyn.whipple._database_shot import load_base_case, shot_settings
+    from impactdyn.whipple._validate import case_options
 
-    shot = database_shot("B31")
-    case = WhippleCase.model_validate(database_shot_case(shot, EXAMPLES / "table2_7a_fragments.toml"))
-    own = shot_settings(shot, load_base_case(EXAMPLES / "table2_7a_fragments.toml")[1])
-    assert {k: v for k, v in non_defaults(case).items() if k not in own} == {
+    shot = database_shot("B31")   # its stand-off rescales the wall grid and the window: the shot's, not options
+    base = EXAMPLES / "table2_7a_fragments.toml"
+    raw = database_shot_case(shot, base)
+    assert case_options(shot, WhippleCase.model_validate(raw), base) == {
         "shield.failed_fragments": "grady", "shield.failure_model": "fragmentation", "integrator.method": "slow"}
+    # --draws is an option every shot shares
+    drawn = WhippleCase.model_validate(set_dotted(raw, "shield.fragment_draws", 5))
+    assert case_options(shot, drawn, base)["shield.fragment_draws"] == 5
+    assert case_options(shot, WhippleCase.model_validate(database_shot_case(shot)), None) == {
+        "integrator.method": "slow"}

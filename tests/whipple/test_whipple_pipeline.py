@@ -491,10 +491,10 @@ def test_a_test_shots_report_sets_the_tests_outcome_beside_the_verdicts(run, tmp
     (False, "no perforation", "perforation", "the simulated verdict agrees, the equation's disagrees")])
 def test_the_tests_outcome_is_weighed_against_each_verdict(perforated, simulated, equation, words):
     from impactdyn.whipple._case import TEST_OUTCOMES
-    from impactdyn.whipple._report import test_shot_statement
+    from impactdyn.whipple._report import outcome_statement
 
     test = {"perforated": perforated, "outcome": TEST_OUTCOMES[perforated]}
-    assert test_shot_statement(test, simulated, equation) == f"{TEST_OUTCOMES[perforated]}: {words}"
+    assert outcome_statement(test, simulated, equation) == f"{TEST_OUTCOMES[perforated]}: {words}"
 
 
 def test_a_wall_run_cut_off_at_the_ceiling_is_said_to_be_not_at_rest():

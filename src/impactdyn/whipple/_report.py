@@ -129,14 +129,14 @@ def draws_statement(draws: dict) -> str:
             f"seed{'s' if len(seeds) > 1 else ''} {', '.join(map(str, seeds))})")
 
 
-def test_shot_record(case: WhippleCase) -> dict | None:
+def database_shot_record(case: WhippleCase) -> dict | None:
     """The summary's record of the test shot the case reproduces (its ``[test_shot]`` table, the shot's name and
     the outcome in words), or None where the case is no test shot."""
     test = case.test_shot
     return None if test is None else test.model_dump() | {"name": test.name, "outcome": test.outcome}
 
 
-def test_shot_statement(test: dict, simulated: str, equation: str) -> str:
+def outcome_statement(test: dict, simulated: str, equation: str) -> str:
     """The test's outcome, and whether the simulated verdict and the equation's agree with it (a detached spall
     is a failed wall, as in the test: :data:`FAILED_VERDICTS`)."""
     def agrees(failed: bool) -> str:
@@ -240,7 +240,7 @@ def write_report(folder: FolderWriter, case: WhippleCase, keep: str = "all") -> 
                                    f"(failure model: {case.shield.failure_model})")
     summary = {
         "title": case.title,
-        "test_shot": test_shot_record(case),
+        "test_shot": database_shot_record(case),
         "shot": {"projectile": case.projectile.model_dump(), "bumper": case.bumper.model_dump(),
                  "wall": {k: v for k, v in case.wall.model_dump().items() if k in (
                      "material", "thickness_cm", "spacing_cm", "yield_stress_ksi")}},
@@ -436,12 +436,12 @@ def wall_ending(wall: dict) -> str:
     return text
 
 
-def _test_shot_rows(test: dict | None, simulated: str, equation: str) -> list[tuple[str, str]]:
-    """The verdict table's row of the test's outcome (:func:`test_shot_statement`); none where the case is no
+def _outcome_rows(test: dict | None, simulated: str, equation: str) -> list[tuple[str, str]]:
+    """The verdict table's row of the test's outcome (:func:`outcome_statement`); none where the case is no
     test shot."""
     if test is None:
         return []
-    return [(f"test shot {test['name']}", test_shot_statement(test, simulated, equation))]
+    return [(f"test shot {test['name']}", outcome_statement(test, simulated, equation))]
 
 
 def _crater(wall: dict) -> str:
@@ -525,7 +525,7 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
         ("simulated verdict", f"{wall['verdict']} ({wall['criterion']})"),
         ("perforation over the partition's draws", draws_statement(s["draws"])),
         ("equation's verdict", f"{ble['verdict']} ({ble['equation']})"),
-        *_test_shot_rows(s.get("test_shot"), wall["verdict"], ble["verdict"]),
+        *_outcome_rows(s.get("test_shot"), wall["verdict"], ble["verdict"]),
         ("caution", wall["caution"]),
         ("crater depth / wall thickness", _crater(wall)),
         ("rear-face bulge at the end; its peak (when)", _bulge(wall)),

@@ -86,11 +86,18 @@ def run_validation(shots: list[DatabaseShot], outdir: str | Path, *, selection: 
         scores = score_validation(rows) | {"selection": selection}
         family.write_json("scores.json", scores)
         _plot(family.path / "validation.png", rows)
-        own = shot_settings(shots[0], load_base_case(base)[1])   # the shot's settings, not the case's options
-        options = {k: v for k, v in non_defaults(cases[0]).items() if k not in own}
-        family.write_text("validation.html", validation_page(rows, scores, Path(base or EXAMPLE_CASE).name, options,
+        family.write_text("validation.html", validation_page(rows, scores, Path(base or EXAMPLE_CASE).name,
+                                                             case_options(shots[0], cases[0], base),
                                                              verdict_record(cases[0])))
     return scores
+
+
+def case_options(shot: DatabaseShot, case: WhippleCase, base: str | Path | None = None) -> dict:
+    """Dotted key → value of the settings of ``shot``'s case ``case`` (on the base case file ``base``) that
+    differ from the package's defaults, the shot's own (:func:`shot_settings`) left out: the options every
+    shot of a validation shares (the base case's, ``--draws``)."""
+    own = shot_settings(shot, load_base_case(base)[1])
+    return {k: v for k, v in non_defaults(case).items() if k not in own}
 
 
 def score_validation(rows: list[dict]) -> dict:
