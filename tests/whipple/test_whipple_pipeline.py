@@ -467,11 +467,11 @@ def test_a_test_shots_report_sets_the_tests_outcome_beside_the_verdicts(run, tmp
     from impactdyn.whipple import database_shot
 
     case, out, s = run
-    assert s["test_shot"] is None and "test shot" not in (out / "report.html").read_text()
+    assert s["test_shot"] is None and "<th>test shot " not in (out / "report.html").read_text()
     copy = tmp_path / "run"
     shutil.copytree(out, copy)
     shot = database_shot("B31")
-    tested = make_case(tmp_path, "tested.toml", test_shot=shot.record.model_dump())
+    tested = make_case(tmp_path, "tested.toml", wall_solver__mesh="graded", test_shot=shot.record.model_dump())
     assert main(["whipple", "run", str(tested), "-o", str(copy), "--from", "report"]) == 0
     summary = json.loads((copy / "summary.json").read_text())
     assert summary["test_shot"]["outcome"] == shot.outcome and summary["test_shot"]["line"] == 292
