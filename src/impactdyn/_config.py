@@ -318,6 +318,19 @@ def set_dotted(data: dict[str, Any], key: str, value: Any) -> dict[str, Any]:
     return out
 
 
+def non_defaults(model: BaseModel, prefix: str = "") -> dict[str, Any]:
+    """Dotted key → value of each setting of ``model`` (its tables' too) that has a default and is not at it;
+    the settings without a default (the shot's own) are left out."""
+    out: dict[str, Any] = {}
+    for name, info in type(model).model_fields.items():
+        value = getattr(model, name)
+        if isinstance(value, BaseModel):
+            out |= non_defaults(value, f"{prefix}{name}.")
+        elif not info.is_required() and value != info.get_default(call_default_factory=True):
+            out[prefix + name] = value
+    return out
+
+
 def parse_range(option: str, spec: str, example: str) -> list[float]:
     """``START:STOP:N`` → N values from START to STOP inclusive; ``option`` and ``example`` go into the error."""
     import numpy as np

@@ -47,6 +47,11 @@ MBAR_SQRT_CM_PER_MPA_SQRT_M = 1.0e-4  # fracture toughness: 1 MPa·√m = 1e6 Pa
 PER_US_PER_PER_S = 1.0e-6  # strain rates: 1 s⁻¹ = 1e-6 µs⁻¹
 N_S_PER_G_CM_US = 10.0  # momentum, impulse: 1 g·cm/µs = 1e-3 kg · 1e-2 m / 1e-6 s = 10 N·s
 
+# The units people read, spelled once for the reports' tables, the plots' axes and the command lines.
+#: Areal momentum (impulse per area), in N·s/cm² = N_S_PER_G_CM_US × g/(cm·µs): the unit of the literature's
+#: and the docs' tables (docs/vv/), so a printed peak is compared without a conversion.
+AREAL_MOMENTUM_UNIT = "N·s/cm²"
+
 
 def inch_to_cm(x: T) -> T:
     return x * CM_PER_INCH

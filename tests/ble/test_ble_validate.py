@@ -148,3 +148,38 @@ def test_plot_ballistic_limit_draws_nearby_shots_and_missing_fixed_points(tmp_pa
     assert db.line[i] in near.line
     p = plot_ballistic_limit([curve], tmp_path / "c.png", shots=near)
     assert p.read_bytes()[:8] == PNG
+
+
+def test_shots_drawn_over_one_another_are_stacked_by_outcome_and_diameter_not_moved():
+    from impactdyn.ble._plot import shot_stacks
+
+    v = np.array([7.0, 7.1, 7.25, 8.0, 7.05, 7.0])
+    d = np.array([0.318, 0.318, 0.3185, 0.318, 0.40, 0.635])
+    # 7.0, 7.1 and 7.25 at one diameter (0.318 and 0.3185 within 1 %) chain within 0.2 km/s; 8.0 is apart;
+    # 7.05 and 7.0 are alone on their own diameters
+    assert [list(s) for s in shot_stacks(v, d, 0.2)] == [[0, 1, 2]]
+    assert [list(s) for s in shot_stacks(v, d, 1.0)] == [[0, 1, 2, 3]]
+    assert shot_stacks(v[:0], d[:0], 0.2) == []
+
+
+def test_a_pile_of_test_shots_on_one_diameter_is_counted_on_the_limit_plot():
+    """27 shots at 0.318 cm on a thick wall (13 of them held between 7.1 and 7.7 km/s): each stack of one outcome
+    is counted where it lies, the markers stay where the tests were; the legend says what ×n is."""
+    from impactdyn._plotting import pyplot
+    from impactdyn.ble._plot import STACK_SPEED_SHARE, _draw_curves, shot_stacks
+
+    shield = WhippleShield(0.064, 1.27, 5.08, 40.0)
+    near = nearby_shots(shield, 0.0)
+    curve = ballistic_limit_curve(shield, None, 0.0, 2.7)
+    fig, ax = pyplot().subplots()
+    _draw_curves(ax, [curve], shots=near)
+    gap = STACK_SPEED_SHARE * (curve.velocity_km_s[-1] - curve.velocity_km_s[0])
+    counts = sorted(int(t.get_text()[1:]) for t in ax.texts if t.get_text().startswith("×"))
+    expected = sorted(len(s) for outcome in (True, False) for s in shot_stacks(
+        near.velocity_km_s[near.perforated == outcome], near.diameter_cm[near.perforated == outcome], gap))
+    assert counts == expected and max(counts) >= 10
+    drawn = np.concatenate([c.get_offsets() for c in ax.collections if len(c.get_offsets())])
+    assert len(drawn) == len(near)      # every shot drawn, at its own speed and diameter
+    assert sorted(map(tuple, drawn)) == sorted(zip(near.velocity_km_s, near.diameter_cm))
+    assert any(t.get_text().startswith("×n: n test shots of one outcome") for t in ax.get_legend().get_texts())
+    pyplot().close(fig)

@@ -212,3 +212,19 @@ def test_legacy_truncated_avsout_names_the_file(tmp_path, capsys):
     assert main(["debris", "legacy", str(dc3din), str(avsout), "-o", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
     assert str(avsout) in err and "Traceback" not in err and not (tmp_path / "o").exists()
+
+
+def test_the_areal_momentum_map_is_drawn_in_the_reports_unit():
+    """The map's colour bar is in N·s/cm² (units.AREAL_MOMENTUM_UNIT, the report's tables' unit and the docs'),
+    its values too: 10 × the g/(cm·µs) the deposition holds."""
+    from impactdyn._plotting import pyplot
+    from impactdyn.debris._plots import areal_momentum_figure
+    from impactdyn.units import AREAL_MOMENTUM_UNIT
+
+    areal = np.zeros((4, 6))
+    areal[1, 2] = 0.0123                      # g/(cm·µs): 0.123 N·s/cm², the 7a example's peak
+    fig = areal_momentum_figure(np.linspace(0, 4, 5), np.linspace(-2, 4, 7), areal)
+    bar = fig.axes[1]
+    assert bar.get_ylabel().endswith(f"({AREAL_MOMENTUM_UNIT})") and AREAL_MOMENTUM_UNIT == "N·s/cm²"
+    assert bar.get_ylim()[1] == pytest.approx(0.123)
+    pyplot().close(fig)

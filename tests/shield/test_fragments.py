@@ -265,6 +265,38 @@ def test_the_plot_is_written(tmp_path, projectile):
         plot_fragment_masses(tmp_path / "bad.png", f, projectile_mass_g=0.0)
 
 
+def test_the_plots_top_axis_labels_stand_apart_and_the_list_covers_no_data():
+    """Fragments over less than two decades of mass (a lean shot's): the top axis's labels (m as % of the
+    projectile) do not run into one another, and the list of the largest lies outside both panels."""
+    from impactdyn.shield import fragment_mass_figure
+
+    rng = np.random.default_rng(3)
+    n = 300
+    position = np.stack([np.arange(n, dtype=float), np.zeros(n), np.zeros(n)], axis=1)  # each its own fragment
+    mass = 10.0 ** rng.uniform(-4.4, -2.75, n)   # the 7-km/s example's 4e-5 to 2e-3 g
+    f = find_fragments(position, rng.normal(size=(n, 3)), mass, mass / 2.7, np.ones(n, bool), link_length_cm=0.1)
+    assert len(f) == n and 1.0 < np.log10(f.mass.max() / f.mass.min()) < 2.0
+    # the projectile as 140 times the largest, as in the example: one decade mark on the top axis
+    fig = fragment_mass_figure(f, projectile_mass_g=140.0 * f.mass.max(), from_projectile_g=0.5 * f.mass)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    number, mass, listing = fig.axes[:3]
+    for panel in (number, mass):
+        [top] = panel.child_axes
+        shown = [t for t in top.get_xticklabels() + top.get_xticklabels(minor=True)
+                 if t.get_text() and panel.bbox.x0 <= t.get_window_extent(renderer).x0 <= panel.bbox.x1]
+        boxes = sorted((t.get_window_extent(renderer) for t in shown), key=lambda b: b.x0)
+        assert len(boxes) >= 2
+        assert all(a.x1 < b.x0 for a, b in zip(boxes, boxes[1:])), [t.get_text() for t in shown]
+        assert all("%" not in t.get_text() for t in shown)   # the unit is the axis label's
+    [text] = listing.texts
+    box = text.get_window_extent(renderer)
+    assert not box.overlaps(number.bbox) and not box.overlaps(mass.bbox)
+    assert text.get_text().startswith("the largest fragments:")
+    import matplotlib.pyplot as plt
+    plt.close(fig)
+
+
 def test_the_record_is_read_only():
     f = fragments(lattice(2, 2, 2))
     assert isinstance(f, Fragments)

@@ -4,6 +4,7 @@ import json
 import tomllib
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from impactdyn import InputError
@@ -28,8 +29,10 @@ def test_validation_set1_cases_are_reproduced(db, line):
     case = database_shot_case(shot)
     expected = SET1[line]["case"]
     assert shot.shot_id == SET1[line]["shot_id"]
-    # the title is a label: "test shot" now, "validation shot" then; every other value is equal
-    assert {k: v for k, v in case.items() if k != "title"} == {k: v for k, v in expected.items() if k != "title"}
+    # the title and the [test_shot] record are labels ("test shot" now, "validation shot" then; the record is
+    # newer than the fixture); every other value is equal
+    labels = ("title", "test_shot")
+    assert {k: v for k, v in case.items() if k not in labels} == {k: v for k, v in expected.items() if k not in labels}
     assert all(word in case["title"] for word in (shot.source, shot.shot_id, f"line {line}"))
 
 
@@ -66,6 +69,16 @@ def test_shot_values_go_into_the_case_and_the_case_validates(db):
                                                                                         shot.velocity_km_s)
     assert case["wall"]["yield_stress_ksi"] == shot.wall_yield_ksi
     assert case["projectile"]["material"] == ALLOYS[shot.alloys["projectile"]]
+    # the test itself rides along for the report, by the database file's name
+    assert case["test_shot"] == {"database": "database_whipple_pyBLOSSUM.csv", "line": 292,
+                                 "source": "TP-2003-210788", "shot_id": "B31", "perforated": shot.perforated}
+    assert WhippleCase.model_validate(case).test_shot.outcome == shot.outcome
+
+
+@pytest.mark.parametrize("perforated, words", [(True, "perforation or detached spall"), (False, "no perforation")])
+def test_the_tests_outcome_is_said_in_the_verdicts_words(db, perforated, words):
+    line = int(db.line[np.flatnonzero(db.perforated == perforated)[0]])
+    assert database_shot(line, db).outcome == words
 
 
 def test_a_base_case_gives_its_numerics(tmp_path, db, make_case):
@@ -194,7 +207,7 @@ def test_a_run_prints_the_tests_outcome_beside_the_verdicts(tmp_path, capsys, mo
     printed = printed[1:]
     assert printed[0].startswith("ballistic limit (jsc2011)")
     assert printed[-2].startswith("wall response: detached spall")
-    outcome = "perforated or spalled (P)" if database_shot("B31").perforated else "not perforated (NP)"
+    outcome = "perforation or detached spall" if database_shot("B31").perforated else "no perforation"
     assert printed[-1] == (f"test TP-2003-210788 B31 (line 292 of database_whipple_pyBLOSSUM.csv): {outcome}; "
                            "simulated: detached spall; JSC: perforation")
 
@@ -210,6 +223,7 @@ def test_write_case_prints_the_tests_outcome_the_jsc_verdict_and_each_substitute
     assert "projectile: AA2017-T4 modelled as al2024-t4, the library's nearest alloy" in out
     text = path.read_text()
     assert f"# the test: {shot.outcome}" in text
+    assert load_whipple_case(path).test_shot == shot.record  # `whipple run` of the file reports the test
     material = text.index('material = "al2024-t4"')
     assert text.rfind("# projectile: AA2017-T4 modelled as al2024-t4", 0, material) > text.index("[projectile]")
 

@@ -9,7 +9,7 @@ import json
 
 import pytest
 
-from impactdyn._config import load_toml
+from impactdyn._config import load_toml, set_dotted
 from impactdyn._errors import InputError
 from impactdyn.whipple import _limit
 
@@ -146,6 +146,13 @@ def test_family_shots_keep_the_base_cases_resolution_and_timing(make_case, tmp_p
     assert fast["filter.t_cut_us"] == base.filter.t_cut_us and fast["shield.handoff_us"] == base.shield.handoff_us
     assert fast["shield.spacing_cm"] == base.shield.spacing_cm
     assert (fast["projectile.velocity_km_s"], fast["projectile.diameter_cm"]) == (2 * v0, 2 * d0)
+    # a family's shot is not the test its base case may reproduce: its report must not claim the test's outcome
+    from impactdyn._sweep import case_variants
+    from impactdyn.whipple import WhippleCase, database_shot
+
+    tested = set_dotted(load_toml(make_case(tmp_path)), "test_shot", database_shot("B31").record.model_dump())
+    assert WhippleCase.model_validate(tested).test_shot is not None
+    assert [c.test_shot for c in case_variants(WhippleCase, tested, [slow, fast])] == [None, None]
 
 
 def test_an_interrupted_search_keeps_its_table_and_resumes_without_repeating_a_shot(tmp_path, make_case,

@@ -6,10 +6,15 @@ import json
 import os
 import signal
 
+import html
+from pathlib import Path
+
 import pytest
 
 from impactdyn.cli import main
 from impactdyn.whipple._selection import RULES_DIR
+
+EXAMPLES = Path(__file__).parents[2] / "examples" / "whipple"
 
 
 def _three_shot_rule(tmp_path):
@@ -48,7 +53,7 @@ def test_validate_runs_scores_and_resumes_after_a_kill(tmp_path, make_case, cli)
     assert scores["simulated"]["overall"]["accuracy"]["count"] == sum(r["simulated_right"] == "True" for r in rows)
     assert scores["selection"]["rule"] == "three" and scores["selection"]["fixed"] is None
     page = (out / "validation.html").read_text()
-    assert (out / "validation.png").is_file() and "Scores by distance" in page and "<td>&lt;5%</td>" in page
+    assert (out / "validation.png").is_file() and "Scores by distance" in page and "<td>&lt; 5 %</td>" in page
     assert cli.hidden(out) == []
 
 
@@ -77,3 +82,77 @@ def test_fix_rule_stamps_a_new_rule(tmp_path):
     rule = _three_shot_rule(tmp_path)
     assert main(["whipple", "fix-rule", str(rule)]) == 0
     assert "[fixed]" in rule.read_text()
+
+
+def _rows(lines, perforated, d_over_limit):
+    """Rows of validation.csv for shots on ``lines`` (no simulation run): the test's outcome, the simulation
+    calling every shot perforated, the equation calling those above its limit."""
+    return [{"line": line, "source": "TP", "shot_id": f"S{line}", "diameter_cm": 0.5, "velocity_km_s": 6.5,
+             "obliquity_deg": 0.0, "normal_velocity_km_s": 6.5, "jsc_limit_cm": 0.5 / r, "d_over_limit": r,
+             "test_perforated": p, "jsc_perforated": r > 1, "simulated_verdict": "perforation",
+             "simulated_perforated": True, "simulated_right": p, "jsc_right": (r > 1) == p, "n_draws": None,
+             "p_perforation": None, "caution": "", "run": f"runs/line{line}"}
+            for line, p, r in zip(lines, perforated, d_over_limit)]
+
+
+def test_the_page_says_the_selection_the_case_and_the_outcomes_in_words():
+    """validation.html of a synthetic table: the lines given in words, the case's settings off the package's
+    defaults with what stands behind its verdict, the bands as people write them, one vocabulary of outcomes."""
+    from impactdyn.whipple import load_whipple_case
+    from impactdyn.whipple._report import FRAGMENTS_VALIDATION, verdict_record
+    from impactdyn.whipple._validate import score_validation, validation_page
+
+    rows = _rows([45, 67, 80], [True, False, True], [1.02, 0.8, 1.5])
+    scores = score_validation(rows) | {"selection": {"lines": [45, 67, 80]}}
+    case = load_whipple_case(EXAMPLES / "table2_7a_fragments.toml")
+    page = html.unescape(validation_page(rows, scores, "table2_7a_fragments.toml",
+                                         {"shield.failed_fragments": "grady", "integrator.method": "slow"},
+                                         verdict_record(case)))
+    assert "Selection:</strong> lines 45, 67, 80 of the test database (3 shots)</p>" in page
+    assert '<li><code>[shield] failed_fragments = "grady"</code></li><li><code>[integrator] method = "slow"' in page
+    assert FRAGMENTS_VALIDATION in page and "{" not in page.split("<body>")[1]   # no raw JSON
+    for band in ("< 5 %", "5–15 %", "15–30 %", "≥ 30 %", "all"):
+        assert f"<td>{band}</td>" in page
+    assert "5-15%" not in page and ">=30%" not in page
+    # the outcomes and calls in the report's words, never P / NP
+    assert "<td>perforation or detached spall</td><td>perforation</td><td>perforation</td>" in page  # line 45
+    assert "<td>no perforation</td><td>no perforation</td><td>perforation</td>" in page             # line 67
+    assert "<td>P</td>" not in page and "<td>NP</td>" not in page and "held" not in page
+
+
+def test_a_shipped_rule_is_named_with_its_description_and_another_by_its_hash():
+    from impactdyn.whipple import load_rule, rule_hash
+    from impactdyn.whipple._validate import selection_statement
+
+    rule = load_rule("set-1")
+    shipped = selection_statement({"rule": "set-1", "sha256": rule_hash(rule), "fixed": rule.fixed.date})
+    assert shipped == f"the shots of the shipped rule set-1 (fixed on {rule.fixed.date}): {rule.description}"
+    # a rule file that takes a shipped rule's name is not that rule
+    other = selection_statement({"rule": "set-1", "sha256": "ab" * 32, "fixed": None})
+    assert other == "the shots of rule set-1 (not fixed: these scores cannot judge a change; sha256 abababababab…)"
+    assert selection_statement({"lines": [136]}) == "lines 136 of the test database (1 shot)"
+
+
+def test_a_case_at_the_package_defaults_says_so():
+    from impactdyn.whipple._validate import score_validation, validation_page
+
+    rows = _rows([45], [True], [1.2])
+    page = validation_page(rows, score_validation(rows) | {"selection": {"lines": [45]}}, "case.toml", {}, "")
+    assert "from the package's defaults: none: the shots' numerics are the package's defaults." in page
+
+
+def test_the_case_options_are_the_settings_off_the_package_defaults_the_shots_own_left_out():
+    from impactdyn._config import set_dotted
+    from impactdyn.whipple import WhippleCase, database_shot, database_shot_case
+    from impactdyn.whipple._validate import case_options
+
+    shot = database_shot("B31")   # its stand-off rescales the wall grid and the window: the shot's, not options
+    base = EXAMPLES / "table2_7a_fragments.toml"
+    raw = database_shot_case(shot, base)
+    assert case_options(shot, WhippleCase.model_validate(raw), base) == {
+        "shield.failed_fragments": "grady", "shield.failure_model": "fragmentation", "integrator.method": "slow"}
+    # --draws is an option every shot shares
+    drawn = WhippleCase.model_validate(set_dotted(raw, "shield.fragment_draws", 5))
+    assert case_options(shot, drawn, base)["shield.fragment_draws"] == 5
+    assert case_options(shot, WhippleCase.model_validate(database_shot_case(shot)), None) == {
+        "integrator.method": "slow"}

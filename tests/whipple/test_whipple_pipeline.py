@@ -461,6 +461,42 @@ def test_wall_caution_names_what_the_validation_shots_say_and_what_lies_outside_
     assert with_fragments.endswith("beside it") and ("outside" in with_fragments) == (outside is not None)
 
 
+def test_a_test_shots_report_sets_the_tests_outcome_beside_the_verdicts(run, tmp_path, make_case):
+    """A case with a [test_shot] table (``whipple shot`` writes it) reports the test's outcome, the shot, its line
+    and its source in the verdict table and the summary; a case without one has no such row."""
+    from impactdyn.whipple import database_shot
+
+    case, out, s = run
+    assert s["test_shot"] is None and "<th>test shot " not in (out / "report.html").read_text()
+    copy = tmp_path / "run"
+    shutil.copytree(out, copy)
+    shot = database_shot("B31")
+    tested = make_case(tmp_path, "tested.toml", wall_solver__mesh="graded", test_shot=shot.record.model_dump())
+    assert main(["whipple", "run", str(tested), "-o", str(copy), "--from", "report"]) == 0
+    summary = json.loads((copy / "summary.json").read_text())
+    assert summary["test_shot"]["outcome"] == shot.outcome and summary["test_shot"]["line"] == 292
+    agrees = (s["wall"]["verdict"] in ("perforation", "detached spall")) == shot.perforated
+    row = (f"<th>test shot TP-2003-210788 B31 (line 292 of database_whipple_pyBLOSSUM.csv)</th><td>{shot.outcome}: "
+           f"the simulated verdict {'agrees' if agrees else 'disagrees'}, the equation's ")
+    report = html.unescape((copy / "report.html").read_text())
+    assert row in report
+    # in the verdict table, after the equation's verdict
+    assert report.index("equation's verdict") < report.index(row) < report.index("<h2>Stages")
+
+
+@pytest.mark.parametrize("perforated, simulated, equation, words", [
+    (True, "detached spall", "perforation", "the simulated verdict agrees, the equation's agrees"),
+    (True, "no perforation", "perforation", "the simulated verdict disagrees, the equation's agrees"),
+    (False, "perforation", "no perforation", "the simulated verdict disagrees, the equation's agrees"),
+    (False, "no perforation", "perforation", "the simulated verdict agrees, the equation's disagrees")])
+def test_the_tests_outcome_is_weighed_against_each_verdict(perforated, simulated, equation, words):
+    from impactdyn.whipple._case import TEST_OUTCOMES
+    from impactdyn.whipple._report import outcome_statement
+
+    test = {"perforated": perforated, "outcome": TEST_OUTCOMES[perforated]}
+    assert outcome_statement(test, simulated, equation) == f"{TEST_OUTCOMES[perforated]}: {words}"
+
+
 def test_a_wall_run_cut_off_at_the_ceiling_is_said_to_be_not_at_rest():
     record = {"ended_by": "ceiling", "end_time_us": 100.01, "kinetic_left_fraction": 0.215}
     assert wall_ending(record).startswith("the max_time_us ceiling at 100 µs, 22% of its peak kinetic energy left")

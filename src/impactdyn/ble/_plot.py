@@ -56,15 +56,61 @@ def _shade_regimes(ax, curve: BallisticLimitCurve) -> None:
                     va="bottom", ha="right", fontsize=8, color="0.35")
 
 
+#: Test shots of one outcome drawn as one stack, with its count: diameters within this share of each other ...
+STACK_DIAMETER_SHARE = 0.01
+#: ... and speeds within this share of the velocity axis's span of the next (a marker is about 2 % wide).
+STACK_SPEED_SHARE = 0.02
+
+
 def _draw_shots(ax, shots: ShotDatabase, x: np.ndarray, y: np.ndarray, what: str) -> None:
-    """P as filled red crosses, NP as open blue circles."""
+    """P as red crosses, NP as open blue circles, half transparent so that markers over one another darken."""
     p = shots.perforated
     if p.any():
-        ax.scatter(x[p], y[p], marker="X", s=45, color="tab:red", edgecolors="k", linewidths=0.4, zorder=4,
-                   label=f"{what}: perforated ({int(p.sum())})")
+        ax.scatter(x[p], y[p], marker="X", s=45, color="tab:red", edgecolors="k", linewidths=0.4, alpha=0.6,
+                   zorder=4, label=f"{what}: perforated ({int(p.sum())})")
     if not p.all():
         ax.scatter(x[~p], y[~p], marker="o", s=36, facecolors="none", edgecolors="tab:blue", linewidths=1.0,
-                   zorder=4, label=f"{what}: not perforated ({int((~p).sum())})")
+                   alpha=0.7, zorder=4, label=f"{what}: not perforated ({int((~p).sum())})")
+
+
+def shot_stacks(velocity: np.ndarray, diameter: np.ndarray, speed_gap: float) -> list[np.ndarray]:
+    """The indices of each stack of shots drawn over one another: the same diameter (within
+    :data:`STACK_DIAMETER_SHARE` of the stack's smallest) and speeds each within ``speed_gap`` (km/s) of the
+    next; stacks of two or more only, each in order of speed."""
+    by_diameter = np.argsort(diameter, kind="stable")
+    rows, row = [], []
+    for i in by_diameter:
+        if row and diameter[i] > (1.0 + STACK_DIAMETER_SHARE) * diameter[row[0]]:
+            rows.append(row)
+            row = []
+        row.append(i)
+    rows.append(row)
+    stacks = []
+    for row in rows:
+        ordered = sorted(row, key=lambda k: velocity[k])
+        cuts = [j for j in range(1, len(ordered)) if velocity[ordered[j]] - velocity[ordered[j - 1]] > speed_gap]
+        stacks += [np.array(part) for part in np.split(np.array(ordered, dtype=int), cuts) if len(part) > 1]
+    return stacks
+
+
+def _count_stacks(ax, shots: ShotDatabase, speed_gap: float) -> None:
+    """Each stack of test shots of one outcome (:func:`shot_stacks`) counted beside it, ×n above the
+    perforations and below the holds (a white halo keeps it legible over a neighbouring row's markers), and a
+    legend line that says what ×n is."""
+    from matplotlib.patheffects import withStroke
+
+    v, d, p = shots.velocity_km_s, shots.diameter_cm, shots.perforated
+    counted = False
+    for outcome, colour, offset, va in ((True, "tab:red", 7, "bottom"), (False, "tab:blue", -7, "top")):
+        pick = np.flatnonzero(p == outcome)
+        for stack in shot_stacks(v[pick], d[pick], speed_gap):
+            k = pick[stack]
+            ax.annotate(f"×{len(k)}", (float(np.mean(v[k])), float(d[k[0]])), xytext=(0, offset),
+                        textcoords="offset points", ha="center", va=va, fontsize=7, color=colour, zorder=5,
+                        path_effects=[withStroke(linewidth=2.5, foreground="white")])
+            counted = True
+    if counted:
+        ax.plot([], [], ls="none", label=f"×n: n test shots of one outcome and diameter within {speed_gap:.2g} km/s")
 
 
 def _draw_curves(ax, curves: list[BallisticLimitCurve], shot=None, outcomes=None,
@@ -100,6 +146,7 @@ def _draw_curves(ax, curves: list[BallisticLimitCurve], shot=None, outcomes=None
         tops.append(float(np.max(do)))
     if shots is not None and len(shots):
         _draw_shots(ax, shots, shots.velocity_km_s, shots.diameter_cm, "test shot")
+        _count_stacks(ax, shots, STACK_SPEED_SHARE * (v[-1] - v[0]))
         tops.append(float(np.max(shots.diameter_cm)))
     if simulated is not None and len(simulated[0]):
         vs, ds, failed = (np.asarray(a) for a in simulated)

@@ -17,10 +17,13 @@ LEGACY_HELP = ("2/1 propagate, deposit, write both wall decks; 2/2 and 2/3 write
 
 
 def _report(summary: dict, out: Path) -> None:
+    from impactdyn.units import AREAL_MOMENTUM_UNIT, N_S_PER_G_CM_US
+
     p_in, p_dep = summary["momentum_in"], summary["momentum_deposited"]
     typer.echo(f"{summary['n_particles']} particles from {summary['n_cells_seeded']} cells; "
                f"{summary['n_arrived']} arrived; momentum in {p_in[1]:.6g} (y), deposited {p_dep[1]:.6g} (y) g·cm/µs; "
-               f"peak areal density {summary['peak_areal_density_g_cm_us']:.4g} g/(cm·µs); "
+               f"peak areal momentum {N_S_PER_G_CM_US * summary['peak_areal_density_g_cm_us']:.4g} "
+               f"{AREAL_MOMENTUM_UNIT}; "
                f"{summary['wall_time_s']:.2f} s wall; results in {out}")
     if summary["integrator"]["n_failed"]:
         typer.echo(f"warning: {summary['integrator']['n_failed']} particles failed to integrate: "

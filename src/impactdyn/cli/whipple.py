@@ -117,6 +117,7 @@ def _run_with_progress(case, out: Path, start: str, force: bool, keep: str = "le
 
 def _echo_summary(s: dict, out: Path) -> None:
     """The lines a finished run prints: the equation's verdict, the cloud, the load and the wall's response."""
+    from impactdyn.units import AREAL_MOMENTUM_UNIT
     from impactdyn.whipple import draws_statement, wall_ending, wall_permanent_bulge
 
     ble, cloud, dep = s["ble"], s["cloud"], s["deposition"]
@@ -126,7 +127,7 @@ def _echo_summary(s: dict, out: Path) -> None:
         typer.echo(f"debris cloud: leading edge {cloud['leading_edge_velocity_km_s']:.3f} km/s, centre of mass "
                    f"{cloud['centre_of_mass_speed_km_s']:.3f} km/s at {cloud['axis_angle_from_normal_deg']:.1f}°, "
                    f"cone half-angle {cloud['cone_half_angle_deg']:.1f}°")
-    typer.echo(f"wall: peak areal momentum {dep['peak_areal_momentum_N_s_cm2']:.4g} N·s/cm², normal impulse "
+    typer.echo(f"wall: peak areal momentum {dep['peak_areal_momentum_N_s_cm2']:.4g} {AREAL_MOMENTUM_UNIT}, normal impulse "
                f"{dep['impulse_on_wall_normal_N_s_full_model']:.4g} N·s (full model); "
                f"{s['wall_time_s']:.1f} s")
     ledger = dep.get("momentum_ledger_g_cm_us")

@@ -23,7 +23,8 @@ from impactdyn.shield._debris_fragments import (COMPACT_MIN_PARTICLES, DEBRIS_FR
                                                 debris_fragments)
 from impactdyn.shield._fragment_rate import own_size_strain_rates
 from impactdyn.shield._fragments import (Fragments, cumulative_mass, cumulative_number, find_fragments, fragment_rows,
-                                         fragments_of, join_fragments, origin_masses, plot_fragment_masses)
+                                         fragment_mass_figure, fragments_of, join_fragments, origin_masses,
+                                         plot_fragment_masses)
 from impactdyn.shield._grady import SPRAY_SIZE_CM, grady_fragment_size, grady_fragments, grady_sizes
 from impactdyn.shield._integrate import SPHError, run
 from impactdyn.shield._io import read_fragments, read_particles, write_fragments, write_particles
@@ -40,5 +41,5 @@ __all__ = [
     "History", "MELTED_SHARE", "Particles", "ReleasedPhase", "Problem", "RunResult", "SPHError", "SPHOptions", "TENSOR_COMPONENTS", "bin_to_hydrogrid",
     "cumulative_mass", "cumulative_number", "find_fragments", "fragment_rows", "fragments_of", "grady_fragment_size", "grady_fragments", "grady_sizes",
     "join_fragments", "neighbour_pairs", "origin_masses", "own_size_strain_rates", "planar_impact",
-    "SPRAY_SIZE_CM", "plot_fragment_masses", "read_fragments", "read_particles", "released_phase", "run", "solid_particles", "spacing_too_coarse", "sphere_on_plate", "write_fragments", "write_particles",
+    "SPRAY_SIZE_CM", "fragment_mass_figure", "plot_fragment_masses", "read_fragments", "read_particles", "released_phase", "run", "solid_particles", "spacing_too_coarse", "sphere_on_plate", "write_fragments", "write_particles",
 ]

@@ -378,31 +378,41 @@ def fragment_rows(fragments: Fragments, n: int | None = None, from_projectile_g:
 def plot_fragment_masses(path: str | os.PathLike, fragments: Fragments, *, projectile_mass_g: float | None = None,
                          from_projectile_g: np.ndarray | None = None,
                          title: str = "Fragments of the debris cloud") -> Path:
-    """Two panels against fragment mass m (log): the cumulative number N(≥ m) (log), the five largest
-    listed; and the cumulative mass M(≥ m) in fragments at least that heavy (:func:`cumulative_mass`),
-    split by origin where ``from_projectile_g`` (F,) gives each fragment's projectile mass
-    (:func:`origin_masses`; the rest is the bumper's).
+    """Two panels against fragment mass m (log): the cumulative number N(≥ m) (log); and the cumulative mass
+    M(≥ m) in fragments at least that heavy (:func:`cumulative_mass`), split by origin where
+    ``from_projectile_g`` (F,) gives each fragment's projectile mass (:func:`origin_masses`; the rest is
+    the bumper's).  The five largest are listed beside the panels, where no data lies under them.
 
-    With ``projectile_mass_g`` a second mass axis (top) gives m as a fraction of the projectile.
+    With ``projectile_mass_g`` a second mass axis (top) gives m as a percentage of the projectile.
     Written atomically to ``path`` (format from the suffix); returns the path.
     """
-    from impactdyn._plotting import pyplot, save_figure
+    from impactdyn._plotting import save_figure
 
     if projectile_mass_g is not None and not (np.isfinite(projectile_mass_g) and projectile_mass_g > 0):
         raise InputError(f"plot_fragment_masses: projectile_mass_g = {projectile_mass_g!r}: must be finite and > 0")
+    return save_figure(fragment_mass_figure(fragments, projectile_mass_g, from_projectile_g, title), path, dpi=110)
+
+
+def fragment_mass_figure(fragments: Fragments, projectile_mass_g: float | None = None,
+                         from_projectile_g: np.ndarray | None = None, title: str = "Fragments of the debris cloud"):
+    """The figure of :func:`plot_fragment_masses` (its axes: N(≥ m), M(≥ m), then the list of the largest)."""
+    from impactdyn._plotting import pyplot
+
     plt = pyplot()
-    fig, (ax, ax_mass) = plt.subplots(1, 2, figsize=(11, 4.8), constrained_layout=True)
+    fig, (ax, ax_mass, ax_list) = plt.subplots(1, 3, figsize=(13, 4.8), width_ratios=(1, 1, 0.38),
+                                               constrained_layout=True)
+    ax_list.axis("off")
     m, count = cumulative_number(fragments)
     if len(m):
         ax.step(m, count, where="post", color="C0", label=f"{len(m)} fragment{'s' if len(m) != 1 else ''}, {m.sum():.4g} g")
         ax.plot(m, count, "o", ms=3, color="C0")
         top = fragments.largest(5)
         shares = (None if from_projectile_g is None else np.asarray(from_projectile_g)[:len(top)] / top.mass)
-        lines = [f"largest (g, diameter cm, c/a{', projectile' if shares is not None else ''}):"] + [
+        lines = ["the largest fragments:", f"g, diameter cm, c/a{', projectile' if shares is not None else ''}"] + [
             f"{i + 1}. {top.mass[i]:.3g}, {top.diameter_cm[i]:.3g}, {top.axes_cm[i, 2] / top.axes_cm[i, 0]:.2f}"
             + ("" if shares is None else f", {shares[i]:.0%}") for i in range(len(top))]
-        ax.text(0.97, 0.97, "\n".join(lines), transform=ax.transAxes, ha="right", va="top", fontsize=8,
-                family="monospace", bbox=dict(boxstyle="round", facecolor="white", alpha=0.85))
+        ax_list.text(0.0, 1.0, "\n".join(lines), transform=ax_list.transAxes, ha="left", va="top", fontsize=8,
+                     family="monospace")
         ax.legend(loc="lower left", fontsize=8)
         parts = {"all": None}
         if from_projectile_g is not None:
@@ -417,9 +427,7 @@ def plot_fragment_masses(path: str | os.PathLike, fragments: Fragments, *, proje
         for axis in (ax, ax_mass):
             axis.set_xscale("log")
             if projectile_mass_g is not None:
-                mp = float(projectile_mass_g)
-                axis.secondary_xaxis("top", functions=(lambda x: x / mp, lambda x: x * mp)).set_xlabel(
-                    "m / projectile mass")
+                _projectile_share_axis(axis, float(projectile_mass_g))
     else:
         for axis in (ax, ax_mass):
             axis.text(0.5, 0.5, "no fragments", transform=axis.transAxes, ha="center")
@@ -428,7 +436,21 @@ def plot_fragment_masses(path: str | os.PathLike, fragments: Fragments, *, proje
         axis.set_ylabel(label)
         axis.grid(True, which="both", alpha=0.3)
     fig.suptitle(title)
-    return save_figure(fig, path, dpi=110)
+    return fig
+
+
+def _projectile_share_axis(axis, projectile_mass_g: float) -> None:
+    """A top axis of m as a percentage of the projectile's mass, labelled at 1, 2 and 5 of each decade: over
+    the less than two decades the fragments span, the log axis's default labels every minor tick too, in
+    scientific notation, and they run into one another."""
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    top = axis.secondary_xaxis("top", functions=(lambda x: 100.0 * x / projectile_mass_g,
+                                                 lambda x: x * projectile_mass_g / 100.0))
+    top.xaxis.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
+    top.xaxis.set_major_formatter(FuncFormatter(lambda x, _: f"{x:g}"))
+    top.xaxis.set_minor_formatter(NullFormatter())
+    top.set_xlabel("m / projectile mass (%)")
 
 
 def fragments_of(particles, *, link_length_cm: float, damage_threshold: float = 1.0,

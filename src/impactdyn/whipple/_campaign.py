@@ -20,6 +20,7 @@ from impactdyn._config import validate
 from impactdyn._errors import InputError
 from impactdyn._family import FamilyFolder, run_members
 from impactdyn._sweep import case_variants
+from impactdyn.units import AREAL_MOMENTUM_UNIT
 from impactdyn.whipple._case import WhippleCase
 from impactdyn.whipple._shots import run_shot, shot_name, shot_tasks, shot_variant, shot_workers
 from impactdyn.whipple._stages import FAILED_VERDICTS
@@ -112,7 +113,7 @@ def _plot(path: Path, case: WhippleCase, rows: list) -> None:
                                   p.obliquity_deg, get_material(p.material).rho0)
     plot_ballistic_limit([curve], path, outcomes=(v, d, np.array([r["peak_areal_momentum_N_s_cm2"] for r in table]),
                                                   np.array([r["ble_verdict"] == "perforation" for r in table]),
-                                                  "simulated peak areal momentum on the wall (N·s/cm²)"),
+                                                  f"simulated peak areal momentum on the wall ({AREAL_MOMENTUM_UNIT})"),
                          simulated=(v, d, np.array([r["wall_verdict"] in FAILED_VERDICTS for r in table])),
                          title=f"Campaign: t_b = {b.thickness_cm:g} cm, t_w = {w.thickness_cm:g} cm, "
                                f"S = {w.spacing_cm:g} cm, θ = {p.obliquity_deg:g}°")

@@ -235,16 +235,51 @@ WallSolverSection = section_of("WallSolverSection", _WallSolverBase, WallOptions
                                [name for name in get_type_hints(WallOptions) if name != "supports"], __name__)
 
 
+#: A test shot's outcome in the verdicts' words: the database's P counts a detached spall, as JSC test practice
+#: does, as a failed rear wall, so a failed wall reads as either.
+TEST_OUTCOMES = {True: "perforation or detached spall", False: "no perforation"}
+
+
+class DatabaseShotSection(Section):
+    """The test database's shot that the case reproduces (``whipple shot`` writes it): where the shot is and
+    what the test gave, for the report to set beside the verdicts.  No stage reads it.
+
+    database : the test database file's name.
+    line : the shot's line in that file.
+    source : the publication that gives the shot.
+    shot_id : the shot's ID in that publication.
+    perforated : the test's outcome: true where the rear wall was perforated or spalled (P).
+    """
+
+    database: str
+    line: int
+    source: str
+    shot_id: str
+    perforated: bool
+
+    @property
+    def name(self) -> str:
+        """The shot as a reader finds it: source, ID and file line."""
+        return f"{self.source} {self.shot_id} (line {self.line} of {self.database})"
+
+    @property
+    def outcome(self) -> str:
+        return TEST_OUTCOMES[self.perforated]
+
+
 class WhippleCase(Section):
     """A complete Whipple case (every table of the TOML file).
 
     title : a name for the case, shown at the top of the report and written as the decks' title.
+    test_shot : the test database's shot the case reproduces (:class:`DatabaseShotSection`); none: the case is no
+        test shot.
     materials : the case's own alloys, ``[materials.NAME]`` tables (:class:`impactdyn.materials.MaterialTable`),
         which ``[projectile]``, ``[bumper]`` and ``[wall]`` then name like the library's; none: the
         library's alone.
     """
 
     title: str = ""
+    test_shot: DatabaseShotSection | None = None
     materials: MaterialsTable | None = None  # before the tables that name them: validated (registered) first
     projectile: ProjectileSection
     bumper: BumperSection

@@ -45,7 +45,7 @@ import numpy as np
 from impactdyn._config import load_toml, set_dotted, validate
 from impactdyn._errors import InputError
 from impactdyn.ble import ShotDatabase, read_database
-from impactdyn.whipple._case import WhippleCase
+from impactdyn.whipple._case import DatabaseShotSection, WhippleCase
 
 #: The Table 2 7a example, the base case of a shot unless another is named.  It lives in the
 #: source tree's ``examples/``, not in an installed package: there name a base case.
@@ -88,13 +88,19 @@ class DatabaseShot:
     perforated: bool
 
     @property
+    def record(self) -> DatabaseShotSection:
+        """The case's ``[test_shot]`` table of the shot: the database file by its name, and the test's outcome."""
+        return DatabaseShotSection(database=Path(self.database).name, line=self.line, source=self.source,
+                                   shot_id=self.shot_id, perforated=self.perforated)
+
+    @property
     def name(self) -> str:
         """The shot as a reader finds it: source, ID and file line."""
-        return f"{self.source} {self.shot_id} (line {self.line} of {Path(self.database).name})"
+        return self.record.name
 
     @property
     def outcome(self) -> str:
-        return "perforated or spalled (P)" if self.perforated else "not perforated (NP)"
+        return self.record.outcome
 
 
 def database_shot(key: int | str, database: ShotDatabase | None = None) -> DatabaseShot:
@@ -180,8 +186,7 @@ def database_shot_case_text(shot: DatabaseShot, raw: dict, base: str | Path | No
     rounded to :data:`PITCH_FIGURES` figures with how it was derived."""
     import tomli_w
 
-    path = EXAMPLE_CASE if base is None else Path(base)
-    base_case = validate(WhippleCase, load_toml(path), source=str(path))
+    _, base_case = load_base_case(base)
     pitch = raw["shield"]["spacing_cm"]
     rounded = float(f"{pitch:.{PITCH_FIGURES}g}")
     ratio = shot.diameter_cm / base_case.projectile.diameter_cm
@@ -208,15 +213,30 @@ def database_shot_case_text(shot: DatabaseShot, raw: dict, base: str | Path | No
 def database_shot_case(shot: DatabaseShot, base: str | Path | None = None) -> dict:
     """The raw case dict of ``shot`` on the case file ``base`` (default :data:`EXAMPLE_CASE`), by the
     module's rules; it is checked as a :class:`WhippleCase` (an :class:`InputError` names the shot)."""
+    raw, case = load_base_case(base)
+    for key, value in shot_settings(shot, case).items():
+        raw = set_dotted(raw, key, value)
+    validate(WhippleCase, raw, source=f"test shot {shot.name} on {base or EXAMPLE_CASE}")
+    return raw
+
+
+def load_base_case(base: str | Path | None = None) -> tuple[dict, WhippleCase]:
+    """The raw dict of the case file ``base`` (default :data:`EXAMPLE_CASE`) and its :class:`WhippleCase`."""
     path = EXAMPLE_CASE if base is None else Path(base)
     if base is None and not path.is_file():
         raise InputError(f"{path}: the Table 2 7a example is not installed with the package; name a base case")
     raw = load_toml(path)
-    case = validate(WhippleCase, raw, source=str(path))
+    return raw, validate(WhippleCase, raw, source=str(path))
+
+
+def shot_settings(shot: DatabaseShot, case: WhippleCase) -> dict:
+    """Dotted key → value of every setting that ``shot`` gives its case on the base case ``case``: the shot's
+    own, and those the module's rules derive from them."""
     scale = shot.spacing_cm / case.wall.spacing_cm
     nx, ny, nz = case.wall.nodes
-    changes = {
+    return {
         "title": f"test shot {shot.name}",
+        "test_shot": shot.record.model_dump(),
         "projectile.material": _material(shot, "projectile"),
         "projectile.diameter_cm": shot.diameter_cm,
         "projectile.velocity_km_s": shot.velocity_km_s,
@@ -233,7 +253,3 @@ def database_shot_case(shot: DatabaseShot, base: str | Path | None = None) -> di
         "shield.spacing_cm": case.shield.spacing_cm * min(1.0, shot.diameter_cm / case.projectile.diameter_cm),
         "filter.t_cut_us": case.filter.t_cut_us * max(1.0, scale),
     }
-    for key, value in changes.items():
-        raw = set_dotted(raw, key, value)
-    validate(WhippleCase, raw, source=f"test shot {shot.name} on {path}")
-    return raw

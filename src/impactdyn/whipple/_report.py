@@ -26,9 +26,9 @@ import numpy as np
 
 from impactdyn._plotting import pyplot, save_figure
 from impactdyn._runfolder import FolderWriter
-from impactdyn.units import KM_S_PER_CM_US, N_S_PER_G_CM_US
+from impactdyn.units import AREAL_MOMENTUM_UNIT, KM_S_PER_CM_US, N_S_PER_G_CM_US
 from impactdyn.whipple._case import WhippleCase, ble_shield
-from impactdyn.whipple._stages import STAGES, read_stage
+from impactdyn.whipple._stages import FAILED_VERDICTS, STAGES, read_stage
 from impactdyn.whipple._validation_record import limit_statement, perforations_called_safe, validation_record
 
 
@@ -129,6 +129,23 @@ def draws_statement(draws: dict) -> str:
             f"seed{'s' if len(seeds) > 1 else ''} {', '.join(map(str, seeds))})")
 
 
+def database_shot_record(case: WhippleCase) -> dict | None:
+    """The summary's record of the test shot the case reproduces (its ``[test_shot]`` table, the shot's name and
+    the outcome in words), or None where the case is no test shot."""
+    test = case.test_shot
+    return None if test is None else test.model_dump() | {"name": test.name, "outcome": test.outcome}
+
+
+def outcome_statement(test: dict, simulated: str, equation: str) -> str:
+    """The test's outcome, and whether the simulated verdict and the equation's agree with it (a detached spall
+    is a failed wall, as in the test: :data:`FAILED_VERDICTS`)."""
+    def agrees(failed: bool) -> str:
+        return "agrees" if failed == test["perforated"] else "disagrees"
+
+    return (f"{test['outcome']}: the simulated verdict {agrees(simulated in FAILED_VERDICTS)}, "
+            f"the equation's {agrees(equation == 'perforation')}")
+
+
 def wall_figures(wall: dict, ble: dict) -> dict:
     """The wall stage's verdict beside the equation's, and its headline measures."""
     m = wall["measures"]
@@ -223,6 +240,7 @@ def write_report(folder: FolderWriter, case: WhippleCase, keep: str = "all") -> 
                                    f"(failure model: {case.shield.failure_model})")
     summary = {
         "title": case.title,
+        "test_shot": database_shot_record(case),
         "shot": {"projectile": case.projectile.model_dump(), "bumper": case.bumper.model_dump(),
                  "wall": {k: v for k, v in case.wall.model_dump().items() if k in (
                      "material", "thickness_cm", "spacing_cm")} | {"yield_stress_ksi": case.wall_yield_ksi}},
@@ -422,6 +440,14 @@ def wall_ending(wall: dict) -> str:
     return text
 
 
+def _outcome_rows(test: dict | None, simulated: str, equation: str) -> list[tuple[str, str]]:
+    """The verdict table's row of the test's outcome (:func:`outcome_statement`); none where the case is no
+    test shot."""
+    if test is None:
+        return []
+    return [(f"test shot {test['name']}", outcome_statement(test, simulated, equation))]
+
+
 def _crater(wall: dict) -> str:
     """The crater depth over the wall's thickness, and whether the mesh resolves it (one element layer deep)."""
     text = _fmt(wall.get("crater_depth_ratio"))
@@ -432,7 +458,7 @@ def _crater(wall: dict) -> str:
 
 def _mesh_peak(dep: dict) -> str:
     """The peak areal momentum on the wall mesh's own face cells, and their size."""
-    return f"{_fmt(dep['peak_areal_momentum_mesh_N_s_cm2'], 'N·s/cm²')} ({_fmt(dep['mesh_face_cell_cm'], 'cm', 2)} cells)"
+    return f"{_fmt(dep['peak_areal_momentum_mesh_N_s_cm2'], AREAL_MOMENTUM_UNIT)} ({_fmt(dep['mesh_face_cell_cm'], 'cm', 2)} cells)"
 
 
 def _ledger(ledger: dict) -> str:
@@ -490,7 +516,7 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
     state_rows = _rows(_debris_state_rows(st["shield"].get("debris_state")))
     loading_rows = _rows([
         ("peak areal momentum on the wall: on the case grid's cells (the load); on the wall mesh's face cells",
-         _fmt(dep["peak_areal_momentum_N_s_cm2"], "N·s/cm²") + "; " + _mesh_peak(dep)),
+         _fmt(dep["peak_areal_momentum_N_s_cm2"], AREAL_MOMENTUM_UNIT) + "; " + _mesh_peak(dep)),
         ("the debris's normal momentum (full model): on the wall, outside the arrival window (compact fragments: "
          "the wall run), off the face grid, never reaching the wall, failed flights",
          _ledger(dep["momentum_ledger_g_cm_us"])),
@@ -503,6 +529,7 @@ def _html(folder: FolderWriter, case: WhippleCase, s: dict) -> str:
         ("simulated verdict", f"{wall['verdict']} ({wall['criterion']})"),
         ("perforation over the partition's draws", draws_statement(s["draws"])),
         ("equation's verdict", f"{ble['verdict']} ({ble['equation']})"),
+        *_outcome_rows(s.get("test_shot"), wall["verdict"], ble["verdict"]),
         ("caution", wall["caution"]),
         ("crater depth / wall thickness", _crater(wall)),
         ("rear-face bulge at the end; its peak (when)", _bulge(wall)),

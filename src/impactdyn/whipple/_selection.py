@@ -157,6 +157,16 @@ def rule_path(name_or_path: str | Path) -> Path:
     return path
 
 
+def shipped_rule(name: str, sha256: str) -> SelectionRule | None:
+    """The shipped rule ``name`` if its content has the hash ``sha256`` (:func:`rule_hash`), else None: a rule
+    file of another's name, or a shipped rule changed since, is not that rule."""
+    path = RULES_DIR / f"{name}.toml"
+    if not path.is_file():
+        return None
+    rule = validate(SelectionRule, load_toml(path), source=str(path))
+    return rule if rule_hash(rule) == sha256 else None
+
+
 def load_rule(name_or_path: str | Path) -> SelectionRule:
     """The rule, validated; a fixed rule must still match its hash, and the rules named in its
     ``after`` must load and must not lead back to it."""

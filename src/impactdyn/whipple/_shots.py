@@ -43,12 +43,15 @@ def shot_variant(base, velocity_km_s: float, diameter_cm: float) -> dict:
       ``filter.t_cut_us``), stretched for a slower shot by V_base/V: the projectile's passage
       through the bumper and the cloud's flight to the wall take 1/V as long.  (Without it a
       4-km/s shot of the 7-km/s example kept its 25-µs window and nothing reached the wall.)
+
+    The base case's ``[test_shot]``, if any, is dropped: a family's shot at another speed or diameter is
+    not the test, and its report must not set the test's outcome beside its verdict.
     """
     slower = max(1.0, base.projectile.velocity_km_s / velocity_km_s)
     return {"projectile.velocity_km_s": float(velocity_km_s), "projectile.diameter_cm": float(diameter_cm),
             "shield.spacing_cm": float(base.shield.spacing_cm * min(1.0, diameter_cm / base.projectile.diameter_cm)),
             "shield.handoff_us": float(base.shield.handoff_us * slower),
-            "filter.t_cut_us": float(base.filter.t_cut_us * slower)}
+            "filter.t_cut_us": float(base.filter.t_cut_us * slower), "test_shot": None}
 
 
 def shot_workers(scheduler: str, workers: int | None, n_shots: int) -> int:

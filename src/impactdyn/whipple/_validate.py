@@ -15,26 +15,31 @@ interval; the exact McNemar test compares the simulation with the equation on th
 
 Folder (a family folder, :mod:`impactdyn._family`: written as the shots finish, resumable):
 ``validation.csv`` / ``validation.json`` (one row per shot), ``scores.json``, ``validation.png``
-(the shots as d/d_lim against V cos θ, marked by agreement with the test) and ``validation.html``.
+(the shots as d/d_lim against V cos θ, marked by agreement with the test) and ``validation.html``
+(:func:`validation_page`: the selection and the case's options in words, what stands behind the
+simulated verdict, the scores, every shot).
 """
 
 from __future__ import annotations
 
 import html
 import json
+import math
 from pathlib import Path
 
 import numpy as np
 
-from impactdyn._config import set_dotted, validate
+from impactdyn._config import non_defaults, set_dotted, validate
 from impactdyn._errors import InputError
 from impactdyn._family import FamilyFolder, run_members
-from impactdyn.ble import mcnemar, score_by_distance
-from impactdyn.whipple._case import WhippleCase
+from impactdyn.ble import DISTANCE_BANDS, mcnemar, score_by_distance
+from impactdyn.whipple._case import TEST_OUTCOMES, WhippleCase
 from impactdyn.whipple._stages import FAILED_VERDICTS
-from impactdyn.whipple._report import ble_verdict
+from impactdyn.whipple._report import ble_verdict, verdict_record
+from impactdyn.whipple._selection import shipped_rule
 from impactdyn.whipple._shots import run_shot, shot_tasks, shot_workers
-from impactdyn.whipple._database_shot import DatabaseShot, database_shot_case
+from impactdyn.whipple._database_shot import (EXAMPLE_CASE, DatabaseShot, database_shot_case, load_base_case,
+                                              shot_settings)
 
 VALIDATION_HEADER = ["line", "source", "shot_id", "diameter_cm", "velocity_km_s", "obliquity_deg",
                      "normal_velocity_km_s", "jsc_limit_cm", "d_over_limit", "test_perforated", "jsc_perforated",
@@ -60,7 +65,9 @@ def run_validation(shots: list[DatabaseShot], outdir: str | Path, *, selection: 
     cases = [validate(WhippleCase, raw, source=f"test shot {shot.name}" + ("" if draws is None else f" (--draws {draws})"))
              for shot, raw in zip(shots, raws)]
     settings = {"selection": selection, "keep_all": keep_all,
-                "cases": {_run_name(s): c.model_dump(mode="json") for s, c in zip(shots, cases)}}
+                # the [test_shot] table restates the selection's shot and changes no result: without it a folder
+                # started before the cases carried it resumes
+                "cases": {_run_name(s): c.model_dump(mode="json", exclude={"test_shot"}) for s, c in zip(shots, cases)}}
     rows: list = [None] * len(shots)
     with FamilyFolder(outdir, "whipple validate", settings, table="validation.csv", member="shot", force=force,
                       resume=resume) as family:
@@ -83,8 +90,18 @@ def run_validation(shots: list[DatabaseShot], outdir: str | Path, *, selection: 
             from impactdyn.ble import plot_reliability
 
             plot_reliability(scores["forecast"], family.path / "reliability.png")
-        family.write_text("validation.html", _page(rows, scores))
+        family.write_text("validation.html", validation_page(rows, scores, Path(base or EXAMPLE_CASE).name,
+                                                             case_options(shots[0], cases[0], base),
+                                                             verdict_record(cases[0])))
     return scores
+
+
+def case_options(shot: DatabaseShot, case: WhippleCase, base: str | Path | None = None) -> dict:
+    """Dotted key → value of the settings of ``shot``'s case ``case`` (on the base case file ``base``) that
+    differ from the package's defaults, the shot's own (:func:`shot_settings`) left out: the options every
+    shot of a validation shares (the base case's, ``--draws``)."""
+    own = shot_settings(shot, load_base_case(base)[1])
+    return {k: v for k, v in non_defaults(case).items() if k not in own}
 
 
 def score_validation(rows: list[dict]) -> dict:
@@ -149,8 +166,8 @@ def _write_table(folder: FamilyFolder, rows: list[dict]) -> None:
 
 
 def _plot(path: Path, rows: list[dict]) -> None:
-    """The shots as d/d_lim against V cos θ: filled circles where the test perforated, open squares where
-    it held, green where the simulation called it right and red where not."""
+    """The shots as d/d_lim against V cos θ: filled circles where the test's wall failed, open squares where
+    it did not, green where the simulation called it right and red where not."""
     from impactdyn._plotting import pyplot, save_figure
 
     plt = pyplot()
@@ -163,7 +180,7 @@ def _plot(path: Path, rows: list[dict]) -> None:
             if pick:
                 ax.scatter([r["normal_velocity_km_s"] for r in pick], [r["d_over_limit"] for r in pick],
                            marker=marker, edgecolors=colour, facecolors=colour if perforated else "none",
-                           label=f"{label} ({'perforated' if perforated else 'held'} in the test)")
+                           label=f"{label} (test: {TEST_OUTCOMES[perforated]})")
     ax.axhline(1.0, color="k", lw=0.8)
     for edge in (0.95, 1.05, 0.85, 1.15, 0.70, 1.30):
         ax.axhline(edge, color="0.7", lw=0.5, ls=":")
@@ -193,39 +210,93 @@ def _forecast_table(forecast: dict | None) -> str:
             'forecast P">')
 
 
-def _page(rows: list[dict], scores: dict) -> str:
-    """``validation.html``: the scores by band beside the equation's, McNemar's test, every shot."""
+def selection_statement(selection: dict) -> str:
+    """The shots a validation ran (its ``selection`` record), in words: a shipped rule by its name, whether it
+    is fixed and its description; another rule by its name and hash; or the lines given."""
+    if "lines" in selection:
+        lines = selection["lines"]
+        return (f"lines {', '.join(map(str, lines))} of the test database "
+                f"({len(lines)} shot{'s' if len(lines) != 1 else ''})")
+    name, fixed = selection["rule"], selection.get("fixed")
+    state = f"fixed on {fixed}" if fixed else "not fixed: these scores cannot judge a change"
+    rule = shipped_rule(name, selection["sha256"])
+    if rule is None:
+        return f"the shots of rule {name} ({state}; sha256 {selection['sha256'][:12]}…)"
+    return f"the shots of the shipped rule {name} ({state}): {rule.description}"
+
+
+def option_lines(options: dict) -> list[str]:
+    """The case's settings that differ from the package's defaults (:func:`impactdyn._config.non_defaults`),
+    each as a case file writes it: ``[shield] failed_fragments = "grady"``."""
+    return [f"[{key.rpartition('.')[0]}] {key.rpartition('.')[2]} = {json.dumps(value)}"
+            for key, value in options.items()]
+
+
+def _options_html(options: dict) -> str:
+    if not options:
+        return "none: the shots' numerics are the package's defaults."
+    return "<ul>" + "".join(f"<li><code>{html.escape(line)}</code></li>" for line in option_lines(options)) + "</ul>"
+
+
+def band_label(band: str) -> str:
+    """A band of |d/d_lim − 1| (:data:`impactdyn.ble.DISTANCE_BANDS`) as people read it: "< 5 %",
+    "5–15 %", "≥ 30 %"; the overall score's "all"."""
+    if band not in DISTANCE_BANDS:
+        return "all"
+    low, high = (100 * edge for edge in DISTANCE_BANDS[band])
+    if low == 0:
+        return f"< {high:g} %"
+    return f"≥ {low:g} %" if math.isinf(high) else f"{low:g}–{high:g} %"
+
+
+def _called(perforated: bool) -> str:
+    """The JSC equation's call in the verdicts' words."""
+    return "perforation" if perforated else "no perforation"
+
+
+def validation_page(rows: list[dict], scores: dict, base: str, options: dict, record: str) -> str:
+    """``validation.html``: the selection (:func:`selection_statement`) and the case, the shots' numerics
+    taken from the case file ``base``, with its ``options`` that differ from the package's defaults
+    (:func:`option_lines`) and what stands behind the simulated verdict with them (``record``:
+    :func:`impactdyn.whipple._report.verdict_record`); the scores by band beside the equation's, McNemar's
+    test, every shot; each outcome and verdict in the report's words."""
     def interval(p: dict) -> str:
         if p["of"] == 0:
             return "–"
-        return f"{p['count']}/{p['of']} = {100 * p['rate']:.0f} % ({100 * p['low']:.0f}–{100 * p['high']:.0f})"
+        return f"{p['count']}/{p['of']} = {100 * p['rate']:.0f} % ({100 * p['low']:.0f}–{100 * p['high']:.0f} %)"
 
     band_rows = []
     for who, name in (("simulated", "simulation"), ("jsc", "JSC 2011")):
         for b in [*scores[who]["bands"], scores[who]["overall"]]:
-            band_rows.append(f"<tr><td>{name}</td><td>{html.escape(b['band'])}</td><td>{interval(b['accuracy'])}</td>"
-                             f"<td>{interval(b['false_safe'])}</td><td>{interval(b['false_alarm'])}</td></tr>")
+            band_rows.append(f"<tr><td>{name}</td><td>{html.escape(band_label(b['band']))}</td>"
+                             f"<td>{interval(b['accuracy'])}</td><td>{interval(b['false_safe'])}</td>"
+                             f"<td>{interval(b['false_alarm'])}</td></tr>")
     m = scores["mcnemar_simulated_vs_jsc"]
     shot_rows = "".join(
         f"<tr><td>{r['line']}</td><td>{html.escape(str(r['source']))} {html.escape(str(r['shot_id']))}</td>"
         f"<td>{r['diameter_cm']:.4g}</td><td>{r['velocity_km_s']:.3g}</td><td>{r['obliquity_deg']:g}</td>"
-        f"<td>{_ratio_text(r['d_over_limit'])}</td><td>{'P' if r['test_perforated'] else 'NP'}</td>"
-        f"<td>{'P' if r['jsc_perforated'] else 'NP'}</td><td>{html.escape(r['simulated_verdict'])}</td>"
+        f"<td>{_ratio_text(r['d_over_limit'])}</td><td>{TEST_OUTCOMES[r['test_perforated']]}</td>"
+        f"<td>{_called(r['jsc_perforated'])}</td><td>{html.escape(r['simulated_verdict'])}</td>"
         f"<td>{'yes' if r['simulated_right'] else 'no'}</td><td><a href=\"{r['run']}/report.html\">run</a></td></tr>"
         for r in rows)
     return f"""<!doctype html><html><head><meta charset="utf-8"><title>Validation on test shots</title>
 <style>body{{font-family:sans-serif;max-width:70em;margin:2em auto}}
-td,th{{padding:2px 8px;border-bottom:1px solid #ddd}}</style></head>
+td,th{{padding:2px 8px;border-bottom:1px solid #ddd}}.bands td{{white-space:nowrap}}
+.caution{{border-left:4px solid #c77700;background:#fff6e5;padding:0.5em 1em}}</style></head>
 <body><h1>Validation on {scores['n_shots']} test shots</h1>
-<p>Selection: <code>{html.escape(json.dumps(scores['selection']))}</code></p>
+<p><strong>Selection:</strong> {html.escape(selection_statement(scores['selection']))}</p>
+<p><strong>Case:</strong> each test shot's projectile, bumper and wall on the numerics of
+<code>{html.escape(base)}</code>; its settings that differ from the package's defaults: {_options_html(options)}</p>
+<p class="caution"><strong>What stands behind the simulated verdict:</strong> {html.escape(record)}</p>
 <h2>Scores by distance from the equation's limit, |d/d_lim − 1| (95 % Wilson intervals)</h2>
-<table><tr><th>verdict of</th><th>band</th><th>right</th><th>false-safe (of perforated)</th>
-<th>false alarm (of held)</th></tr>{''.join(band_rows)}</table>
+<table class="bands"><tr><th>verdict of</th><th>band</th><th>right</th><th>false-safe (no perforation called, of the tests with
+perforation or detached spall)</th><th>false alarm (perforation called, of the tests with no perforation)</th></tr>
+{''.join(band_rows)}</table>
 <p>Exact McNemar test, simulation against the equation on the same shots: simulation right and equation wrong on
 {m['simulated_right_jsc_wrong']}, the reverse on {m['jsc_right_simulated_wrong']}; p = {m['p_exact']:.3g}
 (mid-p {m['p_mid']:.3g}).</p>
 {_forecast_table(scores.get("forecast"))}
 <img src="validation.png" alt="shots as d/d_lim against V cos θ">
 <h2>Shots</h2><table><tr><th>line</th><th>shot</th><th>d (cm)</th><th>V (km/s)</th><th>θ (°)</th><th>d/d_lim</th>
-<th>test</th><th>JSC</th><th>simulated</th><th>right</th><th></th></tr>{shot_rows}</table></body></html>
+<th>test</th><th>JSC</th><th>simulated</th><th>simulation right</th><th></th></tr>{shot_rows}</table></body></html>
 """
