@@ -186,15 +186,15 @@ def plot_surface(result: WallResult, side: str, path: str | os.PathLike) -> Path
     axes[1].set_title("failed (red) and eroded (black) elements")
     lim = float(np.abs(uy).max()) or 1.0
     im = axes[2].pcolormesh(xe, z, uy, cmap="RdBu_r", vmin=-lim, vmax=lim, shading="gouraud")
-    fig.colorbar(im, ax=axes[2], shrink=0.8, label="u_y, cm (+: along y, front → rear)")
+    fig.colorbar(im, ax=axes[2], shrink=0.8, label="u_y (cm; +: along y, front → rear)")
     axes[2].set_title("normal displacement")
     for ax in axes:
         ax.set_aspect("equal")
-        ax.set_xlabel("x, cm")
+        ax.set_xlabel("x (cm)")
         if mirror:
             ax.axvline(x[0], color="k", lw=0.5, ls=":")
-    axes[0].set_ylabel("z, cm")
-    fig.suptitle(f"Wall {side} surface at t = {f.time:.2f} us: {result.verdict} "
+    axes[0].set_ylabel("z (cm)")
+    fig.suptitle(f"Wall {side} surface at t = {f.time:.2f} µs: {result.verdict} "
                  f"(crater depth / t = {result.measures['crater_depth_ratio']:.2f}, "
                  f"rear bulge {result.measures['rear_bulge_cm']:.3f} cm)")
     return save_figure(fig, path)
@@ -212,16 +212,16 @@ def plot_history(result: WallResult, path: str | os.PathLike) -> Path:
                        ("plastic", "plastic"), ("hourglass", "hourglass"), ("bulk_viscous", "bulk viscous"),
                        ("eroded", "eroded")):
         ax.plot(t, h[key] * _J_PER_ENERGY, label=label)
-    ax.set_ylabel("energy, J")
+    ax.set_ylabel("energy (J)")
     ax.legend(fontsize=8, ncol=2)
     ax.set_title(f"Wall energy balance (error at the end {result.measures['energy']['balance_error']:.2e})")
     bx.plot(t, h["rear_bulge"], label="rear bulge")
     bx.plot(t, h["front_dent"], label="front dent")
-    bx.set_ylabel("displacement, cm")
+    bx.set_ylabel("displacement (cm)")
     bx.set_xlabel("t (µs)")
     cx = bx.twinx()
     cx.plot(t, h["rear_velocity"] * KM_S_PER_CM_US, color="0.5", lw=0.8, label="largest rear-face v_y")
-    cx.set_ylabel("rear-face velocity, km/s")
+    cx.set_ylabel("rear-face velocity (km/s)")
     lines = bx.get_lines() + cx.get_lines()
     bx.legend(lines, [ln.get_label() for ln in lines], fontsize=8)
     return save_figure(fig, path)
