@@ -657,6 +657,7 @@ def test_draws_run_the_sph_once_and_each_draw_as_a_run_with_its_seed(tmp_path, m
     assert draws["perforated"] == k and draws["probability"] == k / 3
     assert draws["wilson_95"] == pytest.approx(list(wilson_interval(k, 3)), abs=0)
     assert f"perforation in {k} of 3 draws" in (out / "report.html").read_text()
+    assert (out / "plots" / "draws.png").stat().st_size > 10_000 and 'alt="draws.png"' in (out / "report.html").read_text()
     # the third draw is the run of a case with seed 3: its wall's record, bit for bit
     alone = tmp_path / "seed3"
     assert main(["whipple", "run", str(make_case(tmp_path, name="seed3.toml", shield__fragment_seed=3, **keys)),
@@ -665,6 +666,10 @@ def test_draws_run_the_sph_once_and_each_draw_as_a_run_with_its_seed(tmp_path, m
     single = json.loads((alone / "wall" / "stage.json").read_text())
     for key in ("verdict", "evidence", "measures", "mesh"):
         assert drawn[key] == single[key], key
+    assert draws["draws"][2]["failed_mass_g"] == single["measures"]["failed_mass_g"]
+    assert draws["draws"][2]["peak_rear_bulge_cm"] == single["measures"]["peak_rear_bulge_cm"]
+    assert draws["draws"][2]["compact_mass_g"] == json.loads(
+        (alone / "debris" / "stage.json").read_text())["compact_fragments"]["mass_g"]
     for stage in ("binning", "debris"):
         a = json.loads((out / "draws" / "seed3" / stage / "stage.json").read_text())
         b = json.loads((alone / stage / "stage.json").read_text())

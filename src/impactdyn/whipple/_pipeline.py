@@ -249,7 +249,7 @@ def _draws(s: StageContext) -> dict:
     from impactdyn.whipple._case import shield_problem
 
     seeds = s.case.fragment_options.seeds
-    verdicts = [read_stage(s.folder.path, "wall")["verdict"]]
+    outcomes = [_draw_outcome(s.folder.path)]
     if len(seeds) > 1:
         particles, _ = read_particles(s.folder.path / "shield" / "particles.h5")
         problem = shield_problem(s.case)[0]
@@ -266,13 +266,21 @@ def _draws(s: StageContext) -> dict:
         for stage in ("binning", "debris", "wall"):
             draw.folder.sub(stage).write_json("stage.json", {"stage": stage} | _RUN[stage](draw))
         prune_run(draw.folder.path)
-        verdicts.append(read_stage(draw.folder.path, "wall")["verdict"])
+        outcomes.append(_draw_outcome(draw.folder.path))
     s.report("draws", len(seeds), len(seeds))
-    failed = [v in FAILED_VERDICTS for v in verdicts]
-    p = Proportion.of_counts(sum(failed), len(failed))
-    return {"n_draws": len(seeds), "draws": [{"seed": seed, "verdict": v, "perforated": f}
-                                             for seed, v, f in zip(seeds, verdicts, failed)],
+    p = Proportion.of_counts(sum(o["perforated"] for o in outcomes), len(outcomes))
+    return {"n_draws": len(seeds), "draws": [{"seed": seed} | o for seed, o in zip(seeds, outcomes)],
             "perforated": p.count, "probability": p.rate, "wilson_95": [p.low, p.high]}
+
+
+def _draw_outcome(folder: Path) -> dict:
+    """One draw's wall verdict, whether it failed (:data:`FAILED_VERDICTS`), the wall's failed mass and peak rear
+    bulge and the compact fragments' mass in the half model, from the stage records of its run ``folder``."""
+    wall = read_stage(folder, "wall")
+    return {"verdict": wall["verdict"], "perforated": wall["verdict"] in FAILED_VERDICTS,
+            "failed_mass_g": wall["measures"]["failed_mass_g"],
+            "peak_rear_bulge_cm": wall["measures"]["peak_rear_bulge_cm"],
+            "compact_mass_g": read_stage(folder, "debris")["compact_fragments"]["mass_g"]}
 
 
 def _decks(s: StageContext) -> dict:

@@ -9,10 +9,12 @@ Figures (``plots/``):
 ``conservation.png``      the SPH run's energy and momentum against time
 ``fragments.png``         the debris's solid fragments: cumulative number against mass, the largest listed
                           (not drawn where the debris holds none: the report says so)
+``draws.png``             with the fragments' draws (``[shield] fragment_draws`` > 1), each draw's compact
+                          fragments' mass, the wall's failed mass and peak rear bulge against its seed
 
 and the debris stage's ``debris/plots/areal_density.png`` (Figures 10/13/16/19) and the
 wall stage's ``wall/plots/wall_front.png``, ``wall_rear.png`` (Figures 6–7, 11, 14, 17, 20)
-and ``wall_history.png``.  ``report.html`` embeds all eight as PNG data, so it is one
+and ``wall_history.png``.  ``report.html`` embeds them all as PNG data, so it is one
 file to mail; its "Wall response" section sets the simulated verdict beside the equation's.
 """
 
@@ -239,6 +241,8 @@ def write_report(folder: FolderWriter, case: WhippleCase, keep: str = "all") -> 
                              from_projectile_g=origin_masses(fragments, particles.mass, projectile),
                              title=f"Solid fragments of the debris at {case.shield.handoff_us:g} µs "
                                    f"(failure model: {case.shield.failure_model})")
+    if records["draws"]["n_draws"] > 1:
+        _plot_draws(plots.file("draws.png"), records["draws"])
     summary = {
         "title": case.title,
         "test_shot": database_shot_record(case),
@@ -261,7 +265,8 @@ def write_report(folder: FolderWriter, case: WhippleCase, keep: str = "all") -> 
     folder.write_json("summary.json", summary)
     folder.write_text("report.html", _html(folder, case, summary))
     return {"files": ["summary.json", "report.html", "plots/cloud_handoff.png", "plots/ballistic_limit.png",
-                      "plots/conservation.png"] + (["plots/fragments.png"] if len(fragments) else [])}
+                      "plots/conservation.png"] + (["plots/fragments.png"] if len(fragments) else [])
+            + (["plots/draws.png"] if records["draws"]["n_draws"] > 1 else [])}
 
 
 def _plot_cloud(path, particles, case: WhippleCase, cloud: dict) -> None:
@@ -324,6 +329,27 @@ def _plot_conservation(path, history) -> None:
     for ax in axes:
         ax.grid(alpha=0.3)
     fig.suptitle("SPH shield stage: conservation (half model; p_x is exchanged with the mirror half)")
+    save_figure(fig, path, dpi=100)
+
+
+def _plot_draws(path, draws: dict) -> None:
+    """Each draw of the fragments' partition (the draws stage's record): the compact fragments' mass, the
+    wall's failed mass and its peak rear bulge against the draw's seed, a cross where the wall failed."""
+    plt = pyplot()
+    fig, axes = plt.subplots(1, 3, figsize=(11, 3.4), constrained_layout=True)
+    seeds = [d["seed"] for d in draws["draws"]]
+    failed = np.array([d["perforated"] for d in draws["draws"]])
+    for ax, key, label in zip(axes, ("compact_mass_g", "failed_mass_g", "peak_rear_bulge_cm"),
+                              ("compact fragments' mass (g)", "wall's failed mass (g)", "peak rear bulge (cm)")):
+        value = np.array([d[key] for d in draws["draws"]])
+        for which, style in ((failed, dict(marker="X", s=70, color="tab:red", label="perforation or detached spall")),
+                             (~failed, dict(marker="o", s=50, color="tab:green", label="no perforation"))):
+            if which.any():      # a legend entry only for an outcome some draw had
+                ax.scatter(np.array(seeds)[which], value[which], **style)
+        ax.set(xlabel="partition seed", ylabel=label, xticks=seeds)
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=8)
+    fig.suptitle(f"The fragments' draws: {draws_statement(draws)}", fontsize=9)
     save_figure(fig, path, dpi=100)
 
 
@@ -587,6 +613,7 @@ Half model (x ≥ 0); units as labelled.</p>
 {_img(folder.path / "wall" / "plots" / "wall_front.png")}
 {_img(folder.path / "wall" / "plots" / "wall_rear.png")}
 {_img(folder.path / "wall" / "plots" / "wall_history.png")}
+{_img(plots / "draws.png") if s["draws"]["n_draws"] > 1 else ""}
 <h2>Stages</h2><table>{stages}</table>
 {_img(plots / "conservation.png")}
 <h2>Files</h2><p><code>summary.json</code> (all numbers), <code>case.toml</code> (every setting used),
