@@ -23,9 +23,9 @@ from Δ = d/10 to d/20 at 6 km/s, about Δ^{-0.6}).
 centres are the same at every spacing), but the size field moves with the spacing at about first order
 (the projectile's median s 0.090 / 0.076 / 0.068 cm at d/10 / d/20 / d/40, 4 km/s), and a fragment's mass
 goes as s³: the largest projectile fragment converges within 20 % between d/20 and d/40 at 6 and 7 km/s
-and not at 4 km/s, the projectile's mass in fragments of ≥ 0.06 cm at 4 km/s and not at 6–7 km/s.  The
-set-4 gate fails (validation/set-4-decision.md), and the fragments stay an option
-(``[shield] failed_fragments = "grady"``), not the default.
+and not at 4 km/s, the projectile's mass in fragments of ≥ 0.06 cm at 4 km/s and not at 6–7 km/s.  Both
+set-4 gates fail, on the sizes and on the wall's verdict (validation/set-4-decision.md), and the fragments
+stay an option (``[shield] failed_fragments = "grady"``), not the default.
 
 **Partition** (in the reference configuration, where Grady's picture puts the breaking: at the time the
 SPH reads it, failed material has stretched several times over, unevenly and in clumps spaced like the

@@ -98,11 +98,12 @@ WALL_VALIDATION = (f"on the validation shots the wall stage {perforations_called
                    "projectiles): its load is the debris cloud's momentum, without the solid fragments whose craters "
                    "perforate walls that load only bulges")
 #: What stands behind the verdict with the fragments of failed material (``[shield] failed_fragments =
-#: "grady"``): an option no validation set has judged, since the gate that would let set 4 judge it has not
-#: held (validation/set-4-decision.md).
+#: "grady"``): an option no validation set has judged, since the gate that would let set 4 judge it fails
+#: (validation/set-4-decision.md).
 FRAGMENTS_VALIDATION = ("the fragments of failed material are an option no validation set has judged: their "
-                        "sizes are not converged with the SPH spacing, and the gate on the verdict that set 4 "
-                        "waits for has not held (docs/vv/test-shots.md)")
+                        "sizes are not converged with the SPH spacing, and the gate on the verdict fails: at half "
+                        "the SPH spacing a shot at 1.1 times the 4-km/s limit holds in 3 of 4 draws "
+                        "(docs/vv/test-shots.md)")
 #: The diameters and velocities of the validation shots.
 VALIDATION_DIAMETER_CM = VALIDATION.diameter_cm
 VALIDATION_VELOCITY_KM_S = VALIDATION.velocity_km_s
