@@ -247,7 +247,7 @@ class DatabaseShotSection(Section):
     database : the test database file's name.
     line : the shot's line in that file.
     source : the publication that gives the shot.
-    shot_id : the shot's ID in that publication.
+    shot_id : the shot's identifier in that publication's table of tests, as the database lists it.
     perforated : the test's outcome: true where the rear wall was perforated or spalled (P).
     """
 
