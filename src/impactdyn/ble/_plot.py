@@ -269,15 +269,16 @@ def plot_reliability(forecasts: dict, path: str | os.PathLike, title: str | None
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(6.0, 5.6), constrained_layout=True)
     ax.plot([0, 1], [0, 1], color="0.6", lw=1, ls="--", label="reliable: observed = forecast")
-    for (name, scores), marker, offset in zip(forecasts.items(), "osD^v", (0.0, -0.012, 0.012, -0.024, 0.024)):
+    for k, ((name, scores), marker, offset) in enumerate(zip(forecasts.items(), "osD^v",
+                                                            (0.0, -0.012, 0.012, -0.024, 0.024))):
         bins = scores["reliability"]
         mean_p = np.array([b["mean_p"] for b in bins]) + offset     # side by side where bins coincide
         observed = np.array([b["observed"] for b in bins])
         low, high = (np.array([b["observed_95"][i] for b in bins]) for i in (0, 1))
         shots = np.array([b["shots"] for b in bins])
         ax.errorbar(mean_p, observed, yerr=[observed - low, high - observed], fmt="none", capsize=3, lw=1,
-                    color=f"C{list(forecasts).index(name)}")
-        ax.scatter(mean_p, observed, s=25 + 12 * shots, marker=marker, color=f"C{list(forecasts).index(name)}",
+                    color=f"C{k}")
+        ax.scatter(mean_p, observed, s=25 + 12 * shots, marker=marker, color=f"C{k}",
                    alpha=0.8, label=f"{FORECAST_LABELS.get(name, name)} (Brier {scores['brier']:.3f})", zorder=3)
         for x, y, n in zip(mean_p, observed, shots):
             ax.annotate(str(n), (x, y), textcoords="offset points", xytext=(6, -10), fontsize=7)

@@ -127,7 +127,7 @@ def wall_caution(case: WhippleCase, d: float, v: float) -> str:
 def draws_statement(draws: dict) -> str:
     """"perforation in k of N draws (P = k/N, 95 % interval lo–hi; seeds …)" of the draws stage's record."""
     low, high = draws["wilson_95"]
-    seeds = [d["seed"] for d in draws["draws"]]
+    seeds = np.array([d["seed"] for d in draws["draws"]])
     return (f"perforation in {draws['perforated']} of {draws['n_draws']} draw{'s' if draws['n_draws'] > 1 else ''} "
             f"of the fragments (P = {draws['probability']:.2f}, 95 % interval {low:.2f}–{high:.2f}; "
             f"seed{'s' if len(seeds) > 1 else ''} {', '.join(map(str, seeds))})")
@@ -338,7 +338,7 @@ def _plot_draws(path, draws: dict) -> None:
     wall's failed mass and its peak rear bulge against the draw's seed, a cross where the wall failed."""
     plt = pyplot()
     fig, axes = plt.subplots(1, 3, figsize=(11, 3.4), constrained_layout=True)
-    seeds = [d["seed"] for d in draws["draws"]]
+    seeds = np.array([d["seed"] for d in draws["draws"]])
     failed = np.array([d["perforated"] for d in draws["draws"]])
     for ax, key, label in zip(axes, ("compact_mass_g", "failed_mass_g", "peak_rear_bulge_cm"),
                               ("compact fragments' mass (g)", "wall's failed mass (g)", "peak rear bulge (cm)")):
@@ -346,8 +346,8 @@ def _plot_draws(path, draws: dict) -> None:
         for which, style in ((failed, dict(marker="X", s=70, color="tab:red", label="perforation or detached spall")),
                              (~failed, dict(marker="o", s=50, color="tab:green", label="no perforation"))):
             if which.any():      # a legend entry only for an outcome some draw had
-                ax.scatter(np.array(seeds)[which], value[which], **style)
-        ax.set(xlabel="partition seed", ylabel=label, xticks=seeds)
+                ax.scatter(seeds[which], value[which], **style)
+        ax.set(xlabel="partition seed", ylabel=label, xticks=seeds.tolist())
         ax.grid(alpha=0.3)
     axes[0].legend(fontsize=8)
     fig.suptitle(f"The fragments' draws: {draws_statement(draws)}", fontsize=9)
