@@ -188,8 +188,11 @@ def test_old_options_reproduce_the_model_before_the_floor_and_tuler_butcher():
     assert m["damaged_mass_g"] == pytest.approx(0.08480662500000002, rel=1e-12)
     assert m["failed_mass_by_cause_g"]["ductile_damage_at_floor"] == pytest.approx(0.08109000000000002, rel=1e-12)
     assert m["failed_mass_by_cause_g"]["ductile_damage"] == pytest.approx(0.003716625000000002, rel=1e-12)
-    assert m["rear_bulge_end_cm"] == pytest.approx(0.025482383095459554, rel=1e-12)
-    assert m["energy"]["internal"] == pytest.approx(1.1182219579515382e-05, rel=1e-12)
+    # the bulge and the energy as the wall's kernels compute them without fused multiply-adds (since 2026-12-05,
+    # tests/wall/test_reproducible.py); with them, these were 0.025482383095459554 cm and 1.1182219579515382e-05:
+    # this holed, eroding wall carries a round-off difference 1.4 % far in its end bulge, not in its failed masses
+    assert m["rear_bulge_end_cm"] == pytest.approx(0.02513214667413044, rel=1e-12)
+    assert m["energy"]["internal"] == pytest.approx(1.1188946221048031e-05, rel=1e-12)
 
 
 def test_a_failed_element_whose_step_collapses_leaves_the_pass_keeping_its_mass_and_momentum():

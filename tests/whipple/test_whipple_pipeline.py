@@ -696,3 +696,15 @@ def test_draws_need_the_random_partition(tmp_path, capsys, make_case):
     assert main(["whipple", "run", str(make_case(tmp_path, shield__fragment_draws=2)), "-o", str(out)]) == 2
     assert "fragment_draws = 2 needs failed_fragments = \"grady\"" in capsys.readouterr().err
     assert not out.exists()
+
+
+@pytest.mark.parametrize("threads, n_draws, schedule", [
+    (1, 7, ("serial", 1, 1)),              # a validation's shot: its one thread, the draws in turn
+    (2, 7, ("processes", 2, 1)),           # a run on two cores: two draws at a time, a thread each
+    (8, 3, ("processes", 3, 2)),           # more threads than draws: each draw gets its share
+    (2, 1, ("serial", 1, 2)),              # one further draw keeps every thread of the run
+    (4, 0, ("serial", 1, 4))])             # no further draw: nothing to share
+def test_the_further_draws_share_the_runs_threads_as_processes(threads, n_draws, schedule):
+    from impactdyn.whipple._pipeline import draw_schedule
+
+    assert draw_schedule(threads, n_draws) == schedule

@@ -111,7 +111,7 @@ def _node_gradient(A, a, n2, n3, n4, n5, n6, n8, k):
     A[(ROW_B + 16 + a) * BLOCK + k] = _fb_rows(A, 0, 1, n2, n3, n4, n5, n6, n8, k) / 12.0
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, error_model="numpy")
 def volume_gradient(A):
     """∂V/∂x_ia (rows ROW_B + 8i + a) and V (row ROW_VOL) of the bricks of the block array A (module docstring).
 
@@ -133,7 +133,7 @@ def volume_gradient(A):
         A[ROW_VOL * BLOCK + k] = s
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, error_model="numpy")
 def hourglass_shapes(A):
     """FB's hourglass shape vectors γ_αa = h_αa − (h_α·x_i) ∂V/∂x_ia / V (rows ROW_G + 8α + a) of the bricks of
     the block array A, from its rows ROW_X, ROW_B and ROW_VOL; rows ROW_TMP are work space (h_α·x, h_α·y,
@@ -177,7 +177,7 @@ def _larger(a, b):
     return a if a > b else b
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, error_model="numpy")
 def characteristic_lengths(A):
     """L_e = V/A_max (row ROW_LE, cm) of the bricks of the block array A (A_max: the largest face area;
     the faces of :data:`FACES`, written out so that the node rows are constants)."""

@@ -86,7 +86,7 @@ def _young(lam, mu):
 # a plain call from the parallel element pass, once per block (not inlined: inlined, its tuple arithmetic
 # upset numba's parfor analysis).  The loops over the block's bricks are innermost, branch-free (selects, no min/max calls)
 # and read and write one flat array: they vectorise (3x faster than brick by brick on AVX2).
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, error_model="numpy")
 def assumed_strain_forces(H, dt, lam, shear):
     """The assumed-strain hourglass forces Q_α of the bricks of a block after ``dt``.
 

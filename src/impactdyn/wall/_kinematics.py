@@ -21,7 +21,7 @@ from numba import njit
 from impactdyn.wall._blocks import R_B, R_G, R_J, R_LB, R_LM, R_QD, R_V, R_VOL, block_vector
 from impactdyn.wall._hex import BLOCK, ETA, XI, ZETA
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, error_model="numpy")
 def midstep_gradients(A, h):
     """L = G (I − h G)⁻¹ (rows R_LM + 3i + j): the midstep velocity gradient of the uniform motion of the
     bricks of the block array A (h = ½Δt).
@@ -51,7 +51,7 @@ def midstep_gradients(A, h):
             A[(R_LM + 3 * i + 2) * BLOCK + k] = (g0 * c02 + g1 * c12 + g2 * c22) * r
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, error_model="numpy")
 def reciprocal_vectors(A):
     """∇ξ_m = Σ_I ξ_mI B_iI / V (rows R_J + 3m + i) of the bricks of the block array A
     (ξ_m = ξ, η, ζ at the corners).
@@ -69,7 +69,7 @@ def reciprocal_vectors(A):
                 A[(R_J + 3 * m + i) * BLOCK + k] = s / A[R_VOL * BLOCK + k]
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, error_model="numpy")
 def velocity_gradients(A):
     """The velocity gradient G_ij = Σ_I v_iI b_jI (rows R_LB + 3i + j) in the end configuration and the
     hourglass velocities q̇_αi = Σ_I γ_αI v_iI (rows R_QD + 3α + i) of the bricks of the block array A."""

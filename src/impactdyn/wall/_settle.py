@@ -47,11 +47,12 @@ import math
 from collections.abc import Callable
 from typing import Any
 
+import numpy as np
 from numba import njit, prange
 
 from impactdyn.wall._diagnostics import nodal_energy
 from impactdyn.wall._options import WallSolverError
-from impactdyn.wall._step import DT_NEXT, nodal_force
+from impactdyn.wall._step import DT_NEXT, NODE_BLOCK, nodal_force, node_blocks, ordered_sum
 from impactdyn.wall._verdict import WALL
 
 #: The largest Courant factor of the damping steps (module docstring): central differences
@@ -178,12 +179,20 @@ def force_balance(nodes, elements):
     # fields as local arrays before the parallel loops (:func:`._step._element_pass`)
     free, category = nodes.free, nodes.category
     F_flat, ptr, entry = elements.F_flat, elements.node_ptr, elements.node_entry
-    residual = 0.0
-    for n in prange(free.shape[0]):
-        if category[n] == 0:
-            f0, f1, f2 = nodal_force(F_flat, ptr, entry, n)
-            residual += free[n, 0] * f0 * f0 + free[n, 1] * f1 * f1 + free[n, 2] * f2 * f2
-    corners = 0.0
-    for j in prange(F_flat.shape[0]):
-        corners += F_flat[j, 0] ** 2 + F_flat[j, 1] ** 2 + F_flat[j, 2] ** 2
-    return residual, corners
+    # summed by blocks in a fixed order, the same whatever the thread count (:data:`._step.NODE_BLOCK`)
+    n_nodes, n_corners = free.shape[0], F_flat.shape[0]
+    residual = np.zeros(node_blocks(n_nodes))
+    for blk in prange(residual.size):
+        block = 0.0
+        for n in range(blk * NODE_BLOCK, min(n_nodes, (blk + 1) * NODE_BLOCK)):
+            if category[n] == 0:
+                f0, f1, f2 = nodal_force(F_flat, ptr, entry, n)
+                block += free[n, 0] * f0 * f0 + free[n, 1] * f1 * f1 + free[n, 2] * f2 * f2
+        residual[blk] = block
+    corners = np.zeros(node_blocks(n_corners))
+    for blk in prange(corners.size):
+        block = 0.0
+        for j in range(blk * NODE_BLOCK, min(n_corners, (blk + 1) * NODE_BLOCK)):
+            block += F_flat[j, 0] ** 2 + F_flat[j, 1] ** 2 + F_flat[j, 2] ** 2
+        corners[blk] = block
+    return ordered_sum(residual), ordered_sum(corners)

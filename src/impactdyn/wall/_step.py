@@ -123,7 +123,7 @@ def _erase(F, es, Shg, e):
     es[e, P1_HG] = 0.0
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, error_model="numpy")
 def nodal_forces(A):
     """The nodal forces (rows R_F + 8i + a) of the bricks of the block array A (module docstring)::
 
@@ -161,7 +161,7 @@ def _hourglass_sum(A, i, k, g0, g1, g2, g3):
             + A[(R_QN + 6 + i) * BLOCK + k] * g2 + A[(R_QN + 9 + i) * BLOCK + k] * g3)
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, error_model="numpy")
 def stable_steps(A, q1, q2):
     """The stable step of the bricks of the block array A (row R_DTE; Hallquist, module docstring)::
 
@@ -391,35 +391,63 @@ def nodal_force(F_flat, ptr, entry, n):
     return f0, f1, f2
 
 
+#: Nodes one parallel iteration of a pass over the nodes takes, in order (:func:`node_pass`,
+#: :func:`._diagnostics.nodal_energy`): a sum over the nodes is the ordered sum of the blocks' ordered
+#: partial sums, the same whatever the thread count (a prange reduction adds each thread's share, and
+#: the shares move with the threads), so a run's numbers do not depend on the cores it ran on.
+NODE_BLOCK = 4096
+
+
+@njit(cache=True)
+def node_blocks(n_nodes):
+    """The number of blocks of :data:`NODE_BLOCK` nodes that cover ``n_nodes``."""
+    return (n_nodes + NODE_BLOCK - 1) // NODE_BLOCK
+
+
+@njit(cache=True)
+def ordered_sum(values):
+    """Σ values, added first to last (:data:`NODE_BLOCK`)."""
+    total = 0.0
+    for value in values:
+        total += value
+    return total
+
+
 @njit(parallel=True, cache=True)
 def node_pass(nodes, elements, has_ext, dt_full, dt_next):
     """Gather the nodal forces, kick and drift every node (module docstring).
 
     The impulses nodes.pext are read only when ``has_ext``.  Returns (work of the impulses
-    Σ I·½(v^{n−½} + v^{n+½}), largest rear-face v_y).
+    Σ I·½(v^{n−½} + v^{n+½}), summed by blocks of :data:`NODE_BLOCK`; largest rear-face v_y).
     """
     # fields as local arrays before the parallel loop (:func:`_element_pass`)
     x, v, mass, free, pext, rear = nodes.x, nodes.v, nodes.mass, nodes.free, nodes.pext, nodes.rear
     F_flat, ptr, entry = elements.F_flat, elements.node_ptr, elements.node_entry
-    work = 0.0
-    vrear = -np.inf
-    for n in prange(x.shape[0]):
-        f0, f1, f2 = nodal_force(F_flat, ptr, entry, n)
-        m = mass[n]
-        for d in range(3):
-            f = f0 if d == 0 else (f1 if d == 1 else f2)
-            vo = v[n, d]
-            dv = -dt_full * f
-            if has_ext:
-                dv += pext[n, d]
-            vn = vo + free[n, d] * dv / m
-            if has_ext:
-                work += pext[n, d] * 0.5 * (vo + vn)
-            v[n, d] = vn
-            x[n, d] += dt_next * vn
-        if rear[n]:
-            vrear = max(vrear, v[n, 1])
-    return work, vrear
+    n_nodes = x.shape[0]
+    work = np.zeros(node_blocks(n_nodes))
+    vrear = np.full(work.size, -np.inf)
+    for blk in prange(work.size):
+        block_work = 0.0
+        block_vrear = -np.inf
+        for n in range(blk * NODE_BLOCK, min(n_nodes, (blk + 1) * NODE_BLOCK)):
+            f0, f1, f2 = nodal_force(F_flat, ptr, entry, n)
+            m = mass[n]
+            for d in range(3):
+                f = f0 if d == 0 else (f1 if d == 1 else f2)
+                vo = v[n, d]
+                dv = -dt_full * f
+                if has_ext:
+                    dv += pext[n, d]
+                vn = vo + free[n, d] * dv / m
+                if has_ext:
+                    block_work += pext[n, d] * 0.5 * (vo + vn)
+                v[n, d] = vn
+                x[n, d] += dt_next * vn
+            if rear[n]:
+                block_vrear = max(block_vrear, v[n, 1])
+        work[blk] = block_work
+        vrear[blk] = block_vrear
+    return ordered_sum(work), vrear.max()
 
 
 @njit(cache=True)
@@ -513,9 +541,11 @@ def step_kernels(update) -> StepKernels:
     :func:`impactdyn.wall._johnson_cook.jc_kernel`).
     """
     cache = in_package(update.py_func.__code__.co_filename) and getattr(update, "cacheable", True)
-    # fastmath 'contract' only: fused multiply-adds (5 % faster), no change to NaN/inf semantics
+    # no fused multiply-adds (fastmath 'contract'): with them the kernels compiled in a process and the same
+    # kernels loaded from numba's cache fused differently, and a run's numbers moved with the cache's state
+    # (tests/wall/test_reproducible.py; benchmarks/BENCHMARKS.md, "Reproducible bit for bit")
     name = f"{update.py_func.__module__}.{update.py_func.__qualname__}"
-    element_pass = njit(parallel=True, cache=cache, fastmath={"contract"}, error_model="numpy")(
+    element_pass = njit(parallel=True, cache=cache, error_model="numpy")(
         bind_globals(_element_pass, name, material_update=update))
     advance = njit(cache=cache)(bind_globals(_advance, name, _element_pass=element_pass))
     return StepKernels(element_pass, advance)

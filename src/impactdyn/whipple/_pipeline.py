@@ -50,7 +50,7 @@ from __future__ import annotations
 import json
 import shutil
 import time
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -241,36 +241,74 @@ def _wall(s: StageContext) -> dict:
 def _draws(s: StageContext) -> dict:
     """The partition's draws (``[shield] fragment_draws``): the run's own wall is the first draw; each further
     seed draws the fragments again from the same SPH state and runs the binning, the debris and the wall
-    into ``draws/seed<k>/``, which keeps what a lean shot of a family keeps (stage records, the wall's
-    measures, plots: :func:`impactdyn.whipple._stages.prune_run`).  The record: each draw's seed and verdict,
-    the perforations k of N (:data:`FAILED_VERDICTS`) and P = k/N with its Wilson 95 % interval."""
+    into ``draws/seed<k>/`` (:func:`_run_draw`), which keeps what a lean shot of a family keeps (stage records,
+    the wall's measures, plots: :func:`impactdyn.whipple._stages.prune_run`).  The further draws share the
+    numba threads this run holds as processes of one thread each (:func:`draw_schedule`): a draw's kernels
+    use two threads at about 1.5 times one, so processes finish a set of draws sooner.  The record: each
+    draw's seed and verdict, the perforations k of N (:data:`FAILED_VERDICTS`) and P = k/N with its Wilson
+    95 % interval."""
+    import numba
+
+    from impactdyn._sweep import run_all
     from impactdyn.ble import Proportion
-    from impactdyn.shield import read_particles
-    from impactdyn.whipple._case import shield_problem
 
     seeds = s.case.fragment_options.seeds
-    outcomes = [_draw_outcome(s.folder.path)]
-    if len(seeds) > 1:
-        particles, _ = read_particles(s.folder.path / "shield" / "particles.h5")
-        problem = shield_problem(s.case)[0]
-    for done, seed in enumerate(seeds[1:], start=1):
-        s.report("draws", done, len(seeds))
-        case = s.case.model_copy(update={"shield": s.case.shield.model_copy(update={"fragment_seed": seed}),
-                                         "output": s.case.output.model_copy(update=LEAN_OUTPUT)})
-        draw = StageContext(case, s.folder.sub(f"draws/seed{seed}"), None, "lean")
-        shield = draw.folder.sub("shield")
-        shield.write_json("stage.json", {"stage": "shield", "fragment_seed": seed}
-                          | _write_fragments(case, shield, particles, problem))
-        # the later stages read the SPH state from their run folder's shield/: the run's own, not a copy
-        (shield.path / "particles.h5").symlink_to(s.folder.path / "shield" / "particles.h5")
-        for stage in ("binning", "debris", "wall"):
-            draw.folder.sub(stage).write_json("stage.json", {"stage": stage} | _RUN[stage](draw))
-        prune_run(draw.folder.path)
-        outcomes.append(_draw_outcome(draw.folder.path))
-    s.report("draws", len(seeds), len(seeds))
+    scheduler, workers, threads = draw_schedule(numba.get_num_threads(), len(seeds) - 1)
+    tasks = [Draw(s.case.model_copy(update={
+        "shield": s.case.shield.model_copy(update={"fragment_seed": seed}),
+        "output": s.case.output.model_copy(update=LEAN_OUTPUT)}), s.folder.path, threads) for seed in seeds[1:]]
+    done = iter(range(2, len(seeds) + 1))   # the run's own wall is the first draw
+    s.report("draws", 1, len(seeds))
+    further = run_all(_run_draw, tasks, scheduler=scheduler, workers=workers,
+                      on_result=lambda *_: s.report("draws", next(done), len(seeds)))
+    outcomes = [_draw_outcome(s.folder.path)] + further
     p = Proportion.of_counts(sum(o["perforated"] for o in outcomes), len(outcomes))
     return {"n_draws": len(seeds), "draws": [{"seed": seed} | o for seed, o in zip(seeds, outcomes)],
             "perforated": p.count, "probability": p.rate, "wilson_95": [p.low, p.high]}
+
+
+def draw_schedule(threads: int, n_draws: int) -> tuple[str, int, int]:
+    """How ``n_draws`` further draws share a run's ``threads``: (scheduler, workers, threads per draw).  One
+    thread, or one draw, runs them here in turn on every thread; more run as up to ``threads`` processes,
+    the threads shared among them."""
+    workers = max(1, min(threads, n_draws))
+    if workers == 1:
+        return "serial", 1, max(1, threads)
+    return "processes", workers, max(1, threads // workers)
+
+
+@dataclass(frozen=True)
+class Draw:
+    """One further draw of the fragments' partition: its case (the seed in ``shield.fragment_seed``), the run's
+    staging folder (whose ``shield/particles.h5`` holds the SPH state) and the numba threads it may use."""
+
+    case: WhippleCase
+    run: Path
+    threads: int
+
+
+def _run_draw(draw: Draw) -> dict:
+    """Run one draw into ``draws/seed<k>/`` of its run folder, in this process or a pool's worker: the fragments
+    drawn with its seed from the run's SPH state, then the binning, the debris and the wall; returns its
+    outcome (:func:`_draw_outcome`)."""
+    import numba
+
+    from impactdyn.shield import read_particles
+    from impactdyn.whipple._case import shield_problem
+
+    numba.set_num_threads(max(1, min(draw.threads, numba.config.NUMBA_NUM_THREADS)))
+    seed = draw.case.shield.fragment_seed
+    particles, _ = read_particles(draw.run / "shield" / "particles.h5")
+    context = StageContext(draw.case, FolderWriter(draw.run).sub(f"draws/seed{seed}"), None, "lean")
+    shield = context.folder.sub("shield")
+    shield.write_json("stage.json", {"stage": "shield", "fragment_seed": seed}
+                      | _write_fragments(draw.case, shield, particles, shield_problem(draw.case)[0]))
+    # the later stages read the SPH state from their run folder's shield/: the run's own, not a copy
+    (shield.path / "particles.h5").symlink_to(draw.run / "shield" / "particles.h5")
+    for stage in ("binning", "debris", "wall"):
+        context.folder.sub(stage).write_json("stage.json", {"stage": stage} | _RUN[stage](context))
+    prune_run(context.folder.path)
+    return _draw_outcome(context.folder.path)
 
 
 def _draw_outcome(folder: Path) -> dict:
