@@ -676,6 +676,7 @@ def test_draws_run_the_sph_once_and_each_draw_as_a_run_with_its_seed(tmp_path, m
         assert {k: v for k, v in a.items() if k not in ("wall_time_s", "settings", "timings_s")} == \
             {k: v for k, v in b.items() if k not in ("wall_time_s", "settings", "stage", "timings_s")} | {"stage": stage}
     assert not list((out / "draws").rglob("*.h5"))      # the draws keep what a lean shot keeps
+    assert not list((out / "draws").rglob("*.png"))     # and draw no figures: the report draws them all in one
 
 
 @pytest.mark.parametrize("draws, message", [("0", "shield.fragment_draws: must be greater than or equal to 1"),
@@ -708,3 +709,10 @@ def test_the_further_draws_share_the_runs_threads_as_processes(threads, n_draws,
     from impactdyn.whipple._pipeline import draw_schedule
 
     assert draw_schedule(threads, n_draws) == schedule
+
+
+def test_plots_switched_off_draw_neither_the_debris_nor_the_wall_and_the_report_says_so(tmp_path, make_case):
+    out = tmp_path / "run"
+    assert main(["whipple", "run", str(make_case(tmp_path, output__plots=False)), "-o", str(out)]) == 0
+    assert not list((out / "debris").rglob("*.png")) and not list((out / "wall").rglob("*.png"))
+    assert "wall_front.png was not drawn (plots switched off)" in (out / "report.html").read_text()

@@ -253,7 +253,7 @@ class OutputSection(Section):
     dyna3d_deck : ``wall_dyna3d.inp``, the legacy DYNA3D deck as DYNGEN wrote it, with DCPOST's
         impulse per element (summed, at t = 0).
     plots : the PNG figures (DCMPLT's contour map of the areal density, the cloud at hand-off and
-        at arrival).
+        at arrival; in a Whipple run also the wall's front, rear and history).
     max_vtk_particles : a particle VTU file is written only if it holds at most this many
         particles (the hand-off file counts the seeded ones, the arrival file the carried ones).
     """

@@ -57,23 +57,25 @@ SERIES = ("all", "lean", "none")
 
 
 def write_wall_outputs(result: WallResult, folder: str | os.PathLike, plots: str | os.PathLike | None = None,
-                       series: str = "all") -> dict[str, Path]:
+                       series: str = "all", figures: bool = True) -> dict[str, Path]:
     """Write the files of the module docstring; returns them by kind (pvd, json, front, rear, history).
 
-    ``series``: the ParaView series' frames, "all", "lean" or "none" (module docstring)."""
+    ``series``: the ParaView series' frames, "all", "lean" or "none" (module docstring); ``figures``: whether
+    to draw the three figures into ``plots`` (default ``folder/plots``)."""
     if series not in SERIES:
         raise ValueError(f"series = {series!r}: choose one of {', '.join(SERIES)}")
     folder = Path(folder)
-    plots = Path(plots) if plots is not None else folder / "plots"
     folder.mkdir(parents=True, exist_ok=True)
-    plots.mkdir(parents=True, exist_ok=True)
     files: dict[str, Path] = {}
     if series != "none":
         files["pvd"] = write_time_series(result, folder, lean=series == "lean")
     files["json"] = write_measures(result, folder / "wall.json")
-    files["front"] = plot_surface(result, "front", plots / "wall_front.png")
-    files["rear"] = plot_surface(result, "rear", plots / "wall_rear.png")
-    files["history"] = plot_history(result, plots / "wall_history.png")
+    if figures:
+        plots = Path(plots) if plots is not None else folder / "plots"
+        plots.mkdir(parents=True, exist_ok=True)
+        files["front"] = plot_surface(result, "front", plots / "wall_front.png")
+        files["rear"] = plot_surface(result, "rear", plots / "wall_rear.png")
+        files["history"] = plot_history(result, plots / "wall_history.png")
     return files
 
 

@@ -233,7 +233,7 @@ def _wall(s: StageContext) -> dict:
                       settle_progress=lambda done, total: s.report("settle", done, total))
     out = s.folder.sub("wall")
     series = s.keep if s.case.output.vtk else "none"   # the series is named as keep is: "lean" or "all"
-    files = write_wall_outputs(result, out.path, plots=out.path / "plots", series=series)
+    files = write_wall_outputs(result, out.path, plots=out.path / "plots", series=series, figures=s.case.output.plots)
     s.report("wall", 1, 1)
     return result.summary() | {"files": sorted(f"wall/{p.relative_to(out.path).as_posix()}" for p in files.values())}
 
@@ -242,7 +242,8 @@ def _draws(s: StageContext) -> dict:
     """The partition's draws (``[shield] fragment_draws``): the run's own wall is the first draw; each further
     seed draws the fragments again from the same SPH state and runs the binning, the debris and the wall
     into ``draws/seed<k>/`` (:func:`_run_draw`), which keeps what a lean shot of a family keeps (stage records,
-    the wall's measures, plots: :func:`impactdyn.whipple._stages.prune_run`).  The further draws share the
+    the wall's measures: :func:`impactdyn.whipple._stages.prune_run`) but draws no figures (:data:`DRAW_OUTPUT`).
+    The further draws share the
     numba threads this run holds as processes of one thread each (:func:`draw_schedule`): a draw's kernels
     use two threads at about 1.5 times one, so processes finish a set of draws sooner.  The record: each
     draw's seed and verdict, the perforations k of N (:data:`FAILED_VERDICTS`) and P = k/N with its Wilson
@@ -256,7 +257,8 @@ def _draws(s: StageContext) -> dict:
     scheduler, workers, threads = draw_schedule(numba.get_num_threads(), len(seeds) - 1)
     tasks = [Draw(s.case.model_copy(update={
         "shield": s.case.shield.model_copy(update={"fragment_seed": seed}),
-        "output": s.case.output.model_copy(update=LEAN_OUTPUT)}), s.folder.path, threads) for seed in seeds[1:]]
+        "output": s.case.output.model_copy(update=LEAN_OUTPUT | DRAW_OUTPUT)}), s.folder.path, threads)
+        for seed in seeds[1:]]
     done = iter(range(2, len(seeds) + 1))   # the run's own wall is the first draw
     s.report("draws", 1, len(seeds))
     further = run_all(_run_draw, tasks, scheduler=scheduler, workers=workers,
@@ -265,6 +267,11 @@ def _draws(s: StageContext) -> dict:
     p = Proportion.of_counts(sum(o["perforated"] for o in outcomes), len(outcomes))
     return {"n_draws": len(seeds), "draws": [{"seed": seed} | o for seed, o in zip(seeds, outcomes)],
             "perforated": p.count, "probability": p.rate, "wilson_95": [p.low, p.high]}
+
+
+#: The case's ``[output]`` settings of a further draw besides :data:`LEAN_OUTPUT`: no figures (the debris's and
+#: the wall's five PNGs, 4.6 s of a 32-s draw on Table 2's 7a); the report draws every draw's measures in one.
+DRAW_OUTPUT = {"plots": False}
 
 
 def draw_schedule(threads: int, n_draws: int) -> tuple[str, int, int]:
