@@ -243,11 +243,10 @@ def _draws(s: StageContext) -> dict:
     seed draws the fragments again from the same SPH state and runs the binning, the debris and the wall
     into ``draws/seed<k>/`` (:func:`_run_draw`), which keeps what a lean shot of a family keeps (stage records,
     the wall's measures: :func:`impactdyn.whipple._stages.prune_run`) but draws no figures (:data:`DRAW_OUTPUT`).
-    The further draws share the
-    numba threads this run holds as processes of one thread each (:func:`draw_schedule`): a draw's kernels
-    use two threads at about 1.5 times one, so processes finish a set of draws sooner.  The record: each
-    draw's seed and verdict, the perforations k of N (:data:`FAILED_VERDICTS`) and P = k/N with its Wilson
-    95 % interval."""
+    The further draws share the numba threads this run holds as processes of one thread each
+    (:func:`draw_schedule`): a draw's kernels use two threads at about 1.5 times one, so processes finish a
+    set of draws sooner.  The record: each draw's seed and verdict, the perforations k of N
+    (:data:`FAILED_VERDICTS`) and P = k/N with its Wilson 95 % interval."""
     import numba
 
     from impactdyn._sweep import run_all
@@ -298,12 +297,11 @@ def _run_draw(draw: Draw) -> dict:
     """Run one draw into ``draws/seed<k>/`` of its run folder, in this process or a pool's worker: the fragments
     drawn with its seed from the run's SPH state, then the binning, the debris and the wall; returns its
     outcome (:func:`_draw_outcome`)."""
-    import numba
-
     from impactdyn.shield import read_particles
     from impactdyn.whipple._case import shield_problem
+    from impactdyn.whipple._shots import hold_threads
 
-    numba.set_num_threads(max(1, min(draw.threads, numba.config.NUMBA_NUM_THREADS)))
+    hold_threads(draw.threads)
     seed = draw.case.shield.fragment_seed
     particles, _ = read_particles(draw.run / "shield" / "particles.h5")
     context = StageContext(draw.case, FolderWriter(draw.run).sub(f"draws/seed{seed}"), None, "lean")
