@@ -46,6 +46,13 @@ def run_tasks(fn: Callable[[Any], Any], tasks: Sequence[Any], *, scheduler: Sche
         raise ValueError(f"unknown scheduler {scheduler!r}")
 
 
+def hold_threads(threads: int) -> None:
+    """Let this process's numba kernels use ``threads`` threads (at least one, at most numba's pool)."""
+    import numba
+
+    numba.set_num_threads(max(1, min(threads, numba.config.NUMBA_NUM_THREADS)))
+
+
 #: Seconds a terminated worker is given to end before it is killed.
 STOP_GRACE_S = 5.0
 

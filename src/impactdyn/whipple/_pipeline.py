@@ -297,9 +297,9 @@ def _run_draw(draw: Draw) -> dict:
     """Run one draw into ``draws/seed<k>/`` of its run folder, in this process or a pool's worker: the fragments
     drawn with its seed from the run's SPH state, then the binning, the debris and the wall; returns its
     outcome (:func:`_draw_outcome`)."""
+    from impactdyn._parallel import hold_threads
     from impactdyn.shield import read_particles
     from impactdyn.whipple._case import shield_problem
-    from impactdyn.whipple._shots import hold_threads
 
     hold_threads(draw.threads)
     seed = draw.case.shield.fragment_seed

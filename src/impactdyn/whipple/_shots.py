@@ -66,13 +66,6 @@ def threads_per_shot(n_workers: int) -> int:
     return max(1, (os.cpu_count() or 1) // max(1, n_workers))
 
 
-def hold_threads(threads: int) -> None:
-    """Let this process's numba kernels use ``threads`` threads (at least one, at most numba's pool)."""
-    import numba
-
-    numba.set_num_threads(max(1, min(threads, numba.config.NUMBA_NUM_THREADS)))
-
-
 def shot_tasks(cases: list, folders: list[Path], scheduler: str, workers: int | None, keep_all: bool) -> list[Shot]:
     """The :class:`Shot` of each case into its folder, the cores shared among the shots run at once."""
     threads = threads_per_shot(shot_workers(scheduler, workers, len(cases)))
@@ -81,6 +74,7 @@ def shot_tasks(cases: list, folders: list[Path], scheduler: str, workers: int | 
 
 def run_shot(shot: Shot) -> dict:
     """Run the shot's pipeline into its folder (lean unless ``keep_all``); returns its summary."""
+    from impactdyn._parallel import hold_threads
     from impactdyn.whipple._pipeline import run_whipple
 
     hold_threads(shot.threads)
