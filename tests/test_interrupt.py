@@ -12,7 +12,7 @@ import pytest
 
 from impactdyn._errors import InputError, Interrupted
 from impactdyn._family import FamilyFolder
-from impactdyn._parallel import run_tasks
+from impactdyn._parallel import run_tasks, tasks_started
 
 EXAMPLES = Path(__file__).parents[1] / "examples"
 #: Seconds the contract allows from the interrupt to the exit.
@@ -59,6 +59,23 @@ def test_leaving_the_loop_ends_the_pool_workers_at_once():
     finished = run_tasks(time.sleep, [0.0, 60.0, 60.0, 60.0], scheduler="processes", workers=2)
     assert next(finished) == (0, None)
     finished.close()
+    assert time.monotonic() - start < 30.0
+    assert multiprocessing.active_children() == []
+
+
+def test_started_tasks_run_while_the_caller_works_and_stop_when_it_fails():
+    """``tasks_started`` hands the tasks to the pool as the block opens: they run while the caller does its
+    own work (two 2-s sleeps end 2 s after the caller's own 2 s, not 4 s), and an exception in the block
+    ends the running ones at once and leaves no worker behind."""
+    start = time.monotonic()
+    with tasks_started(time.sleep, [2.0, 2.0], scheduler="processes", workers=2) as finished:
+        time.sleep(2.0)
+        assert sorted(i for i, _ in finished) == [0, 1]
+    assert time.monotonic() - start < 3.9
+    start = time.monotonic()
+    with pytest.raises(RuntimeError, match="the caller's own work failed"):
+        with tasks_started(time.sleep, [60.0, 60.0], scheduler="processes", workers=2):
+            raise RuntimeError("the caller's own work failed")
     assert time.monotonic() - start < 30.0
     assert multiprocessing.active_children() == []
 

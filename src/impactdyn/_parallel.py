@@ -2,7 +2,8 @@
 
 Beam sweeps, DC3D particle chunks and ballistic-limit campaigns are lists of
 independent tasks.  :func:`run_tasks` runs them and yields ``(index, result)`` as
-they finish, so callers can draw progress and keep results in order.
+they finish, so callers can draw progress and keep results in order; :func:`tasks_started`
+hands them to the pool at once and collects them later, so the caller can work beside them.
 
 When the caller stops early (Ctrl-C, SIGTERM, a task's exception, or the caller leaving the
 loop) the queued tasks are cancelled and the running ones stopped before the exception
@@ -17,6 +18,7 @@ import logging
 import multiprocessing
 import os
 from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from typing import Any, Literal
 
@@ -35,13 +37,24 @@ def run_tasks(fn: Callable[[Any], Any], tasks: Sequence[Any], *, scheduler: Sche
     scheduler, or None / ``"local"`` for a LocalCluster of ``workers`` processes.
     ``fn`` must be importable by name (a module-level function) for the pools.
     """
+    with tasks_started(fn, tasks, scheduler=scheduler, workers=workers, address=address) as finished:
+        yield from finished
+
+
+@contextmanager
+def tasks_started(fn: Callable[[Any], Any], tasks: Sequence[Any], *, scheduler: Scheduler = "processes",
+                  workers: int | None = None, address: str | None = None) -> Iterator[Iterator[tuple[int, Any]]]:
+    """:func:`run_tasks`'s tasks handed to the pool or cluster on entering the block, so that this process
+    can work beside them; the block gets the ``(i, result)`` iterator that collects them (``serial`` tasks run
+    as it is read).  Leaving the block before the last result (an exception, Ctrl-C) stops the tasks."""
     if scheduler == "serial":
-        for i, task in enumerate(tasks):
-            yield i, fn(task)
+        yield ((i, fn(task)) for i, task in enumerate(tasks))
     elif scheduler == "processes":
-        yield from _on_processes(fn, tasks, workers)
+        with _on_processes(fn, tasks, workers) as finished:
+            yield finished
     elif scheduler == "dask":
-        yield from _on_dask(fn, tasks, workers, address)
+        with _on_dask(fn, tasks, workers, address) as finished:
+            yield finished
     else:
         raise ValueError(f"unknown scheduler {scheduler!r}")
 
@@ -57,18 +70,22 @@ def hold_threads(threads: int) -> None:
 STOP_GRACE_S = 5.0
 
 
-def _on_processes(fn, tasks, workers) -> Iterator[tuple[int, Any]]:
+@contextmanager
+def _on_processes(fn, tasks, workers) -> Iterator[Iterator[tuple[int, Any]]]:
     # spawn, not fork: a process that has run numba's OpenMP kernels cannot fork safely
     pool = ProcessPoolExecutor(max_workers=workers or os.cpu_count(), initializer=ignore_interrupts,
                                mp_context=multiprocessing.get_context("spawn"))
-    finished = False
-    try:
-        futures = {pool.submit(fn, t): i for i, t in enumerate(tasks)}
+    collected = []
+
+    def finished(futures):
         for fut in as_completed(futures):
             yield futures[fut], fut.result()
-        finished = True
+        collected.append(True)
+
+    try:
+        yield finished({pool.submit(fn, t): i for i, t in enumerate(tasks)})
     finally:
-        if finished:
+        if collected:
             pool.shutdown(wait=True)
         else:
             with shielded():
@@ -97,7 +114,8 @@ def _stop_pool(pool: ProcessPoolExecutor) -> None:
         manager.join(STOP_GRACE_S)
 
 
-def _on_dask(fn, tasks, workers, address) -> Iterator[tuple[int, Any]]:
+@contextmanager
+def _on_dask(fn, tasks, workers, address) -> Iterator[Iterator[tuple[int, Any]]]:
     from dask.distributed import Client, LocalCluster
     from dask.distributed import as_completed as dask_completed
 
@@ -113,14 +131,20 @@ def _on_dask(fn, tasks, workers, address) -> Iterator[tuple[int, Any]]:
             if cluster is not None:  # our workers leave Ctrl-C to us, as the local pool's do
                 client.run(ignore_interrupts)
             futures = {client.submit(fn, t, pure=False): i for i, t in enumerate(tasks)}
-            try:
+            collected = []
+
+            def finished():
                 for fut in dask_completed(futures):
                     yield futures[fut], fut.result()
-            except BaseException:
-                # on a cluster that is not ours, cancelling is all we may do to its workers
-                with shielded():
-                    client.cancel(list(futures), force=True)
-                raise
+                collected.append(True)
+
+            try:
+                yield finished()
+            finally:
+                if not collected:
+                    # on a cluster that is not ours, cancelling is all we may do to its workers
+                    with shielded():
+                        client.cancel(list(futures), force=True)
     finally:
         if cluster is not None:
             with shielded():

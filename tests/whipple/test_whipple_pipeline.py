@@ -679,6 +679,28 @@ def test_draws_run_the_sph_once_and_each_draw_as_a_run_with_its_seed(tmp_path, m
     assert not list((out / "draws").rglob("*.png"))     # and draw no figures: the report draws them all in one
 
 
+def test_a_run_whose_own_wall_fails_stops_the_draws_running_beside_it(tmp_path, make_case, monkeypatch):
+    """The further draws start before the run's own binning and run beside its chain: an error there (here the
+    wall stage's) stops them, leaves no worker process and writes no run folder."""
+    import multiprocessing
+
+    from impactdyn.whipple import _pipeline
+
+    def failing_wall(s):
+        raise InputError("the run's own wall failed")
+
+    monkeypatch.setattr(_pipeline, "_RUN", _pipeline._RUN | {"wall": failing_wall})
+    monkeypatch.setattr(_pipeline, "draw_schedule", lambda threads, n_draws: ("processes", 2, 1))  # on any machine
+    keys = dict(shield__failure_model="fragmentation", shield__spacing_cm=0.05, shield__handoff_us=3.0,
+                projectile__velocity_km_s=2.0, wall_solver__max_time_us=30.0, shield__failed_fragments="grady",
+                filter__t_cut_us=12.0, shield__fragment_draws=4)
+    out = tmp_path / "run"
+    with pytest.raises(InputError, match="the run's own wall failed"):
+        run_whipple(load_whipple_case(make_case(tmp_path, **keys)), out)
+    assert multiprocessing.active_children() == []
+    assert not out.exists() and not list(tmp_path.glob(".run.*"))
+
+
 @pytest.mark.parametrize("draws, message", [("0", "shield.fragment_draws: must be greater than or equal to 1"),
                                             ("-2", "shield.fragment_draws: must be greater than or equal to 1"),
                                             ("65", "shield.fragment_draws: must be less than or equal to 64"),
@@ -702,8 +724,8 @@ def test_draws_need_the_random_partition(tmp_path, capsys, make_case):
 @pytest.mark.parametrize("threads, n_draws, schedule", [
     (1, 7, ("serial", 1, 1)),              # a validation's shot: its one thread, the draws in turn
     (2, 7, ("processes", 2, 1)),           # a run on two cores: two draws at a time, a thread each
-    (8, 3, ("processes", 3, 2)),           # more threads than draws: each draw gets its share
-    (2, 1, ("serial", 1, 2)),              # one further draw keeps every thread of the run
+    (8, 3, ("processes", 3, 2)),           # more threads than draws: each draw gets its share of seven
+    (2, 1, ("processes", 1, 1)),           # one further draw beside the run's own chain, a thread each
     (4, 0, ("serial", 1, 4))])             # no further draw: nothing to share
 def test_the_further_draws_share_the_runs_threads_as_processes(threads, n_draws, schedule):
     from impactdyn.whipple._pipeline import draw_schedule

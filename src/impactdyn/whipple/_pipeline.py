@@ -50,6 +50,8 @@ from __future__ import annotations
 import json
 import shutil
 import time
+from collections.abc import Iterator
+from contextlib import ExitStack, contextmanager
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -243,25 +245,17 @@ def _draws(s: StageContext) -> dict:
     seed draws the fragments again from the same SPH state and runs the binning, the debris and the wall
     into ``draws/seed<k>/`` (:func:`_run_draw`), which keeps what a lean shot of a family keeps (stage records,
     the wall's measures: :func:`impactdyn.whipple._stages.prune_run`) but draws no figures (:data:`DRAW_OUTPUT`).
-    The further draws share the numba threads this run holds as processes of one thread each
-    (:func:`draw_schedule`): a draw's kernels use two threads at about 1.5 times one, so processes finish a
-    set of draws sooner.  The record: each draw's seed and verdict, the perforations k of N
-    (:data:`FAILED_VERDICTS`) and P = k/N with its Wilson 95 % interval."""
-    import numba
-
-    from impactdyn._sweep import run_all
+    The further draws were started before the run's own binning (:func:`further_draws`); this stage collects
+    them, so its ``wall_time_s`` is what they took beyond the run's own chain.  The record: each draw's seed and
+    verdict, the perforations k of N (:data:`FAILED_VERDICTS`) and P = k/N with its Wilson 95 % interval."""
     from impactdyn.ble import Proportion
 
     seeds = s.case.fragment_options.seeds
-    scheduler, workers, threads = draw_schedule(numba.get_num_threads(), len(seeds) - 1)
-    tasks = [Draw(s.case.model_copy(update={
-        "shield": s.case.shield.model_copy(update={"fragment_seed": seed}),
-        "output": s.case.output.model_copy(update=LEAN_OUTPUT | DRAW_OUTPUT)}), s.folder.path, threads)
-        for seed in seeds[1:]]
-    done = iter(range(2, len(seeds) + 1))   # the run's own wall is the first draw
+    further: list = [None] * (len(seeds) - 1)
     s.report("draws", 1, len(seeds))
-    further = run_all(_run_draw, tasks, scheduler=scheduler, workers=workers,
-                      on_result=lambda *_: s.report("draws", next(done), len(seeds)))
+    for n, (i, outcome) in enumerate(s.further_draws or (), start=2):
+        further[i] = outcome
+        s.report("draws", n, len(seeds))
     outcomes = [_draw_outcome(s.folder.path)] + further
     p = Proportion.of_counts(sum(o["perforated"] for o in outcomes), len(outcomes))
     return {"n_draws": len(seeds), "draws": [{"seed": seed} | o for seed, o in zip(seeds, outcomes)],
@@ -273,14 +267,43 @@ def _draws(s: StageContext) -> dict:
 DRAW_OUTPUT = {"plots": False}
 
 
+@contextmanager
+def further_draws(case: WhippleCase, run: Path) -> Iterator[Iterator[tuple[int, dict]]]:
+    """The further draws of the fragments' partition (the seeds after the first) into the staging folder
+    ``run``, whose ``shield/`` is done, handed to their workers as the block opens: the ``(i, outcome)``
+    iterator that collects them.  As processes (:func:`draw_schedule`) they run beside the run's own
+    binning, debris and wall, this process holding one thread until the block closes; in turn, they run
+    here as they are collected.  Leaving the block before the last (an error, Ctrl-C) stops them."""
+    import numba
+
+    from impactdyn._parallel import hold_threads, tasks_started
+
+    held = numba.get_num_threads()
+    seeds = case.fragment_options.seeds
+    scheduler, workers, threads = draw_schedule(held, len(seeds) - 1)
+    tasks = [Draw(case.model_copy(update={
+        "shield": case.shield.model_copy(update={"fragment_seed": seed}),
+        "output": case.output.model_copy(update=LEAN_OUTPUT | DRAW_OUTPUT)}), run, threads) for seed in seeds[1:]]
+    with tasks_started(_run_draw, tasks, scheduler=scheduler, workers=workers) as finished:
+        if scheduler == "processes":
+            hold_threads(1)
+        try:
+            yield finished
+        finally:
+            hold_threads(held)
+
+
 def draw_schedule(threads: int, n_draws: int) -> tuple[str, int, int]:
     """How ``n_draws`` further draws share a run's ``threads``: (scheduler, workers, threads per draw).  One
-    thread, or one draw, runs them here in turn on every thread; more run as up to ``threads`` processes,
-    the threads shared among them."""
-    workers = max(1, min(threads, n_draws))
-    if workers == 1:
+    thread, or no further draw, runs them here in turn after the run's own wall; otherwise they run as up
+    to ``threads`` processes beside the run's own chain, which keeps one thread: the rest is shared among
+    them, one at least each.  (On two cores, two draws of one thread and the run's own chain share the
+    cores until its wall ends: a draw's kernels on two threads run about 1.5 times as fast as on one, so
+    processes of one thread finish a set of draws sooner than draws in turn on every thread.)"""
+    if threads <= 1 or n_draws < 1:
         return "serial", 1, max(1, threads)
-    return "processes", workers, max(1, threads // workers)
+    workers = min(threads, n_draws)
+    return "processes", workers, max(1, (threads - 1) // workers)
 
 
 @dataclass(frozen=True)
@@ -399,13 +422,16 @@ def run_whipple(case: WhippleCase, outdir: str | Path, *, start: str = "shield",
             if read_stage(outdir, stage).get("settings") != settings(case, stage):
                 raise InputError(f"{outdir}: its {stage} stage was run with other settings than this case "
                                  f"({', '.join(DEPENDS[stage])}); run from {stage} or earlier")
-    with RunFolder(outdir, force=True if first else force) as rf:
+    with RunFolder(outdir, force=True if first else force) as rf, ExitStack() as beside:
         for stage in STAGES[:first]:
             shutil.copytree(outdir / stage, rf.path / stage)
         rf.write_text("case.toml", dump_toml(case))
+        draws = None
         for stage in STAGES[first:]:
+            if draws is None and stage != "shield" and "draws" in STAGES[first:]:
+                draws = beside.enter_context(further_draws(case, rf.path))
             tick = time.perf_counter()
-            record = _RUN[stage](StageContext(case, rf, progress, keep))
+            record = _RUN[stage](StageContext(case, rf, progress, keep, draws))
             record = {"stage": stage, "wall_time_s": time.perf_counter() - tick, "settings": settings(case, stage)
                       } | record
             rf.sub(stage).write_json("stage.json", record)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import fnmatch
 import json
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -76,13 +76,15 @@ def read_stage(folder: Path, stage: str) -> dict:
 
 @dataclass
 class StageContext:
-    """What a stage function gets: the case, the staging folder, the progress callback and how much
-    to keep (:data:`KEEP`)."""
+    """What a stage function gets: the case, the staging folder, the progress callback, how much
+    to keep (:data:`KEEP`) and the further draws' ``(i, outcome)`` iterator, which the draws stage collects
+    (:func:`impactdyn.whipple._pipeline.further_draws`; None where no draws stage follows)."""
 
     case: WhippleCase
     folder: FolderWriter
     progress: Progress | None
     keep: str = "lean"
+    further_draws: Iterator[tuple[int, dict]] | None = None
 
     @property
     def lean(self) -> bool:
