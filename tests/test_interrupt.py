@@ -4,6 +4,7 @@ table kept, and ``--resume`` runs only what is missing."""
 
 import csv
 import multiprocessing
+import os
 import signal
 import time
 from pathlib import Path
@@ -77,6 +78,22 @@ def test_started_tasks_run_while_the_caller_works_and_stop_when_it_fails():
         with tasks_started(time.sleep, [60.0, 60.0], scheduler="processes", workers=2):
             raise RuntimeError("the caller's own work failed")
     assert time.monotonic() - start < 30.0
+    assert multiprocessing.active_children() == []
+
+
+def _pid_after(seconds: float) -> int:
+    time.sleep(seconds)
+    return os.getpid()
+
+
+def test_a_caller_that_helps_runs_the_tasks_no_worker_has_taken_last_first():
+    """With ``caller_helps`` the caller, reading the results, runs the tasks still queued itself: of five
+    1-s tasks on two workers (which hold at most three), the last runs in the caller, and every task's result
+    comes once."""
+    with tasks_started(_pid_after, [1.0] * 5, scheduler="processes", workers=2, caller_helps=True) as finished:
+        pids = dict(finished)
+    assert sorted(pids) == [0, 1, 2, 3, 4]
+    assert pids[4] == os.getpid() and pids[0] != os.getpid()
     assert multiprocessing.active_children() == []
 
 

@@ -19,7 +19,7 @@ import multiprocessing
 import os
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, as_completed, wait
 from typing import Any, Literal
 
 from impactdyn._interrupt import ignore_interrupts, shielded
@@ -43,14 +43,18 @@ def run_tasks(fn: Callable[[Any], Any], tasks: Sequence[Any], *, scheduler: Sche
 
 @contextmanager
 def tasks_started(fn: Callable[[Any], Any], tasks: Sequence[Any], *, scheduler: Scheduler = "processes",
-                  workers: int | None = None, address: str | None = None) -> Iterator[Iterator[tuple[int, Any]]]:
+                  workers: int | None = None, address: str | None = None,
+                  caller_helps: bool = False) -> Iterator[Iterator[tuple[int, Any]]]:
     """:func:`run_tasks`'s tasks handed to the pool or cluster on entering the block, so that this process
     can work beside them; the block gets the ``(i, result)`` iterator that collects them (``serial`` tasks run
-    as it is read).  Leaving the block before the last result (an exception, Ctrl-C) stops the tasks."""
+    as it is read).  With ``caller_helps``, reading it also runs here, last first, the local pool's tasks that
+    no worker has taken yet, so that the caller, its own work done, takes a worker's share (the pool feeds its
+    workers one task ahead, and those it keeps).  Leaving the block before the last result (an exception,
+    Ctrl-C) stops the tasks."""
     if scheduler == "serial":
         yield ((i, fn(task)) for i, task in enumerate(tasks))
     elif scheduler == "processes":
-        with _on_processes(fn, tasks, workers) as finished:
+        with _on_processes(fn, tasks, workers, caller_helps) as finished:
             yield finished
     elif scheduler == "dask":
         with _on_dask(fn, tasks, workers, address) as finished:
@@ -71,7 +75,7 @@ STOP_GRACE_S = 5.0
 
 
 @contextmanager
-def _on_processes(fn, tasks, workers) -> Iterator[Iterator[tuple[int, Any]]]:
+def _on_processes(fn, tasks, workers, caller_helps=False) -> Iterator[Iterator[tuple[int, Any]]]:
     # spawn, not fork: a process that has run numba's OpenMP kernels cannot fork safely
     pool = ProcessPoolExecutor(max_workers=workers or os.cpu_count(), initializer=ignore_interrupts,
                                mp_context=multiprocessing.get_context("spawn"))
@@ -82,8 +86,23 @@ def _on_processes(fn, tasks, workers) -> Iterator[Iterator[tuple[int, Any]]]:
             yield futures[fut], fut.result()
         collected.append(True)
 
+    def helped(futures):
+        waiting = list(futures)
+        while waiting:
+            for fut in [f for f in waiting if f.done()]:
+                waiting.remove(fut)
+                yield futures[fut], fut.result()
+            untaken = next((f for f in reversed(waiting) if f.cancel()), None)
+            if untaken is not None:
+                waiting.remove(untaken)
+                yield futures[untaken], fn(tasks[futures[untaken]])
+            elif waiting:
+                wait(waiting, return_when=FIRST_COMPLETED)
+        collected.append(True)
+
     try:
-        yield finished({pool.submit(fn, t): i for i, t in enumerate(tasks)})
+        futures = {pool.submit(fn, t): i for i, t in enumerate(tasks)}
+        yield helped(futures) if caller_helps else finished(futures)
     finally:
         if collected:
             pool.shutdown(wait=True)

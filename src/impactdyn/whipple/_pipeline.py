@@ -272,8 +272,9 @@ def further_draws(case: WhippleCase, run: Path) -> Iterator[Iterator[tuple[int, 
     """The further draws of the fragments' partition (the seeds after the first) into the staging folder
     ``run``, whose ``shield/`` is done, handed to their workers as the block opens: the ``(i, outcome)``
     iterator that collects them.  As processes (:func:`draw_schedule`) they run beside the run's own
-    binning, debris and wall, this process holding one thread until the block closes; in turn, they run
-    here as they are collected.  Leaving the block before the last (an error, Ctrl-C) stops them."""
+    binning, debris and wall, this process holding one thread until the block closes, and as they are
+    collected this process runs those no worker has taken yet; in turn, they run here as they are
+    collected.  Leaving the block before the last (an error, Ctrl-C) stops them."""
     import numba
 
     from impactdyn._parallel import hold_threads, tasks_started
@@ -284,7 +285,7 @@ def further_draws(case: WhippleCase, run: Path) -> Iterator[Iterator[tuple[int, 
     tasks = [Draw(case.model_copy(update={
         "shield": case.shield.model_copy(update={"fragment_seed": seed}),
         "output": case.output.model_copy(update=LEAN_OUTPUT | DRAW_OUTPUT)}), run, threads) for seed in seeds[1:]]
-    with tasks_started(_run_draw, tasks, scheduler=scheduler, workers=workers) as finished:
+    with tasks_started(_run_draw, tasks, scheduler=scheduler, workers=workers, caller_helps=True) as finished:
         if scheduler == "processes":
             hold_threads(1)
         try:
@@ -298,8 +299,9 @@ def draw_schedule(threads: int, n_draws: int) -> tuple[str, int, int]:
     thread, or no further draw, runs them here in turn after the run's own wall; otherwise they run as up
     to ``threads`` processes beside the run's own chain, which keeps one thread: the rest is shared among
     them, one at least each.  (On two cores, two draws of one thread and the run's own chain share the
-    cores until its wall ends: a draw's kernels on two threads run about 1.5 times as fast as on one, so
-    processes of one thread finish a set of draws sooner than draws in turn on every thread.)"""
+    cores until its wall ends, when the run takes on draws itself (:func:`further_draws`): a draw's
+    kernels on two threads run about 1.5 times as fast as on one, so processes of one thread finish a set
+    of draws sooner than draws in turn on every thread.)"""
     if threads <= 1 or n_draws < 1:
         return "serial", 1, max(1, threads)
     workers = min(threads, n_draws)
