@@ -637,18 +637,21 @@ def test_a_fragmenting_shot_reports_its_solid_fragments(tmp_path, make_case, fai
         (mass[inside] @ fragments.velocity[inside])[1:], rel=1e-9)
 
 
-def test_draws_run_the_sph_once_and_each_draw_as_a_run_with_its_seed(tmp_path, make_case):
+def test_draws_run_the_sph_once_and_each_draw_as_a_run_with_its_seed(tmp_path, make_case, monkeypatch):
     """``fragment_draws = 3``: the run's own wall is the first draw, and each further draw, the fragments drawn
     again from the same SPH state, is the run a case with that seed would make (its deposition and wall,
-    bit for bit); the record counts the perforations and states P with its Wilson interval."""
+    bit for bit); the record counts the perforations and states P with its Wilson interval.  The run folder
+    is given as a relative path, as ``-o runs/name`` gives it."""
     from impactdyn.ble import wilson_interval
     from impactdyn.whipple._stages import FAILED_VERDICTS
 
     keys = dict(shield__failure_model="fragmentation", shield__spacing_cm=0.05, shield__handoff_us=3.0,
                 projectile__velocity_km_s=2.0, wall_solver__max_time_us=30.0, shield__failed_fragments="grady",
                 filter__t_cut_us=12.0)
-    out = tmp_path / "run"
-    assert main(["whipple", "run", str(make_case(tmp_path, **keys)), "-o", str(out), "--draws", "3"]) == 0
+    case = make_case(tmp_path, **keys)
+    monkeypatch.chdir(tmp_path)
+    assert main(["whipple", "run", str(case), "-o", "runs/run", "--draws", "3"]) == 0
+    out = tmp_path / "runs" / "run"
     summary = json.loads((out / "summary.json").read_text())
     draws = summary["draws"]
     assert [d["seed"] for d in draws["draws"]] == [1, 2, 3] and draws["n_draws"] == 3

@@ -48,6 +48,7 @@ later stages are recomputed, and the whole folder replaces the old one at the en
 from __future__ import annotations
 
 import json
+import os
 import shutil
 import time
 from collections.abc import Iterator
@@ -333,8 +334,10 @@ def _run_draw(draw: Draw) -> dict:
     shield = context.folder.sub("shield")
     shield.write_json("stage.json", {"stage": "shield", "fragment_seed": seed}
                       | _write_fragments(draw.case, shield, particles, shield_problem(draw.case)[0]))
-    # the later stages read the SPH state from their run folder's shield/: the run's own, not a copy
-    (shield.path / "particles.h5").symlink_to(draw.run / "shield" / "particles.h5")
+    # the later stages read the SPH state from their run folder's shield/: the run's own, not a copy, linked
+    # relative to the link (a run folder given as a relative path would otherwise be read from the link's folder)
+    link = shield.path / "particles.h5"
+    link.symlink_to(os.path.relpath(draw.run / "shield" / "particles.h5", link.parent))
     for stage in ("binning", "debris", "wall"):
         context.folder.sub(stage).write_json("stage.json", {"stage": stage} | _RUN[stage](context))
     prune_run(context.folder.path)
