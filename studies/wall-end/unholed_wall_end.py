@@ -14,6 +14,10 @@ the rear bulge.  Printed per run, as JSON lines (and to ``--out``):
 * ``t_plastic_999``: the first sample with 99.9 % of the final plastic work;
 * ``t_damage_999``, ``t_spall_damage_999``: the first sample with 99.9 % of the final summed ductile
   (Johnson–Cook) and spall (Tuler–Butcher) damage;
+* ``initial_step_us``, ``steps_at_initial_step``: the run's first step (the Courant factor times the
+  smallest element's stable step) and the steps the run would take at it throughout;
+* ``steps_intact_step``: the steps the run would take had its step been set by the intact elements
+  alone (failed rubble out of the step), an estimate from the smallest intact element's step sampled;
 * ``t_end_tau``: for each hold τ in ``--holds``, the first sample t ≥ last arrival + τ over whose
   preceding τ µs no element became damaged and the plastic work grew by less than 0.1 % (a candidate
   rule, deciding nothing), with the fraction of the run's steps taken by then and the damaged count
@@ -33,7 +37,7 @@ import numpy as np
 
 from impactdyn.debris import read_deposition
 from impactdyn.wall import WallSolver, check_end_times, nodal_load, resolve_model, solver_mesh
-from impactdyn.wall._state import DAMAGE, SPALL_DAMAGE
+from impactdyn.wall._state import DAMAGE, DT_E, SPALL_DAMAGE
 from impactdyn.whipple import WhippleCase
 
 
@@ -53,9 +57,10 @@ def sampled_wall(run: Path, every: float) -> dict[str, np.ndarray | float]:
     while True:
         solver.update_categories()
         es = solver.es
-        rows.append((solver.time, solver.steps, np.count_nonzero(solver.failed | solver.eroded),
+        intact = ~(solver.failed | solver.eroded)
+        rows.append((solver.time, solver.steps, np.count_nonzero(~intact),
                      solver.energies()["plastic"], float(es[:, DAMAGE].sum()), solver.surface()[0],
-                     float(es[:, SPALL_DAMAGE].sum())))
+                     float(es[:, SPALL_DAMAGE].sum()), float(es[intact, DT_E].min())))
         if t >= options.max_time_us or solver.through_since is not None:
             break
         t = min(t + every, options.max_time_us)
@@ -67,12 +72,22 @@ def sampled_wall(run: Path, every: float) -> dict[str, np.ndarray | float]:
     return {"t_impulse_99": float(load.time[order][np.argmax(arrived >= 0.99)]),
             "t_impulse_999": float(load.time[order][np.argmax(arrived >= 0.999)]),
             "time": cols[0], "steps": cols[1], "damaged": cols[2], "plastic": cols[3], "damage": cols[4],
-            "bulge": cols[5], "spall_damage": cols[6], "t_last_arrival": float(load.time.max()),
+            "bulge": cols[5], "spall_damage": cols[6], "dt_intact": cols[7], "courant": options.courant,
+            "initial_step": options.courant * solver.dt_element0, "t_start": float(load.time.min()),
+            "t_last_arrival": float(load.time.max()),
             "holed": solver.through_since is not None, "n_elements": mesh.n_elements}
 
 
 def first_at(t: np.ndarray, reached: np.ndarray) -> float | None:
     return float(t[np.argmax(reached)]) if reached.any() else None
+
+
+def steps_at_intact_step(s: dict) -> int:
+    """The steps the run would have taken had its step been set by the intact elements alone (failed ones
+    out of the step, as mass scaling of the rubble would leave it), each sampling interval at the smallest
+    intact element's step at its start: an estimate."""
+    t, dt = s["time"], s["courant"] * s["dt_intact"]
+    return int(round(np.sum(np.diff(t) / dt[:-1]))) + 1
 
 
 def summary(name: str, s: dict, holds: list[float]) -> dict:
@@ -81,6 +96,9 @@ def summary(name: str, s: dict, holds: list[float]) -> dict:
     grew = np.flatnonzero(np.diff(damaged) > 0)
     out = {"run": name, "n_elements": s["n_elements"], "holed": s["holed"], "t_end": float(t[-1]),
            "steps": int(steps[-1]), "damaged_end": int(damaged[-1]), "bulge_end_cm": float(bulge[-1]),
+           "initial_step_us": s["initial_step"],
+           "steps_at_initial_step": int(round((t[-1] - s["t_start"]) / s["initial_step"])),
+           "steps_intact_step": steps_at_intact_step(s),
            "t_last_arrival": s["t_last_arrival"], "t_impulse_99": s["t_impulse_99"],
            "t_impulse_999": s["t_impulse_999"],
            "t_last_new_damaged": float(t[grew[-1] + 1]) if grew.size else None,
