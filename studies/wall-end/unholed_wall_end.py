@@ -23,7 +23,8 @@ the rear bulge.  Printed per run, as JSON lines (and to ``--out``):
   rule, deciding nothing), with the fraction of the run's steps taken by then and the damaged count
   and bulge there, beside the ceiling's.
 
-    python studies/wall-end/unholed_wall_end.py RUN [RUN ...] [--every 1] [--holds 5 10 20] [--out FILE]
+    python studies/wall-end/unholed_wall_end.py RUN [RUN ...] [--every 1] [--holds 5 10 20] [--ceiling US]
+        [--out FILE]
 """
 
 from __future__ import annotations
@@ -41,12 +42,14 @@ from impactdyn.wall._state import DAMAGE, DT_E, SPALL_DAMAGE
 from impactdyn.whipple import WhippleCase
 
 
-def sampled_wall(run: Path, every: float) -> dict[str, np.ndarray | float]:
+def sampled_wall(run: Path, every: float, ceiling: float | None = None) -> dict[str, np.ndarray | float]:
     """The run's wall stage again, sampled every ``every`` µs to the ceiling (the pipeline's set-up, as
-    :func:`impactdyn.wall.run_wall` makes it)."""
+    :func:`impactdyn.wall.run_wall` makes it; ``ceiling``: another ``max_time_us``)."""
     case = WhippleCase.model_validate(tomllib.loads((run / "case.toml").read_text()))
     wall, deposition, _ = read_deposition(run / "debris" / "debris.h5")
     options = case.wall_options
+    if ceiling is not None:
+        options = options.model_copy(update={"max_time_us": ceiling})
     check_end_times(options, deposition)
     model = resolve_model(case.wall.material, options)
     mesh = solver_mesh(wall, deposition, model.density, **options.mesh_settings())
@@ -127,10 +130,11 @@ def main() -> None:
     ap.add_argument("runs", nargs="+", type=Path)
     ap.add_argument("--every", type=float, default=1.0)
     ap.add_argument("--holds", type=float, nargs="+", default=[5.0, 10.0, 20.0])
+    ap.add_argument("--ceiling", type=float, help="another max_time_us than the case's (µs)")
     ap.add_argument("--out", type=Path)
     args = ap.parse_args()
     for run in args.runs:
-        line = json.dumps(summary(run.name, sampled_wall(run, args.every), args.holds))
+        line = json.dumps(summary(run.name, sampled_wall(run, args.every, args.ceiling), args.holds))
         print(line, flush=True)
         if args.out:
             with args.out.open("a") as f:
