@@ -2,7 +2,7 @@
 to the ceiling and sampled every microsecond: what an earlier end would save, and what it would change.
 
 A wall that is not holed runs to ``max_time_us`` (100 µs): after the last arrival it rings elastically,
-and failed elements kept in the pass hold its step near the erosion floor.  For each RUN (a finished
+at a step shortened by its distorted elements, intact and failed.  For each RUN (a finished
 ``impactdyn whipple run`` folder, lean is enough: its ``debris/debris.h5``) this reruns the wall stage
 exactly as the pipeline does (the case's wall options and material) and, every ``--every`` µs, records
 the steps taken, the damaged elements (failed or eroded), the plastic work, the summed ductile damage and
@@ -31,30 +31,26 @@ from __future__ import annotations
 
 import argparse
 import json
-import tomllib
 from pathlib import Path
 
 import numpy as np
 
 from impactdyn.debris import read_deposition
-from impactdyn.wall import WallSolver, check_end_times, nodal_load, resolve_model, solver_mesh
+from impactdyn.wall import wall_solver
 from impactdyn.wall._state import DAMAGE, DT_E, SPALL_DAMAGE
-from impactdyn.whipple import WhippleCase
+from impactdyn.whipple import load_whipple_case
 
 
 def sampled_wall(run: Path, every: float, ceiling: float | None = None) -> dict[str, np.ndarray | float]:
-    """The run's wall stage again, sampled every ``every`` µs to the ceiling (the pipeline's set-up, as
-    :func:`impactdyn.wall.run_wall` makes it; ``ceiling``: another ``max_time_us``)."""
-    case = WhippleCase.model_validate(tomllib.loads((run / "case.toml").read_text()))
+    """The run's wall stage again, sampled every ``every`` µs to the ceiling (the pipeline's solver,
+    :func:`impactdyn.wall.wall_solver`; ``ceiling``: another ``max_time_us``)."""
+    case = load_whipple_case(run / "case.toml")
     wall, deposition, _ = read_deposition(run / "debris" / "debris.h5")
     options = case.wall_options
     if ceiling is not None:
         options = options.model_copy(update={"max_time_us": ceiling})
-    check_end_times(options, deposition)
-    model = resolve_model(case.wall.material, options)
-    mesh = solver_mesh(wall, deposition, model.density, **options.mesh_settings())
-    load = nodal_load(mesh, deposition, options.spread, options.deposition_depth_cm)
-    solver = WallSolver(mesh, model, options, load=load, t_start=float(load.time.min()))
+    solver = wall_solver(wall, deposition, case.wall.material, options)
+    load = solver.load
     rows = []
     t = solver.time
     while True:
@@ -69,16 +65,15 @@ def sampled_wall(run: Path, every: float, ceiling: float | None = None) -> dict[
         t = min(t + every, options.max_time_us)
         solver.advance(t)
     cols = np.array(rows).T
-    order = np.argsort(load.time, kind="stable")
-    arrived = np.cumsum(np.linalg.norm(load.impulse[order], axis=1))
+    arrived = np.cumsum(np.linalg.norm(load.impulse, axis=1))     # the records are in arrival order
     arrived /= arrived[-1]
-    return {"t_impulse_99": float(load.time[order][np.argmax(arrived >= 0.99)]),
-            "t_impulse_999": float(load.time[order][np.argmax(arrived >= 0.999)]),
+    return {"t_impulse_99": float(load.time[np.argmax(arrived >= 0.99)]),
+            "t_impulse_999": float(load.time[np.argmax(arrived >= 0.999)]),
             "time": cols[0], "steps": cols[1], "damaged": cols[2], "plastic": cols[3], "damage": cols[4],
             "bulge": cols[5], "spall_damage": cols[6], "dt_intact": cols[7], "courant": options.courant,
-            "initial_step": options.courant * solver.dt_element0, "t_start": float(load.time.min()),
+            "initial_step": options.courant * solver.dt_element0, "t_start": float(load.time[0]),
             "t_last_arrival": float(load.time.max()),
-            "holed": solver.through_since is not None, "n_elements": mesh.n_elements}
+            "holed": solver.through_since is not None, "n_elements": solver.mesh.n_elements}
 
 
 def first_at(t: np.ndarray, reached: np.ndarray) -> float | None:

@@ -31,7 +31,7 @@ from impactdyn.wall._grading import FRAGMENT_DIAMETER_CM, check_mesh_sizes, core
 from impactdyn.wall._load import SPREADS, NodalLoad, check_deposition_depth, default_depth, depth_weights, nodal_load
 from impactdyn.wall._result import ENDINGS, HISTORY_KEYS, WallFrame, WallResult
 from impactdyn.wall._state import FAILURE_CAUSES
-from impactdyn.wall._solver import WallSolver, check_end_times, resolve_model, run_wall
+from impactdyn.wall._solver import WallSolver, check_end_times, resolve_model, run_wall, wall_solver
 from impactdyn.wall._verdict import (
     DETACHED_SPALL, NO_PERFORATION, PERFORATION, VERDICTS, classify, failed_mass_by_cause, measures)
 from impactdyn.wall._output import write_wall_outputs
@@ -41,6 +41,6 @@ __all__ = [
     "NO_PERFORATION", "NodalLoad", "PERFORATION", "SPREADS", "SUPPORTS", "VERDICTS", "WallFrame", "WallMesh",
     "FRAGMENT_DIAMETER_CM", "WallModel", "WallOptions", "WallResult", "WallSolver", "WallSolverError", "build_mesh", "check_deposition_depth", "check_end_times", "check_mesh_sizes", "classify", "core_element_size",
     "default_depth", "depth_weights", "failed_mass_by_cause", "graded_nodes", "measures", "nodal_load",
-    "rebin_deposition", "register_model", "resolve_model", "resolving_region", "run_wall", "solver_grid", "solver_mesh",
+    "rebin_deposition", "register_model", "resolve_model", "resolving_region", "run_wall", "solver_grid", "solver_mesh", "wall_solver",
     "wall_model", "write_wall_outputs",
 ]

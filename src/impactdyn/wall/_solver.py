@@ -436,6 +436,14 @@ def run_wall(wall: WallGrid, deposition: WallDeposition, model: Any = "al6061-t6
     :class:`~impactdyn._errors.InputError` naming the key for bad input (an end time before the
     last arrival included) and :class:`WallSolverError` on a breakdown.
     """
+    return wall_solver(wall, deposition, model, options).run(progress, settle_progress)
+
+
+def wall_solver(wall: WallGrid, deposition: WallDeposition, model: Any = "al6061-t6",
+                options: WallOptions | None = None) -> WallSolver:
+    """The solver :func:`run_wall` runs, set up at the first arrival and not yet stepped (its arguments):
+    the case's solver mesh, the deposition as nodal impulses, the model.  For stepping it otherwise than
+    :meth:`WallSolver.run` does (a study sampling the run, a probe)."""
     options = options if options is not None else WallOptions()
     if not isinstance(options, WallOptions):
         raise InputError(f"options: expected WallOptions, got {type(options).__name__}")
@@ -446,5 +454,4 @@ def run_wall(wall: WallGrid, deposition: WallDeposition, model: Any = "al6061-t6
     load = nodal_load(mesh, deposition, options.spread, options.deposition_depth_cm)
     t_start = float(load.time.min()) if load.time.size else 0.0
     check_end_times(options, deposition)
-    solver = WallSolver(mesh, m, options, load=load, t_start=t_start)
-    return solver.run(progress, settle_progress)
+    return WallSolver(mesh, m, options, load=load, t_start=t_start)
